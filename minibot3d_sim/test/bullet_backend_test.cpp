@@ -1,0 +1,352 @@
+// Tests of the physical backends: "bullet" (planar chassis + analytic wheel contacts) and, where
+// the same behaviour is expected, "bullet_naive" (wheel bodies on hinge motors).
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "minibot3d_sim/physics_backend.h"
+#include "minibot3d_sim/skid_steer.h"
+
+namespace minibot3d_sim {
+namespace {
+
+constexpr double kRadius = 0.04;
+constexpr double kSeparation = 0.2;
+constexpr double kHalfWheelbase = 0.07;
+constexpr double kMass = 1.5;
+constexpr double kWheelInertia = 0.5 * 0.1 * kRadius * kRadius;
+constexpr double kGravity = 9.81;
+constexpr double kDt = 0.001;
+constexpr double kDeg = M_PI / 180.0;
+
+struct RobotParams {
+  double torque = 2.0;
+  double mu1 = 1.0;
+  double mu2 = 1.0;
+};
+
+// The small skid-steer robot: 0.24 x 0.16 x 0.05 body, four 0.08 m wheels at (±0.07, ±0.1),
+// 1.5 kg in all.
+RobotModel MakeRobot(const RobotParams& p = RobotParams()) {
+  RobotModel m;
+  m.name = "minibot";
+  m.root_link = "base_footprint";
+  m.total_mass = kMass;
+  m.body_mass = 1.1;
+  m.body_size = Eigen::Vector3d(0.24, 0.16, 0.05);
+  m.body_pose = Eigen::Isometry3d::Identity();
+  m.body_pose.translation() = Eigen::Vector3d(0, 0, 0.06);
+  m.body_inertia_z = 0.0136;
+  const double xs[4] = {kHalfWheelbase, kHalfWheelbase, -kHalfWheelbase, -kHalfWheelbase};
+  const double ys[4] = {kSeparation / 2, -kSeparation / 2, kSeparation / 2, -kSeparation / 2};
+  for (int i = 0; i < 4; ++i) {
+    WheelSpec& w = m.wheels[i];
+    w.position = Eigen::Vector3d(xs[i], ys[i], kRadius);
+    w.radius = kRadius;
+    w.width = 0.03;
+    w.mass = 0.1;
+    w.inertia_axle = kWheelInertia;
+    w.mu1 = p.mu1;
+    w.mu2 = p.mu2;
+  }
+  m.drive.wheel_separation = kSeparation;
+  m.drive.wheel_diameter = 2 * kRadius;
+  m.drive.torque = p.torque;
+  m.footprint = {{-0.12, -0.115}, {0.12, -0.115}, {0.12, 0.115}, {-0.12, 0.115}};
+  return m;
+}
+
+Shape Box(const std::string& name, const Eigen::Vector3d& centre, const Eigen::Vector3d& size) {
+  Shape s;
+  s.type = ShapeType::kBox;
+  s.name = name;
+  s.pose = Eigen::Isometry3d::Identity();
+  s.pose.translation() = centre;
+  s.size = size;
+  return s;
+}
+
+// Floor plane (shape 0), a 0.5 m high, 0.1 m thick wall whose near face is at x = wall_x
+// (shape 1) and a post far away (shape 2).
+World MakeWorld(double wall_x = 50.0) {
+  World w;
+  Shape floor;
+  floor.type = ShapeType::kPlane;
+  floor.name = "ground_plane::link::collision";
+  w.shapes.push_back(floor);
+  w.shapes.push_back(Box("wall::link::collision", Eigen::Vector3d(wall_x + 0.05, 0, 0.25),
+                         Eigen::Vector3d(0.1, 4.0, 0.5)));
+  w.shapes.push_back(Box("post::link::collision", Eigen::Vector3d(-5, 5, 0.25),
+                         Eigen::Vector3d(0.2, 0.2, 0.5)));
+  return w;
+}
+
+const SkidSteerGeometry kGeometry{kSeparation, kRadius};
+
+void Drive(PhysicsBackend* b, double v, double w, double seconds,
+           std::vector<Contact>* contacts = nullptr) {
+  b->SetWheelTargets(WheelSpeedsForTwist(v, w, kGeometry));
+  const int steps = static_cast<int>(std::lround(seconds / kDt));
+  for (int i = 0; i < steps; ++i) {
+    if (contacts != nullptr) contacts->clear();
+    b->Step(kDt, contacts);
+  }
+}
+
+// Speed reached after `seconds` of a 0.3 m/s command from rest.
+double SpeedAfter(const std::string& backend, const RobotParams& params, double seconds) {
+  const World world = MakeWorld();
+  auto b = MakePhysicsBackend(backend, MakeRobot(params), world);
+  b->SetPose(Pose2{});
+  Drive(b.get(), 0.3, 0.0, seconds);
+  return b->twist().vx;
+}
+
+class PhysicalBackendTest : public ::testing::TestWithParam<std::string> {
+ protected:
+  std::unique_ptr<PhysicsBackend> Make(const World& world, const RobotParams& p = RobotParams()) {
+    auto b = MakePhysicsBackend(GetParam(), MakeRobot(p), world);
+    EXPECT_EQ(b->name(), GetParam());
+    b->SetPose(Pose2{});
+    return b;
+  }
+};
+
+TEST_P(PhysicalBackendTest, DrivesStraight) {
+  const World world = MakeWorld();
+  auto b = Make(world);
+  Drive(b.get(), 0.3, 0.0, 2.0);
+  const Pose2 p = b->pose();
+  EXPECT_NEAR(p.x, 0.6, 0.6 * 0.05);
+  EXPECT_LT(std::abs(p.y), 0.02);
+  EXPECT_LT(std::abs(p.yaw), 2 * kDeg);
+  EXPECT_NEAR(b->twist().vx, 0.3, 0.01);
+  // No slip when cruising straight: the wheels turn at the commanded speed.
+  for (double w : b->wheel_velocities()) EXPECT_NEAR(w, 0.3 / kRadius, 0.2);
+  for (double a : b->wheel_positions()) EXPECT_NEAR(a, p.x / kRadius, 0.05 * p.x / kRadius);
+}
+
+TEST_P(PhysicalBackendTest, TurnsInPlaceWithSlip) {
+  const World world = MakeWorld();
+  for (double dir : {1.0, -1.0}) {
+    auto b = Make(world);
+    const double w_cmd = 1.0 * dir;
+    Drive(b.get(), 0.0, w_cmd, 1.0);
+    const double yaw1 = b->pose().yaw;
+    Drive(b.get(), 0.0, w_cmd, 1.0);
+    const double rate = NormalizeAngle(b->pose().yaw - yaw1) / 1.0;
+    EXPECT_GT(rate * dir, 0.2) << "turns the commanded way";
+    // Lateral wheel friction resists the yaw: slower than the no-slip rate.
+    EXPECT_LT(rate * dir, 0.9 * std::abs(w_cmd));
+    EXPECT_LT(std::hypot(b->pose().x, b->pose().y), 0.03);
+  }
+}
+
+TEST_P(PhysicalBackendTest, LowerTorqueAcceleratesSlower) {
+  RobotParams weak;
+  weak.torque = 0.02;
+  const double strong_v = SpeedAfter(GetParam(), RobotParams(), 0.05);
+  const double weak_v = SpeedAfter(GetParam(), weak, 0.05);
+  EXPECT_GT(strong_v, 0.2);
+  EXPECT_LT(weak_v, 0.5 * strong_v);
+  EXPECT_GT(weak_v, 0.0);
+}
+
+TEST_P(PhysicalBackendTest, LowerFrictionSlipsMore) {
+  RobotParams icy;
+  icy.mu1 = icy.mu2 = 0.1;
+  const World world = MakeWorld();
+  auto grippy = Make(world);
+  auto slippery = Make(world, icy);
+  Drive(grippy.get(), 0.3, 0.0, 0.1);
+  Drive(slippery.get(), 0.3, 0.0, 0.1);
+  // Longitudinal slip: wheel rim speed minus body speed.
+  auto slip = [](const PhysicsBackend& b) {
+    return b.wheel_velocities()[kFrontLeft] * kRadius - b.twist().vx;
+  };
+  EXPECT_LT(slippery->twist().vx, 0.6 * grippy->twist().vx);
+  EXPECT_GT(slip(*slippery), slip(*grippy) + 0.05);
+}
+
+TEST_P(PhysicalBackendTest, StopsAtWallWithContacts) {
+  const double wall_x = 1.0;
+  const World world = MakeWorld(wall_x);
+  auto b = Make(world);
+  std::vector<Contact> contacts;
+  b->SetWheelTargets(WheelSpeedsForTwist(1.0, 0.0, kGeometry));
+  double max_nose = -1.0;
+  bool touched = false;
+  for (int i = 0; i < 2000; ++i) {
+    contacts.clear();
+    b->Step(kDt, &contacts);
+    max_nose = std::max(max_nose, b->pose().x + 0.12);
+    for (const Contact& c : contacts) {
+      touched = true;
+      EXPECT_EQ(c.shape, 1) << "only robot-wall contacts";
+      EXPECT_LT(c.depth, 0.005);
+      EXPECT_LT(c.normal.x(), -0.9) << "normal points from the wall into the robot";
+      EXPECT_NEAR(c.point.x(), wall_x, 0.01);
+    }
+  }
+  EXPECT_TRUE(touched);
+  EXPECT_FALSE(contacts.empty()) << "still pushing at the end";
+  EXPECT_LT(max_nose, wall_x + 0.005) << "did not pass the wall";
+  EXPECT_GT(b->pose().x + 0.12, wall_x - 0.01) << "stopped at the wall, not before";
+  EXPECT_LT(std::abs(b->twist().vx), 0.02);
+  EXPECT_LT(std::abs(b->pose().yaw), 2 * kDeg);
+  // The wheels keep turning while the robot pushes (slip against the floor).
+  EXPECT_GT(b->wheel_velocities()[kFrontLeft], 1.0);
+
+  // Backing away frees it.
+  Drive(b.get(), -0.3, 0.0, 0.5, &contacts);
+  EXPECT_TRUE(contacts.empty());
+  EXPECT_LT(b->pose().x + 0.12, wall_x - 0.1);
+}
+
+TEST_P(PhysicalBackendTest, SetPoseTeleportsAndZeroesVelocity) {
+  const World world = MakeWorld();
+  auto b = Make(world);
+  Drive(b.get(), 0.3, 0.5, 1.0);
+  const auto angles = b->wheel_positions();
+  const Pose2 target{3.0, -2.0, 2.5};
+  b->SetPose(target);
+  EXPECT_NEAR(b->pose().x, target.x, 1e-5);
+  EXPECT_NEAR(b->pose().y, target.y, 1e-5);
+  EXPECT_NEAR(b->pose().yaw, target.yaw, 1e-5);
+  EXPECT_NEAR(b->twist().vx, 0.0, 1e-9);
+  EXPECT_NEAR(b->twist().vy, 0.0, 1e-9);
+  EXPECT_NEAR(b->twist().wz, 0.0, 1e-9);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_NEAR(b->wheel_velocities()[i], 0.0, 1e-9);
+    EXPECT_NEAR(b->wheel_positions()[i], angles[i], 1e-9) << "wheel angles are kept";
+  }
+  // At rest with no command it stays there.
+  Drive(b.get(), 0.0, 0.0, 0.5);
+  EXPECT_NEAR(b->pose().x, target.x, 2e-3);
+  EXPECT_NEAR(b->pose().y, target.y, 2e-3);
+  EXPECT_NEAR(b->pose().yaw, target.yaw, 1 * kDeg);
+}
+
+TEST_P(PhysicalBackendTest, IsDeterministic) {
+  const World world = MakeWorld(1.0);
+  auto a = Make(world);
+  auto b = Make(world);
+  std::vector<Contact> contacts;
+  for (auto* backend : {a.get(), b.get()}) {
+    // Asking for contacts (a) or not (b) must not change the simulation.
+    std::vector<Contact>* out = backend == a.get() ? &contacts : nullptr;
+    Drive(backend, 0.4, 0.8, 1.0, out);
+    Drive(backend, 0.0, -2.0, 0.7, out);
+    Drive(backend, 1.0, 0.1, 1.5, out);  // into the wall
+  }
+  EXPECT_FALSE(contacts.empty());
+  EXPECT_EQ(a->pose().x, b->pose().x);
+  EXPECT_EQ(a->pose().y, b->pose().y);
+  EXPECT_EQ(a->pose().yaw, b->pose().yaw);
+  EXPECT_EQ(a->wheel_positions(), b->wheel_positions());
+  // And it really did something.
+  EXPECT_GT(a->pose().x, 0.3);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, PhysicalBackendTest,
+                         ::testing::Values(std::string("bullet"), std::string("bullet_naive")),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           return info.param;
+                         });
+
+// Quantitative checks of "bullet"'s wheel–ground model against closed-form answers.
+
+TEST(BulletBackendTest, InPlaceTurnRateIsTheCoulombFrictionBalance) {
+  // Turning in place with wheel rim speed s, every wheel at (±a, ±b) slides; Coulomb friction
+  // opposite to each slip velocity balances in yaw when Ω (a² + b²) = b s, i.e. the yaw rate is
+  // b² / (a² + b²) of the no-slip rate s / b, whatever mu (isotropic) and the load.
+  const double a = kHalfWheelbase, bh = kSeparation / 2;
+  for (double mu : {0.3, 1.0}) {
+    RobotParams p;
+    p.mu1 = p.mu2 = mu;
+    const World world = MakeWorld();
+    auto b = MakePhysicsBackend("bullet", MakeRobot(p), world);
+    b->SetPose(Pose2{});
+    Drive(b.get(), 0.0, 1.5, 1.0);
+    EXPECT_NEAR(b->twist().wz, 1.5 * bh * bh / (a * a + bh * bh), 0.01) << "mu " << mu;
+  }
+}
+
+TEST(BulletBackendTest, LowerLateralFrictionTurnsCloserToNoSlip) {
+  RobotParams loose;
+  loose.mu2 = 0.3;
+  const World world = MakeWorld();
+  auto stiff = MakePhysicsBackend("bullet", MakeRobot(), world);
+  auto soft = MakePhysicsBackend("bullet", MakeRobot(loose), world);
+  stiff->SetPose(Pose2{});
+  soft->SetPose(Pose2{});
+  Drive(stiff.get(), 0.0, 1.0, 1.0);
+  Drive(soft.get(), 0.0, 1.0, 1.0);
+  EXPECT_GT(soft->twist().wz, stiff->twist().wz + 0.1);
+  EXPECT_LT(soft->twist().wz, 1.0);
+}
+
+TEST(BulletBackendTest, TorqueLimitedAcceleration) {
+  // Motors at their limit, no slip: 4 τ / r = (M + 4 I / r²) a.
+  RobotParams weak;
+  weak.torque = 0.02;
+  const double expected = 4 * weak.torque / kRadius / (kMass + 4 * kWheelInertia / kRadius / kRadius);
+  const double v = SpeedAfter("bullet", weak, 0.1);
+  EXPECT_NEAR(v / 0.1, expected, 0.02 * expected);
+}
+
+TEST(BulletBackendTest, FrictionLimitedAcceleration) {
+  // Strong motors on a slippery floor: the wheels spin and the floor pushes with mu1 m g.
+  RobotParams icy;
+  icy.mu1 = 0.1;
+  const double v = SpeedAfter("bullet", icy, 0.1);
+  EXPECT_NEAR(v / 0.1, icy.mu1 * kGravity, 0.02 * icy.mu1 * kGravity);
+}
+
+TEST(BulletBackendTest, ArcIsWiderThanCommandedBecauseOfSlip) {
+  const World world = MakeWorld();
+  auto b = MakePhysicsBackend("bullet", MakeRobot(), world);
+  b->SetPose(Pose2{});
+  Drive(b.get(), 0.3, 0.5, 2.0);
+  const Twist2 t = b->twist();
+  EXPECT_NEAR(t.vx, 0.3, 0.01);
+  EXPECT_GT(t.wz, 0.1);
+  EXPECT_LT(t.wz, 0.5);
+  // Sideways skid is small and outward is not required; it must just be bounded.
+  EXPECT_LT(std::abs(t.vy), 0.02);
+}
+
+TEST(BulletBackendTest, PrecisionDoesNotDependOnDistanceFromOrigin) {
+  // Bullet stores transforms in single precision; the backend's pose must not inherit the
+  // ~1e-7 x |position| rounding per step (that would be 2 % of the distance at 0.05 m/s, 40 m out).
+  const World world;
+  double distance[2];
+  for (int k = 0; k < 2; ++k) {
+    const double x0 = k == 0 ? 0.0 : 40.0;
+    auto b = MakePhysicsBackend("bullet", MakeRobot(), world);
+    b->SetPose(Pose2{x0, x0, 0.7});
+    Drive(b.get(), 0.05, 0.0, 10.0);
+    distance[k] = std::hypot(b->pose().x - x0, b->pose().y - x0);
+    EXPECT_NEAR(b->pose().yaw, 0.7, 1e-6);
+  }
+  EXPECT_NEAR(distance[0], 0.5, 0.001);
+  EXPECT_NEAR(distance[1], distance[0], 1e-6);
+}
+
+TEST(BulletBackendTest, DoesNotTunnelThroughThinWallAtLargeSteps) {
+  // A 2 cm wall, 1 m/s, 10 ms steps (1 cm per step).
+  World world;
+  world.shapes.push_back(Box("thin", Eigen::Vector3d(1.01, 0, 0.25), Eigen::Vector3d(0.02, 4, 0.5)));
+  auto b = MakePhysicsBackend("bullet", MakeRobot(), world);
+  b->SetPose(Pose2{});
+  b->SetWheelTargets(WheelSpeedsForTwist(1.0, 0.0, kGeometry));
+  for (int i = 0; i < 300; ++i) b->Step(0.01, nullptr);
+  EXPECT_LT(b->pose().x + 0.12, 1.005);
+  EXPECT_GT(b->pose().x + 0.12, 0.98);
+}
+
+}  // namespace
+}  // namespace minibot3d_sim

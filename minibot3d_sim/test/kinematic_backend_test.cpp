@@ -1,0 +1,254 @@
+// Tests of the kinematic backend: exact no-slip motion and wall blocking.
+#include "../src/kinematic_backend.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "minibot3d_sim/physics_backend.h"
+#include "minibot3d_sim/skid_steer.h"
+#include "minibot3d_sim/world_slice.h"
+
+namespace minibot3d_sim {
+namespace {
+
+constexpr double kRadius = 0.04;
+constexpr double kSeparation = 0.2;
+constexpr double kBodyHeight = 0.06;  // centre of the body box above the floor
+
+// The small skid-steer robot: 0.24 x 0.16 x 0.05 body, four 0.08 m wheels at (±0.07, ±0.1).
+RobotModel MakeRobot() {
+  RobotModel m;
+  m.name = "minibot";
+  m.root_link = "base_footprint";
+  m.total_mass = 1.5;
+  m.body_mass = 1.1;
+  m.body_size = Eigen::Vector3d(0.24, 0.16, 0.05);
+  m.body_pose = Eigen::Isometry3d::Identity();
+  m.body_pose.translation() = Eigen::Vector3d(0, 0, kBodyHeight);
+  m.body_inertia_z = 0.0136;
+  const double xs[4] = {0.07, 0.07, -0.07, -0.07};
+  const double ys[4] = {0.1, -0.1, 0.1, -0.1};
+  for (int i = 0; i < 4; ++i) {
+    WheelSpec& w = m.wheels[i];
+    w.position = Eigen::Vector3d(xs[i], ys[i], kRadius);
+    w.radius = kRadius;
+    w.width = 0.03;
+    w.mass = 0.1;
+    w.inertia_axle = 0.5 * w.mass * kRadius * kRadius;
+  }
+  m.drive.wheel_separation = kSeparation;
+  m.drive.wheel_diameter = 2 * kRadius;
+  m.drive.torque = 2.0;
+  m.footprint = {{-0.12, -0.115}, {0.12, -0.115}, {0.12, 0.115}, {-0.12, 0.115}};
+  return m;
+}
+
+Shape Box(const std::string& name, const Eigen::Vector3d& centre, const Eigen::Vector3d& size) {
+  Shape s;
+  s.type = ShapeType::kBox;
+  s.name = name;
+  s.pose = Eigen::Isometry3d::Identity();
+  s.pose.translation() = centre;
+  s.size = size;
+  return s;
+}
+
+// A floor plane and a 0.5 m high wall whose near face is at x = wall_x, spanning y in [-2, 2].
+World MakeWorld(double wall_x) {
+  World w;
+  Shape floor;
+  floor.type = ShapeType::kPlane;
+  floor.name = "ground_plane::link::collision";
+  w.shapes.push_back(floor);
+  w.shapes.push_back(Box("wall::link::collision", Eigen::Vector3d(wall_x + 0.05, 0, 0.25),
+                         Eigen::Vector3d(0.1, 4.0, 0.5)));
+  w.shapes.push_back(Box("post::link::collision", Eigen::Vector3d(-5, 5, 0.25),
+                         Eigen::Vector3d(0.2, 0.2, 0.5)));
+  return w;
+}
+
+SkidSteerGeometry Geometry() { return SkidSteerGeometry{kSeparation, kRadius}; }
+
+void Drive(PhysicsBackend* b, double v, double w, double dt, int steps,
+         std::vector<Contact>* contacts = nullptr) {
+  b->SetWheelTargets(WheelSpeedsForTwist(v, w, Geometry()));
+  for (int i = 0; i < steps; ++i) b->Step(dt, contacts);
+}
+
+TEST(KinematicBackendTest, WheelSpeedTwistRoundTrip) {
+  KinematicBackend b(MakeRobot(), MakeWorld(50.0));
+  for (double v : {-0.4, 0.0, 0.25}) {
+    for (double w : {-1.5, 0.0, 0.7}) {
+      const auto omega = WheelSpeedsForTwist(v, w, Geometry());
+      const Twist2 t = TwistFromWheelSpeeds(omega, Geometry());
+      EXPECT_NEAR(t.vx, v, 1e-12);
+      EXPECT_NEAR(t.wz, w, 1e-12);
+      // Left wheels: (v - w s/2)/r.
+      EXPECT_NEAR(omega[kFrontLeft], (v - w * kSeparation / 2) / kRadius, 1e-12);
+      EXPECT_NEAR(omega[kRearRight], (v + w * kSeparation / 2) / kRadius, 1e-12);
+      b.SetPose(Pose2{});
+      b.SetWheelTargets(omega);
+      b.Step(0.001, nullptr);
+      EXPECT_NEAR(b.twist().vx, v, 1e-12);
+      EXPECT_NEAR(b.twist().vy, 0.0, 1e-12);
+      EXPECT_NEAR(b.twist().wz, (v == 0.0 && w == 0.0) ? 0.0 : w, 1e-12);
+      for (int i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(b.wheel_velocities()[i], omega[i]);
+    }
+  }
+}
+
+TEST(KinematicBackendTest, DrivesStraightOneMetre) {
+  KinematicBackend b(MakeRobot(), MakeWorld(50.0));
+  const Pose2 start{1.0, 2.0, 0.3};
+  b.SetPose(start);
+  Drive(&b, 0.5, 0.0, 0.001, 2000);  // 0.5 m/s for 2 s
+  EXPECT_NEAR(b.pose().x, 1.0 + std::cos(0.3), 1e-9);
+  EXPECT_NEAR(b.pose().y, 2.0 + std::sin(0.3), 1e-9);
+  EXPECT_NEAR(b.pose().yaw, 0.3, 1e-12);
+  // Every wheel turned 1 m / r.
+  for (double a : b.wheel_positions()) EXPECT_NEAR(a, 1.0 / kRadius, 1e-9);
+}
+
+TEST(KinematicBackendTest, DrivesArcExactly) {
+  KinematicBackend b(MakeRobot(), MakeWorld(50.0));
+  const double radius = 0.5, w = 0.4, duration = 5.0;
+  b.SetPose(Pose2{});
+  Drive(&b, radius * w, w, 0.001, 5000);
+  EXPECT_NEAR(b.pose().x, radius * std::sin(w * duration), 1e-6);
+  EXPECT_NEAR(b.pose().y, radius * (1 - std::cos(w * duration)), 1e-6);
+  EXPECT_NEAR(b.pose().yaw, w * duration, 1e-9);
+  // A coarse step integrates the same arc exactly too (constant twist per step).
+  b.SetPose(Pose2{});
+  Drive(&b, radius * w, w, 0.05, 100);
+  EXPECT_NEAR(b.pose().x, radius * std::sin(w * duration), 1e-6);
+  EXPECT_NEAR(b.pose().y, radius * (1 - std::cos(w * duration)), 1e-6);
+}
+
+TEST(KinematicBackendTest, TurnsInPlace) {
+  KinematicBackend b(MakeRobot(), MakeWorld(50.0));
+  b.SetPose(Pose2{0.5, -0.5, 0.0});
+  Drive(&b, 0.0, -1.0, 0.001, 2500);  // -2.5 rad
+  EXPECT_NEAR(b.pose().x, 0.5, 1e-9);
+  EXPECT_NEAR(b.pose().y, -0.5, 1e-9);
+  EXPECT_NEAR(b.pose().yaw, -2.5, 1e-9);
+  EXPECT_NEAR(b.twist().wz, -1.0, 1e-12);
+  // Left wheels forward, right wheels backward.
+  EXPECT_GT(b.wheel_positions()[kFrontLeft], 0.0);
+  EXPECT_LT(b.wheel_positions()[kFrontRight], 0.0);
+}
+
+TEST(KinematicBackendTest, StopsAtWallWithContactAndNoPenetration) {
+  const double wall_x = 1.0;
+  const World world = MakeWorld(wall_x);
+  const RobotModel robot = MakeRobot();
+  KinematicBackend b(robot, world);
+  b.SetPose(Pose2{0.0, 0.0, 0.0});
+  std::vector<Contact> contacts;
+  b.SetWheelTargets(WheelSpeedsForTwist(1.0, 0.0, Geometry()));
+  int first_contact_step = -1;
+  for (int i = 0; i < 2000; ++i) {
+    contacts.clear();
+    b.Step(0.001, &contacts);
+    if (!contacts.empty() && first_contact_step < 0) first_contact_step = i;
+  }
+  ASSERT_GE(first_contact_step, 0) << "no contact reported";
+  // The nose (x + 0.12) stopped within one step (1 mm) of the wall face, never past it.
+  const double nose = b.pose().x + 0.12;
+  EXPECT_LE(nose, wall_x);
+  EXPECT_GT(nose, wall_x - 0.0015);
+  EXPECT_NEAR(b.pose().y, 0.0, 1e-12);
+  ASSERT_FALSE(contacts.empty());
+  EXPECT_EQ(contacts[0].shape, 1);
+  EXPECT_NEAR(contacts[0].point.x(), wall_x, 1e-9);
+  EXPECT_NEAR(contacts[0].normal.x(), -1.0, 1e-9);
+  EXPECT_DOUBLE_EQ(contacts[0].depth, 0.0);
+  EXPECT_EQ(b.twist().vx, 0.0);
+  for (double w : b.wheel_velocities()) EXPECT_EQ(w, 0.0);
+  // The footprint does not overlap the wall (checked against an independent slice).
+  const WorldSlice slice(world, kBodyHeight);
+  std::vector<Eigen::Vector2d> poly;
+  for (const auto& v : robot.footprint) poly.push_back(TransformPoint(b.pose(), v));
+  EXPECT_FALSE(slice.PolygonCollides(poly));
+
+  // Backing off is always possible, and the contact goes away.
+  contacts.clear();
+  Drive(&b, -0.5, 0.0, 0.001, 200, &contacts);
+  EXPECT_TRUE(contacts.empty());
+  EXPECT_NEAR(b.pose().x + 0.12, nose - 0.1, 1e-9);
+}
+
+TEST(KinematicBackendTest, TurningNextToWallIsBlockedWhenTheCornerWouldHit) {
+  // The robot stands side-on 1 mm from the wall; turning in place swings a corner into it.
+  const World world = MakeWorld(1.0);
+  KinematicBackend b(MakeRobot(), world);
+  b.SetPose(Pose2{1.0 - 0.116, 0.0, M_PI / 2});  // side (y extent 0.115) 1 mm from the wall
+  std::vector<Contact> contacts;
+  Drive(&b, 0.0, 1.0, 0.001, 100, &contacts);
+  EXPECT_FALSE(contacts.empty());
+  // The corner (0.12, 0.115) reaches the wall when 0.115 cos(a) + 0.12 sin(a) = 0.116.
+  double lo = 0.0, hi = 0.5;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (0.115 * std::cos(mid) + 0.12 * std::sin(mid) < 0.116 ? lo : hi) = mid;
+  }
+  const double turned = b.pose().yaw - M_PI / 2;
+  EXPECT_LE(turned, lo);
+  EXPECT_GT(turned, lo - 0.001);  // within one 1 ms step at 1 rad/s
+  EXPECT_EQ(b.twist().wz, 0.0);
+  // Driving along the wall (forward = +y, heading slightly away from it) is fine.
+  contacts.clear();
+  Drive(&b, 0.3, 0.0, 0.001, 1000, &contacts);
+  EXPECT_TRUE(contacts.empty());
+  EXPECT_NEAR(b.pose().y, 0.3 * std::cos(turned), 1e-9);
+}
+
+TEST(KinematicBackendTest, DistanceCacheSkipsChecksInOpenSpaceButNotNearWalls) {
+  KinematicBackend b(MakeRobot(), MakeWorld(3.0));
+  b.SetPose(Pose2{});
+  const long before = b.collision_checks();
+  Drive(&b, 0.5, 0.0, 0.001, 1000);  // 0.5 m, far from everything (> 2 m to the wall)
+  EXPECT_LT(b.collision_checks() - before, 5);
+  // Closer to the wall the polygon test runs often, and still stops the robot in time.
+  std::vector<Contact> contacts;
+  Drive(&b, 1.0, 0.0, 0.001, 3000, &contacts);
+  EXPECT_FALSE(contacts.empty());
+  EXPECT_LE(b.pose().x + 0.12, 3.0);
+  EXPECT_GT(b.pose().x + 0.12, 3.0 - 0.0015);
+}
+
+TEST(KinematicBackendTest, RobotPlacedInsideObstacleCanDriveOut) {
+  const World world = MakeWorld(1.0);
+  KinematicBackend b(MakeRobot(), world);
+  b.SetPose(Pose2{1.0, 0.0, M_PI});  // half inside the wall, facing away from it
+  std::vector<Contact> contacts;
+  Drive(&b, 0.5, 0.0, 0.001, 1000, &contacts);
+  EXPECT_FALSE(contacts.empty());  // while still overlapping
+  EXPECT_NEAR(b.pose().x, 0.5, 1e-9);
+  contacts.clear();
+  Drive(&b, 0.5, 0.0, 0.001, 10, &contacts);
+  EXPECT_TRUE(contacts.empty());
+}
+
+TEST(KinematicBackendTest, FactoryMakesEveryBackendAndNamesUnknownOnes) {
+  const RobotModel robot = MakeRobot();
+  const World world = MakeWorld(50.0);
+  for (const std::string name : {"kinematic", "bullet", "bullet_naive"}) {
+    EXPECT_EQ(MakePhysicsBackend(name, robot, world)->name(), name);
+  }
+  try {
+    MakePhysicsBackend("ode", robot, world);
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("ode"), std::string::npos) << what;
+    EXPECT_NE(what.find("bullet"), std::string::npos) << what;
+    EXPECT_NE(what.find("kinematic"), std::string::npos) << what;
+  }
+}
+
+}  // namespace
+}  // namespace minibot3d_sim
