@@ -62,7 +62,7 @@ void AddCylinder(World* w, double x, double y, double r, double h) {
   w->shapes.push_back(s);
 }
 
-// A 10 x 8 m flat: outer walls, four rooms with door gaps, furniture and table legs (41 shapes
+// A 10 x 8 m flat: outer walls, four rooms with door gaps, furniture and table legs (38 shapes
 // plus the floor).
 World MakeApartment() {
   World w;

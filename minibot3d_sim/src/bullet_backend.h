@@ -11,25 +11,26 @@
 // Wheels are not Bullet bodies. Each is a 1-DOF rotor (axle inertia from the URDF) driven by a
 // velocity motor whose torque is clamped to the drive plugin's `torque` — what Gazebo's skid-steer
 // plugin does with a joint's "vel"/"fmax". Each wheel touches the floor at one point under its
-// centre with the normal load N it carries at rest (m g shared by the least-norm statics of the four
-// contacts about the centre of mass). Before every Bullet step the wheel–ground contacts are solved
-// as velocity-level constraints by projected Gauss–Seidel (sequential impulses, warm-started):
-// per wheel one block couples the motor, the longitudinal slip (chassis velocity at the contact
-// minus r·ω) and the lateral slip; its friction impulse is confined to Coulomb's anisotropic
-// friction ellipse (λ_along / μ1 N dt)² + (λ_across / μ2 N dt)² ≤ 1 (mu1/mu2 of the URDF's wheel
-// links) and, when sliding, chosen by maximum dissipation (force opposing the slip in the
-// ellipse's metric). The impulses change the chassis velocity and the wheel spins; then Bullet
+// centre with the normal load N it carries at rest (m g shared by the least-norm statics of the
+// four contacts about the centre of mass). Before every Bullet step the wheel–ground contacts are
+// solved as velocity-level constraints by projected Gauss–Seidel (sequential impulses, warm
+// started): per wheel one block couples the motor, the longitudinal slip (chassis velocity at the
+// contact minus r·ω) and the lateral slip; its friction impulse is confined to Coulomb's
+// anisotropic friction ellipse (λ_along / μ1 N dt)² + (λ_across / μ2 N dt)² ≤ 1 (mu1/mu2 of the
+// URDF's wheel links) and, when sliding, chosen by maximum dissipation (force opposing the slip in
+// the ellipse's metric). The impulses change the chassis velocity and the wheel spins; then Bullet
 // resolves wall contacts and integrates. So skid-steer turning slips (lateral friction resists the
 // yaw the wheel speeds ask for: in place, the yaw rate settles at b²/(a²+b²) of the no-slip rate
 // for wheels at (±a, ±b)), acceleration is limited by torque and by friction, and the wheels spin
 // when the robot pushes a wall.
 //
 // Why not wheels as Bullet bodies: the straightforward set-up (NaiveBulletBackend: chassis + four
-// hinge-motor wheel bodies on a ground plane) costs ~21 µs per 1 ms step in an apartment of ~40
-// shapes, mostly wheel–ground contact generation and a 5-body constraint solve; a simulator aiming
-// at ≥ 100× real time has ~5 µs per step for all physics. This model costs ~1.5 µs driving in the
-// open and ~3.5 µs while pushing a wall (bench/physics_bench.cpp), and keeps the behaviour that
-// matters to a 2-D navigation robot: slip, torque and friction limits, wall contacts. What it
+// hinge-motor wheel bodies on a ground plane) costs ~17 µs per 1 ms step driving in an apartment
+// of ~40 shapes (~25 µs pushing a wall), mostly wheel–ground contact generation and a 5-body
+// constraint solve; a simulator aiming at ≥ 100× real time has ~5 µs per step for all physics.
+// This model costs ~1.5 µs driving and ~3.8 µs pushing a wall (bench/physics_bench.cpp), and its
+// steady speeds and slipping yaw rates agree with the full model within a few per cent
+// (bullet_backend_test): slip, torque and friction limits and wall contacts are kept. What it
 // leaves out: suspension/pitch, load transfer under acceleration, rolling resistance, climbing
 // over obstacles lower than a quarter wheel radius (the hull starts there; they are ignored).
 //

@@ -46,10 +46,14 @@ KinematicBackend::KinematicBackend(const RobotModel& robot, const World& world)
     throw std::invalid_argument("KinematicBackend: wheel separation and diameter must be > 0");
   }
   if (footprint_.size() < 3) {
-    throw std::invalid_argument("KinematicBackend: the robot footprint needs >= 3 vertices");
+    // No outline given: the body box seen from above (as BulletBackend does).
+    const Eigen::Vector2d c = robot.body_pose.translation().head<2>();
+    const Eigen::Vector2d h = robot.body_size.head<2>() / 2.0;
+    footprint_ = {c + Eigen::Vector2d(-h.x(), -h.y()), c + Eigen::Vector2d(h.x(), -h.y()),
+                  c + Eigen::Vector2d(h.x(), h.y()), c + Eigen::Vector2d(-h.x(), h.y())};
   }
-  // Keep the polygon counter-clockwise whatever the caller gave (the contact code relies on it
-  // only through ClosestOnPolygon, which does not care, but a clockwise outline is cheap to fix).
+  // RobotModel promises a counter-clockwise outline; a hand-made clockwise one is turned around
+  // so that every polygon handed to the slice has the documented orientation.
   double area2 = 0.0;
   for (std::size_t i = 0; i < footprint_.size(); ++i) {
     area2 += Cross(footprint_[i], footprint_[(i + 1) % footprint_.size()]);
@@ -137,7 +141,9 @@ void KinematicBackend::Step(double dt, std::vector<Contact>* contacts) {
 
 Contact KinematicBackend::MakeContact(int shape) const {
   std::vector<Eigen::Vector2d> poly(footprint_.size());
-  for (std::size_t i = 0; i < footprint_.size(); ++i) poly[i] = TransformPoint(pose_, footprint_[i]);
+  for (std::size_t i = 0; i < footprint_.size(); ++i) {
+    poly[i] = TransformPoint(pose_, footprint_[i]);
+  }
 
   // Closest pair (world point, robot point) over the slice geometry of `shape`; a plain scan, as
   // this runs once per blocking event.

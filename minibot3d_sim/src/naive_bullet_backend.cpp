@@ -142,7 +142,8 @@ void NaiveBulletBackend::SetPose(const Pose2& pose) {
   for (int i = 0; i < 4; ++i) {
     // Wheel angles are kept: turn the wheel about its axle by its joint angle.
     const btTransform spin(btQuaternion(btVector3(0, 1, 0), angles_[i]), btVector3(0, 0, 0));
-    place(wheels_[i].get(), root * btTransform(btQuaternion::getIdentity(), wheel_in_root_[i]) * spin);
+    const btTransform centre(btQuaternion::getIdentity(), wheel_in_root_[i]);
+    place(wheels_[i].get(), root * centre * spin);
   }
 }
 

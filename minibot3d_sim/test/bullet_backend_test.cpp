@@ -293,7 +293,8 @@ TEST(BulletBackendTest, TorqueLimitedAcceleration) {
   // Motors at their limit, no slip: 4 τ / r = (M + 4 I / r²) a.
   RobotParams weak;
   weak.torque = 0.02;
-  const double expected = 4 * weak.torque / kRadius / (kMass + 4 * kWheelInertia / kRadius / kRadius);
+  const double expected =
+      4 * weak.torque / kRadius / (kMass + 4 * kWheelInertia / (kRadius * kRadius));
   const double v = SpeedAfter("bullet", weak, 0.1);
   EXPECT_NEAR(v / 0.1, expected, 0.02 * expected);
 }
@@ -319,6 +320,29 @@ TEST(BulletBackendTest, ArcIsWiderThanCommandedBecauseOfSlip) {
   EXPECT_LT(std::abs(t.vy), 0.02);
 }
 
+TEST(BulletBackendTest, AgreesWithTheFullBulletModel) {
+  // The reduced model (analytic wheel contacts) against wheel bodies rolling on a plane: steady
+  // speeds and slipping yaw rates for arcs and turning in place.
+  struct Command {
+    double v, w;
+  };
+  const World world = MakeWorld();
+  for (const Command c : {Command{0.2, 0.6}, Command{0.0, 2.0}, Command{0.5, -1.0}}) {
+    auto reduced = MakePhysicsBackend("bullet", MakeRobot(), world);
+    auto full = MakePhysicsBackend("bullet_naive", MakeRobot(), world);
+    for (auto* b : {reduced.get(), full.get()}) {
+      b->SetPose(Pose2{});
+      Drive(b, c.v, c.w, 2.0);
+    }
+    EXPECT_NEAR(reduced->twist().vx, full->twist().vx, 0.05 * std::abs(c.v) + 0.005)
+        << c.v << " " << c.w;
+    EXPECT_NEAR(reduced->twist().wz, full->twist().wz, 0.1 * std::abs(full->twist().wz))
+        << c.v << " " << c.w;
+    // Both slip: well below the commanded (no-slip) yaw rate.
+    EXPECT_LT(std::abs(reduced->twist().wz), 0.8 * std::abs(c.w));
+  }
+}
+
 TEST(BulletBackendTest, PrecisionDoesNotDependOnDistanceFromOrigin) {
   // Bullet stores transforms in single precision; the backend's pose must not inherit the
   // ~1e-7 x |position| rounding per step (that would be 2 % of the distance at 0.05 m/s, 40 m out).
@@ -339,7 +363,8 @@ TEST(BulletBackendTest, PrecisionDoesNotDependOnDistanceFromOrigin) {
 TEST(BulletBackendTest, DoesNotTunnelThroughThinWallAtLargeSteps) {
   // A 2 cm wall, 1 m/s, 10 ms steps (1 cm per step).
   World world;
-  world.shapes.push_back(Box("thin", Eigen::Vector3d(1.01, 0, 0.25), Eigen::Vector3d(0.02, 4, 0.5)));
+  world.shapes.push_back(
+      Box("thin", Eigen::Vector3d(1.01, 0, 0.25), Eigen::Vector3d(0.02, 4, 0.5)));
   auto b = MakePhysicsBackend("bullet", MakeRobot(), world);
   b->SetPose(Pose2{});
   b->SetWheelTargets(WheelSpeedsForTwist(1.0, 0.0, kGeometry));

@@ -1,0 +1,47 @@
+// A planar ray-cast lidar modelled on Gazebo's ray sensor.
+//
+// All beams of a scan are cast at one instant (as Gazebo does) against the world's cross-section at
+// the sensor's height (WorldSlice), beam i at min_angle + i·(max_angle − min_angle)/(samples − 1) in
+// the sensor frame. Each true range gets additive Gaussian noise N(mean, stddev²), is quantised to
+// the range resolution, and is reported per REP 117: +inf when nothing is within max_range, −inf
+// when the return is closer than min_range.
+#ifndef MINIBOT3D_SIM_LIDAR_H_
+#define MINIBOT3D_SIM_LIDAR_H_
+
+#include <random>
+#include <vector>
+
+#include "minibot3d_sim/geometry2d.h"
+#include "minibot3d_sim/robot_model.h"
+#include "minibot3d_sim/world_slice.h"
+
+namespace minibot3d_sim {
+
+class Lidar {
+ public:
+  // `slice` must be cut at the sensor's height and outlive the Lidar.
+  Lidar(const LidarSpec& spec, const WorldSlice* slice, unsigned seed);
+
+  // Ranges of one scan with the robot's root frame at `root_pose` (world frame).
+  void Scan(const Pose2& root_pose, std::vector<float>* ranges);
+
+  double angle_increment() const { return increment_; }
+  const LidarSpec& spec() const { return spec_; }
+  void Reseed(unsigned seed) { rng_.seed(seed); }
+  // Rays cast so far (for benchmarks).
+  long rays_cast() const { return rays_cast_; }
+
+ private:
+  LidarSpec spec_;
+  const WorldSlice* slice_;
+  Pose2 sensor_in_root_;
+  double increment_ = 0.0;
+  std::vector<double> cos_, sin_;  // beam directions in the sensor frame
+  std::mt19937 rng_;
+  std::normal_distribution<double> noise_;
+  long rays_cast_ = 0;
+};
+
+}  // namespace minibot3d_sim
+
+#endif  // MINIBOT3D_SIM_LIDAR_H_

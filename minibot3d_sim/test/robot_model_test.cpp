@@ -1,0 +1,163 @@
+// ParseRobotModel on the shipped xacro and on small inline URDFs with one thing wrong each.
+#include "minibot3d_sim/robot_model.h"
+
+#include <cstdio>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace minibot3d_sim {
+namespace {
+
+std::string ExpandShippedXacro() {
+  const std::string cmd = std::string("xacro '") + MINIBOT3D_DESCRIPTION_XACRO + "' 2>/dev/null";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return "";
+  std::string out;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof(buf), pipe)) > 0) out.append(buf, n);
+  pclose(pipe);
+  return out;
+}
+
+// A minimal valid robot: a box body and four wheels, the drive plugin and a ray sensor.
+std::string MiniUrdf(const std::string& drive_extra = "", const std::string& sensor = "",
+                     const std::string& first_joint = "fl") {
+  std::string wheels;
+  const char* names[4] = {"fl", "fr", "rl", "rr"};
+  const double xs[4] = {0.1, 0.1, -0.1, -0.1}, ys[4] = {0.15, -0.15, 0.15, -0.15};
+  for (int i = 0; i < 4; ++i) {
+    wheels += std::string("<link name='") + names[i] + "_w'><collision><origin rpy='1.5708 0 0'/>"
+              "<geometry><cylinder radius='0.05' length='0.03'/></geometry></collision>"
+              "<inertial><mass value='0.1'/><inertia ixx='1e-4' iyy='1e-4' izz='1e-4' ixy='0' "
+              "ixz='0' iyz='0'/></inertial></link>"
+              "<joint name='" + names[i] + "' type='continuous'><parent link='base'/><child link='" +
+              names[i] + "_w'/><origin xyz='" + std::to_string(xs[i]) + " " +
+              std::to_string(ys[i]) + " 0.05'/><axis xyz='0 1 0'/>"
+              "<limit effort='1' velocity='10'/></joint>";
+  }
+  const std::string default_sensor =
+      "<gazebo reference='lidar'><sensor type='ray' name='s'><pose>0 0 0.02 0 0 0</pose>"
+      "<update_rate>5</update_rate><ray><scan><horizontal><samples>90</samples>"
+      "<min_angle>-1.5</min_angle><max_angle>1.5</max_angle></horizontal></scan>"
+      "<range><min>0.1</min><max>8</max></range></ray>"
+      "<plugin name='p' filename='libgazebo_ros_laser.so'><topicName>scan2</topicName>"
+      "<frameName>lidar</frameName></plugin></sensor></gazebo>";
+  return "<?xml version='1.0'?><robot name='mini'>"
+         "<link name='base'><collision><origin xyz='0 0 0.1'/><geometry><box size='0.3 0.2 0.1'/>"
+         "</geometry></collision><inertial><origin xyz='0 0 0.1'/><mass value='2'/><inertia "
+         "ixx='0.01' iyy='0.02' izz='0.03' ixy='0' ixz='0' iyz='0'/></inertial></link>"
+         "<link name='lidar'/><joint name='lj' type='fixed'><parent link='base'/><child "
+         "link='lidar'/><origin xyz='0.05 0 0.2' rpy='0 0 3.14159265'/></joint>" +
+         wheels +
+         "<gazebo><plugin name='d' filename='libgazebo_ros_skid_steer_drive.so'>"
+         "<leftFrontJoint>" + first_joint + "</leftFrontJoint><rightFrontJoint>fr</rightFrontJoint>"
+         "<leftRearJoint>rl</leftRearJoint><rightRearJoint>rr</rightRearJoint>"
+         "<wheelSeparation>0.3</wheelSeparation><wheelDiameter>0.1</wheelDiameter>"
+         "<torque>3</torque><robotBaseFrame>base</robotBaseFrame>" + drive_extra +
+         "</plugin></gazebo>" + (sensor.empty() ? default_sensor : sensor) + "</robot>";
+}
+
+TEST(RobotModelTest, ShippedRobot) {
+  const std::string xml = ExpandShippedXacro();
+  ASSERT_FALSE(xml.empty()) << "xacro could not expand " << MINIBOT3D_DESCRIPTION_XACRO;
+  const RobotModel m = ParseRobotModel(xml);
+  EXPECT_EQ(m.root_link, "base_footprint");
+  EXPECT_TRUE(m.warnings.empty()) << m.warnings.front();
+  EXPECT_DOUBLE_EQ(m.drive.wheel_separation, 0.2);
+  EXPECT_DOUBLE_EQ(m.drive.wheel_diameter, 0.08);
+  EXPECT_DOUBLE_EQ(m.drive.torque, 2.0);
+  EXPECT_EQ(m.drive.robot_base_frame, "base_footprint");
+  EXPECT_EQ(m.drive.command_topic, "cmd_vel");
+  EXPECT_EQ(m.drive.odometry_frame, "odom");
+  EXPECT_TRUE(m.drive.broadcast_tf);
+  EXPECT_EQ(m.wheels[kFrontLeft].joint, "front_left_wheel_hinge");
+  EXPECT_EQ(m.wheels[kRearRight].joint, "rear_right_wheel_hinge");
+  for (const auto& w : m.wheels) {
+    EXPECT_NEAR(w.radius, 0.04, 1e-9);
+    EXPECT_NEAR(w.position.z(), 0.04, 1e-9) << w.joint << ": axle height";
+    EXPECT_NEAR(std::abs(w.position.y()), 0.1, 1e-9);
+    EXPECT_DOUBLE_EQ(w.mu1, 1.0);
+    EXPECT_GT(w.inertia_axle, 0.0);
+    EXPECT_GT(w.velocity_limit, 0.0);
+  }
+  EXPECT_GT(m.wheels[kFrontLeft].position.y(), 0.0);
+  EXPECT_GT(m.wheels[kFrontLeft].position.x(), 0.0);
+  EXPECT_EQ(m.lidar.frame_id, "laser");
+  EXPECT_EQ(m.lidar.topic, "/scan");
+  EXPECT_EQ(m.lidar.samples, 360);
+  EXPECT_DOUBLE_EQ(m.lidar.min_range, 0.15);
+  EXPECT_DOUBLE_EQ(m.lidar.max_range, 12.0);
+  EXPECT_DOUBLE_EQ(m.lidar.update_rate, 10.0);
+  EXPECT_DOUBLE_EQ(m.lidar.noise_stddev, 0.01);
+  // laser = chassis top (0.04 + 0.055) + 0.02 forward, yawed by pi; rays 3 cm above it.
+  EXPECT_NEAR(m.lidar.link_in_root.translation().x(), 0.02, 1e-9);
+  EXPECT_NEAR(m.lidar.link_in_root.translation().z(), 0.095, 1e-9);
+  EXPECT_NEAR(m.lidar.pose_in_root.translation().z(), 0.125, 1e-9);
+  EXPECT_NEAR((m.lidar.link_in_root.linear() * Eigen::Vector3d::UnitX()).x(), -1.0, 1e-6);
+  EXPECT_NEAR(m.total_mass, 1.0 + 4 * 0.08 + 2 * 0.02 + 0.17, 1e-9);
+  EXPECT_NEAR(m.body_size.x(), 0.24, 1e-9);
+  EXPECT_GT(m.body_inertia_z, 0.0);
+  EXPECT_GE(m.footprint.size(), 4u);
+}
+
+TEST(RobotModelTest, MinimalRobot) {
+  const RobotModel m = ParseRobotModel(MiniUrdf());
+  EXPECT_EQ(m.lidar.topic, "scan2");
+  EXPECT_EQ(m.lidar.samples, 90);
+  EXPECT_DOUBLE_EQ(m.lidar.update_rate, 5.0);
+  EXPECT_NEAR(m.lidar.pose_in_root.translation().z(), 0.22, 1e-9);
+  EXPECT_DOUBLE_EQ(m.drive.torque, 3.0);
+  EXPECT_EQ(m.drive.odometry_topic, "odom");  // the plugin's defaults for absent tags
+  EXPECT_NEAR(m.wheels[kFrontRight].position.y(), -0.15, 1e-6);
+  EXPECT_NEAR(m.total_mass, 2.4, 1e-12);
+  // Footprint: the hull of body and wheels spans the wheels' outer faces.
+  double max_y = 0;
+  for (const auto& p : m.footprint) max_y = std::max(max_y, p.y());
+  EXPECT_NEAR(max_y, 0.165, 1e-6);
+}
+
+void ExpectError(const std::string& xml, const std::string& needle) {
+  try {
+    ParseRobotModel(xml);
+    ADD_FAILURE() << "no error; expected one mentioning '" << needle << "'";
+  } catch (const RobotModelError& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+TEST(RobotModelTest, BadInputIsNamed) {
+  ExpectError("", "empty");
+  ExpectError("<robot name='x'>", "not valid XML");
+  ExpectError("<notarobot/>", "<robot>");
+  std::string no_drive = MiniUrdf();
+  no_drive.replace(no_drive.find("libgazebo_ros_skid_steer_drive.so"), 33, "libother_plugin.so");
+  ExpectError(no_drive, "skid_steer_drive");
+  std::string no_sensor = MiniUrdf("", "<gazebo reference='lidar'><material>x</material></gazebo>");
+  ExpectError(no_sensor, "sensor");
+  ExpectError(MiniUrdf("", "", "nosuchjoint"), "nosuchjoint");
+  ExpectError(MiniUrdf("<updateRate>fast</updateRate>"), "updateRate");
+  std::string bad_range = MiniUrdf();
+  bad_range.replace(bad_range.find("<max>8</max>"), 12, "<max>0.05</max>");
+  ExpectError(bad_range, "<range>");
+  std::string bad_ref = MiniUrdf();
+  bad_ref.replace(bad_ref.find("reference='lidar'"), 17, "reference='nolink'");
+  ExpectError(bad_ref, "nolink");
+}
+
+TEST(RobotModelTest, UnknownPluginsAndTagsWarnOnce) {
+  const std::string extra_sensor =
+      "<gazebo reference='lidar'><sensor type='ray' name='s'><update_rate>5</update_rate>"
+      "<ray><scan><horizontal><samples>10</samples><min_angle>-1</min_angle><max_angle>1"
+      "</max_angle></horizontal></scan><range><min>0.1</min><max>8</max></range></ray>"
+      "<plugin name='p' filename='libgazebo_ros_laser.so'/></sensor>"
+      "<wobble>1</wobble></gazebo><gazebo><plugin name='x' filename='libmystery.so'/></gazebo>";
+  const RobotModel m = ParseRobotModel(MiniUrdf("", extra_sensor));
+  ASSERT_EQ(m.warnings.size(), 2u);
+  EXPECT_NE(m.warnings[0].find("wobble"), std::string::npos);
+  EXPECT_NE(m.warnings[1].find("libmystery.so"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace minibot3d_sim

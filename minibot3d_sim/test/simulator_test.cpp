@@ -1,0 +1,143 @@
+// The simulator core: clock, command timeout, odometry, scan schedule, collision events, reset.
+#include "minibot3d_sim/simulator.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "sim_test_fixtures.h"
+
+namespace minibot3d_sim {
+namespace {
+
+using testing::MakeRobot;
+using testing::MakeRoom;
+
+SimulatorOptions Options(const std::string& physics) {
+  SimulatorOptions o;
+  o.physics = physics;
+  o.physics_step = 0.001;
+  return o;
+}
+
+void Drive(Simulator* sim, double seconds, double v, double w) {
+  const int n = static_cast<int>(std::lround(seconds / sim->physics_step()));
+  for (int i = 0; i < n; ++i) {
+    // cmd_vel arrives at 10 Hz, as from a controller.
+    if (i % 100 == 0) sim->SetCommand(v, w);
+    sim->Step();
+  }
+}
+
+TEST(SimulatorTest, ClockIsStepsTimesStep) {
+  Simulator sim(MakeRobot(), MakeRoom(), Options("kinematic"));
+  for (int i = 0; i < 12345; ++i) sim.Step();
+  EXPECT_EQ(sim.steps(), 12345u);
+  EXPECT_DOUBLE_EQ(sim.time(), 12.345);
+}
+
+TEST(SimulatorTest, KinematicOdometryMatchesTruthAndTimeoutStops) {
+  Simulator sim(MakeRobot(), MakeRoom(), Options("kinematic"));
+  Drive(&sim, 2.0, 0.3, 0.2);
+  const Pose2 t = sim.true_pose(), o = sim.odom_pose();
+  // No slip in the kinematic backend: odometry equals the truth (spawn at the origin).
+  EXPECT_NEAR(o.x, t.x, 1e-9);
+  EXPECT_NEAR(o.y, t.y, 1e-9);
+  EXPECT_NEAR(o.yaw, t.yaw, 1e-9);
+  // Exact arc: R = v / w = 1.5 m, angle 0.4 rad.
+  EXPECT_NEAR(t.x, 1.5 * std::sin(0.4), 1e-6);
+  EXPECT_NEAR(t.y, 1.5 * (1 - std::cos(0.4)), 1e-6);
+  // Without new commands the robot stops once cmd_timeout (0.5 s) has passed.
+  for (int i = 0; i < 600; ++i) sim.Step();
+  EXPECT_FALSE(sim.command_active());
+  const Pose2 before = sim.true_pose();
+  for (int i = 0; i < 500; ++i) sim.Step();
+  EXPECT_NEAR(sim.true_pose().x, before.x, 1e-12);
+  EXPECT_DOUBLE_EQ(sim.odom_twist().vx, 0.0);
+}
+
+TEST(SimulatorTest, ScansAtTheSensorRate) {
+  Simulator sim(MakeRobot(), MakeRoom(), Options("kinematic"));
+  int scans = 0;
+  std::vector<float> ranges;
+  for (int i = 0; i < 2000; ++i) {
+    if (sim.ScanDue()) {
+      sim.TakeScan(&ranges);
+      ++scans;
+    }
+    sim.Step();
+  }
+  EXPECT_EQ(scans, 20);  // t = 0.0, 0.1, ..., 1.9
+  ASSERT_EQ(ranges.size(), 360u);
+  // From the centre of a 4 m room every beam hits a wall between 2 and 2√2 m.
+  for (float r : ranges) {
+    EXPECT_GE(r, 1.97f);
+    EXPECT_LE(r, 2.0f * std::sqrt(2.0f) + 0.03f);
+  }
+}
+
+TEST(SimulatorTest, WallStopsTheRobotWithOneCollisionEvent) {
+  for (const char* physics : {"kinematic", "bullet"}) {
+    SCOPED_TRACE(physics);
+    Simulator sim(MakeRobot(), MakeRoom(1.0), Options(physics));
+    Drive(&sim, 6.0, 0.5, 0.0);  // 1 m to the wall, then keep pushing for seconds
+    const auto events = sim.TakeCollisionEvents();
+    ASSERT_GE(events.size(), 1u);
+    EXPECT_EQ(events[0].shape_name, "east");
+    EXPECT_LE(sim.collision_count(), 2u) << "pushing against a wall is one collision, not many";
+    EXPECT_LT(sim.true_pose().x, 1.0 - 0.12 + 0.01) << "the front face went into the wall";
+    EXPECT_GT(sim.true_pose().x, 0.7);
+    EXPECT_TRUE(sim.in_contact());
+  }
+}
+
+TEST(SimulatorTest, BulletTurnInPlaceSlipsSoOdometryDrifts) {
+  Simulator sim(MakeRobot(), MakeRoom(), Options("bullet"));
+  Drive(&sim, 3.0, 0.0, 1.0);
+  const double true_yaw = sim.true_pose().yaw, odom_yaw = sim.odom_pose().yaw;
+  EXPECT_GT(true_yaw, 0.3) << "the robot did not turn";
+  // Skid-steering slips: the wheels turn more than the body does.
+  EXPECT_GT(std::abs(NormalizeAngle(odom_yaw - true_yaw)), 0.05);
+  EXPECT_LT(std::hypot(sim.true_pose().x, sim.true_pose().y), 0.05);
+}
+
+TEST(SimulatorTest, ResetAndTeleport) {
+  SimulatorOptions o = Options("kinematic");
+  o.spawn = Pose2{0.5, -0.5, 1.0};
+  Simulator sim(MakeRobot(), MakeRoom(), o);
+  Drive(&sim, 1.0, 0.3, 0.0);
+  EXPECT_GT(std::abs(sim.odom_pose().x), 0.2);
+  sim.Reset();
+  EXPECT_DOUBLE_EQ(sim.true_pose().x, 0.5);
+  EXPECT_DOUBLE_EQ(sim.true_pose().yaw, 1.0);
+  EXPECT_DOUBLE_EQ(sim.odom_pose().x, 0.0);
+  EXPECT_FALSE(sim.command_active());
+  std::string what;
+  EXPECT_TRUE(sim.PoseCollides(Pose2{1.95, 0.0, 0.0}, &what));
+  EXPECT_EQ(what, "east");
+  EXPECT_FALSE(sim.PoseCollides(Pose2{1.0, 1.0, 0.3}, &what));
+  sim.SetPose(Pose2{1.0, 1.0, 0.3});
+  EXPECT_DOUBLE_EQ(sim.true_pose().y, 1.0);
+  EXPECT_DOUBLE_EQ(sim.odom_pose().x, 0.0);  // odometry is not told about a kidnapping
+}
+
+TEST(SimulatorTest, InvalidOptionsAreRejectedWithTheirValues) {
+  SimulatorOptions o = Options("kinematic");
+  o.physics_step = 0.0;
+  try {
+    Simulator sim(MakeRobot(), MakeRoom(), o);
+    FAIL() << "physics_step 0 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("physics_step"), std::string::npos);
+  }
+  o = Options("warp_drive");
+  try {
+    Simulator sim(MakeRobot(), MakeRoom(), o);
+    FAIL() << "unknown physics accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("warp_drive"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace minibot3d_sim
