@@ -2,7 +2,7 @@
 // square route in a world, and the lidar's rays per second.
 //
 //   sim_bench URDF_FILE WORLD_FILE [--physics bullet|kinematic|bullet_naive] [--seconds S]
-//             [--x X --y Y --yaw YAW] [--side M]
+//             [--x X --y Y --yaw YAW] [--side M] [--odom-multiplier K]
 //
 // The robot follows the corners of a square of side --side metres from the spawn pose, with a
 // simple closed loop on the true pose (turn in place towards the next corner, then drive), so the
@@ -24,7 +24,7 @@ using minibot3d_sim::Pose2;
 int main(int argc, char** argv) {
   if (argc < 3) {
     std::fprintf(stderr, "usage: sim_bench URDF_FILE WORLD_FILE [--physics NAME] [--seconds S] "
-                         "[--x X --y Y --yaw YAW] [--side M]\n");
+                         "[--x X --y Y --yaw YAW] [--side M] [--odom-multiplier K]\n");
     return 2;
   }
   const std::string urdf_path = argv[1], world_path = argv[2];
@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
     else if (k == "--y") options.spawn.y = std::atof(v);
     else if (k == "--yaw") options.spawn.yaw = std::atof(v);
     else if (k == "--side") side = std::atof(v);
+    else if (k == "--odom-multiplier") options.odom_wheel_separation_multiplier = std::atof(v);
     else {
       std::fprintf(stderr, "sim_bench: unknown option %s\n", k.c_str());
       return 2;
@@ -64,6 +65,8 @@ int main(int argc, char** argv) {
       corners.push_back(Pose2{options.spawn.x + std::cos(a) * cx[k] - std::sin(a) * cy[k],
                               options.spawn.y + std::sin(a) * cx[k] + std::cos(a) * cy[k], 0});
     }
+    const minibot3d_sim::WorldSlice slice(sim.world(), robot.lidar.pose_in_root.translation().z());
+    std::vector<Pose2> route;  // poses every 0.1 s of sim time, reused for the lidar-only timing
     size_t target = 0;
     std::vector<float> ranges;
     double path = 0.0;
@@ -82,7 +85,10 @@ int main(int argc, char** argv) {
         if (std::abs(err) > 0.3) sim.SetCommand(0.0, err > 0 ? 1.0 : -1.0);
         else sim.SetCommand(std::min(0.4, std::hypot(dx, dy)), 2.0 * err);
       }
-      if (sim.ScanDue()) sim.TakeScan(&ranges);
+      if (sim.ScanDue()) {
+        sim.TakeScan(&ranges);
+        route.push_back(sim.true_pose());
+      }
       sim.Step();
       const Pose2 p = sim.true_pose();
       path += std::hypot(p.x - last.x, p.y - last.y);
@@ -91,16 +97,61 @@ int main(int argc, char** argv) {
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const Pose2 t = sim.true_pose(), o = sim.odom_pose();
+    // Skid-steer calibration: turning in place at 1 rad/s commanded for 4 s, how far does the body
+    // really turn per radian the raw wheel odometry sees? Its inverse is the odometry's
+    // wheel-separation multiplier.
+    double turn_ratio = 1.0;
+    {
+      auto calib_options = options;
+      calib_options.odom_wheel_separation_multiplier = 1.0;
+      minibot3d_sim::Simulator turn(robot, minibot3d_sim::LoadWorld(world_path, load, nullptr),
+                                    calib_options);
+      double body = 0.0, odom = 0.0;
+      Pose2 lt = turn.true_pose(), lo = turn.odom_pose();
+      for (int i = 0; i < 4000; ++i) {
+        if (i % 50 == 0) turn.SetCommand(0.0, 1.0);
+        turn.Step();
+        body += minibot3d_sim::NormalizeAngle(turn.true_pose().yaw - lt.yaw);
+        odom += minibot3d_sim::NormalizeAngle(turn.odom_pose().yaw - lo.yaw);
+        lt = turn.true_pose();
+        lo = turn.odom_pose();
+      }
+      turn_ratio = body / odom;
+    }
+    // The lidar alone: scans from the route's poses, fan cast vs one grid-walk per beam.
+    double fan_rays_per_s = 0.0, walk_rays_per_s = 0.0;
+    {
+      minibot3d_sim::Lidar lidar(robot.lidar, &slice, 1);
+      const auto f0 = std::chrono::steady_clock::now();
+      const int kScans = 2000;
+      for (int i = 0; i < kScans; ++i) lidar.Scan(route[i % route.size()], &ranges);
+      fan_rays_per_s = kScans * robot.lidar.samples /
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count();
+      const auto w0 = std::chrono::steady_clock::now();
+      const double inc = lidar.angle_increment();
+      for (int i = 0; i < kScans; ++i) {
+        const Pose2& p = route[i % route.size()];
+        for (int k = 0; k < robot.lidar.samples; ++k) {
+          const double a = p.yaw + robot.lidar.min_angle + k * inc;
+          slice.CastRay(Eigen::Vector2d(p.x, p.y), Eigen::Vector2d(std::cos(a), std::sin(a)),
+                        robot.lidar.max_range);
+        }
+      }
+      walk_rays_per_s = kScans * robot.lidar.samples /
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+    }
     std::printf("physics=%s sim_seconds=%.1f wall_seconds=%.3f real_time_factor=%.0f "
                 "us_per_step=%.2f rays=%ld rays_per_wall_second=%.0f path_m=%.2f "
-                "collisions=%lu odom_drift_m=%.3f\n",
+                "collisions=%lu odom_drift_m=%.3f turn_in_place_body_over_odom=%.3f "
+                "lidar_fan_rays_per_s=%.0f lidar_per_beam_rays_per_s=%.0f\n",
                 options.physics.c_str(), sim.time(), wall, sim.time() / wall, 1e6 * wall / steps,
                 sim.lidar().rays_cast(), sim.lidar().rays_cast() / wall, path,
                 static_cast<unsigned long>(sim.collision_count()),
                 std::hypot(t.x - options.spawn.x - (std::cos(options.spawn.yaw) * o.x -
                                                      std::sin(options.spawn.yaw) * o.y),
                            t.y - options.spawn.y - (std::sin(options.spawn.yaw) * o.x +
-                                                     std::cos(options.spawn.yaw) * o.y)));
+                                                     std::cos(options.spawn.yaw) * o.y)),
+                turn_ratio, fan_rays_per_s, walk_rays_per_s);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "sim_bench: %s\n", e.what());
     return 1;

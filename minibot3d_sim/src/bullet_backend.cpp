@@ -184,15 +184,6 @@ BulletBackend::BulletBackend(const RobotModel& robot, const World& world) {
   // the default 10 (0.3 mm difference in the resting position) at ~20 % less cost per contact step.
   info.m_numIterations = 4;
 
-  world_objects_ = std::make_unique<BulletWorldObjects>(world, dynamics_world_.get());
-  btCollisionObjectArray& objects = dynamics_world_->getCollisionObjectArray();
-  for (int i = 0; i < objects.size(); ++i) {
-    btCollisionObject* o = objects[i];
-    if (o->getCollisionShape()->getShapeType() != STATIC_PLANE_PROXYTYPE) continue;
-    const auto* plane = static_cast<const btStaticPlaneShape*>(o->getCollisionShape());
-    const btVector3 n = o->getWorldTransform().getBasis() * plane->getPlaneNormal();
-    if (std::abs(n.z()) > 0.7) o->getBroadphaseHandle()->m_collisionFilterGroup = kFloorGroup;
-  }
 
   // Chassis shape: the footprint (body and wheels seen from above) extruded from just above the
   // floor to the top of body and wheels, relative to the centre of mass.
@@ -214,6 +205,20 @@ BulletBackend::BulletBackend(const RobotModel& robot, const World& world) {
   // Obstacles lower than a quarter wheel radius are below the hull: a real wheel would climb them.
   z_bottom = std::max(0.005, std::min(z_bottom, 0.25 * min_radius));
   if (z_top <= z_bottom) z_top = z_bottom + 0.01;
+  // The chassis only meets meshes within its height band: there they become boxes (MeshBand).
+  MeshBand band;
+  band.z_min = z_bottom;
+  band.z_max = z_top;
+  band.layers = 1;
+  world_objects_ = std::make_unique<BulletWorldObjects>(world, dynamics_world_.get(), band);
+  btCollisionObjectArray& objects = dynamics_world_->getCollisionObjectArray();
+  for (int i = 0; i < objects.size(); ++i) {
+    btCollisionObject* o = objects[i];
+    if (o->getCollisionShape()->getShapeType() != STATIC_PLANE_PROXYTYPE) continue;
+    const auto* plane = static_cast<const btStaticPlaneShape*>(o->getCollisionShape());
+    const btVector3 n = o->getWorldTransform().getBasis() * plane->getPlaneNormal();
+    if (std::abs(n.z()) > 0.7) o->getBroadphaseHandle()->m_collisionFilterGroup = kFloorGroup;
+  }
   chassis_shape_ = std::make_unique<btConvexHullShape>();
   // Radius of the largest circle about the centre of mass inside the outline (for CCD below).
   double inner_radius = std::numeric_limits<double>::infinity();

@@ -1,6 +1,9 @@
 #include "minibot3d_sim/bullet_world.h"
 
 #include <algorithm>
+#include <cmath>
+
+#include "minibot3d_sim/world_slice.h"
 
 namespace minibot3d_sim {
 namespace {
@@ -20,7 +23,8 @@ btTransform ToBullet(const Eigen::Isometry3d& pose) {
 
 }  // namespace
 
-BulletWorldObjects::BulletWorldObjects(const World& world, btCollisionWorld* collision_world)
+BulletWorldObjects::BulletWorldObjects(const World& world, btCollisionWorld* collision_world,
+                                       const MeshBand& band)
     : collision_world_(collision_world) {
   for (std::size_t i = 0; i < world.shapes.size(); ++i) {
     const Shape& s = world.shapes[i];
@@ -50,6 +54,11 @@ BulletWorldObjects::BulletWorldObjects(const World& world, btCollisionWorld* col
       }
       case ShapeType::kMesh: {
         if (!s.mesh || s.mesh->triangles.empty()) continue;  // nothing to collide with
+        if (band.layers > 0 && band.z_max > band.z_min) {
+          shape = MeshBandBoxes(s, band);
+          if (!shape) continue;  // the mesh does not reach the band
+          break;
+        }
         auto mesh = std::make_unique<btTriangleMesh>(/*use32bitIndices=*/true,
                                                      /*use4componentVertices=*/false);
         const auto& v = s.mesh->vertices;
@@ -71,7 +80,9 @@ BulletWorldObjects::BulletWorldObjects(const World& world, btCollisionWorld* col
     }
     auto object = std::make_unique<btCollisionObject>();
     object->setCollisionShape(shape.get());
-    object->setWorldTransform(ToBullet(s.pose));
+    // Band boxes of a mesh are already in the world frame.
+    const bool in_world_frame = shape->getShapeType() == COMPOUND_SHAPE_PROXYTYPE;
+    object->setWorldTransform(in_world_frame ? btTransform::getIdentity() : ToBullet(s.pose));
     object->setCollisionFlags(object->getCollisionFlags() | btCollisionObject::CF_STATIC_OBJECT);
     object->setUserIndex(static_cast<int>(i));
     // Asleep, a static object is skipped when a dynamics world refreshes AABBs and activation each
@@ -84,6 +95,35 @@ BulletWorldObjects::BulletWorldObjects(const World& world, btCollisionWorld* col
     shapes_.push_back(std::move(shape));
     objects_.push_back(std::move(object));
   }
+}
+
+std::unique_ptr<btCollisionShape> BulletWorldObjects::MeshBandBoxes(const Shape& mesh,
+                                                                   const MeshBand& band) {
+  constexpr double kThickness = 0.01;  // m: the boxes are walls along the cross-section
+  World alone;
+  alone.shapes.push_back(mesh);
+  auto compound = std::make_unique<btCompoundShape>();
+  const double layer = (band.z_max - band.z_min) / band.layers;
+  for (int l = 0; l < band.layers; ++l) {
+    const double z = band.z_min + (l + 0.5) * layer;
+    const WorldSlice cut(alone, z);
+    for (const Segment2& seg : cut.segments()) {
+      const Eigen::Vector2d d = seg.b - seg.a;
+      const double length = d.norm();
+      if (length < 1e-6) continue;
+      // Lengthened by the thickness so that neighbouring boxes close the corners between them.
+      auto box = std::make_unique<btBoxShape>(
+          btVector3((length + kThickness) / 2, kThickness / 2, layer / 2));
+      box->setMargin(std::min<btScalar>(kStaticMargin, kThickness / 4));
+      const Eigen::Vector2d mid = 0.5 * (seg.a + seg.b);
+      btTransform t(btQuaternion(btVector3(0, 0, 1), std::atan2(d.y(), d.x())),
+                    btVector3(mid.x(), mid.y(), z));
+      compound->addChildShape(t, box.get());
+      shapes_.push_back(std::move(box));
+    }
+  }
+  if (compound->getNumChildShapes() == 0) return nullptr;
+  return compound;
 }
 
 BulletWorldObjects::~BulletWorldObjects() {

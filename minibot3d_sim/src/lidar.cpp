@@ -14,6 +14,9 @@ Lidar::Lidar(const LidarSpec& spec, const WorldSlice* slice, unsigned seed)
   increment_ = spec.samples > 1 ? (spec.max_angle - spec.min_angle) / (spec.samples - 1) : 0.0;
   cos_.resize(spec.samples);
   sin_.resize(spec.samples);
+  dir_x_.resize(spec.samples);
+  dir_y_.resize(spec.samples);
+  true_ranges_.resize(spec.samples);
   for (int i = 0; i < spec.samples; ++i) {
     const double a = spec.min_angle + i * increment_;
     cos_[i] = std::cos(a);
@@ -24,16 +27,22 @@ Lidar::Lidar(const LidarSpec& spec, const WorldSlice* slice, unsigned seed)
 void Lidar::Scan(const Pose2& root_pose, std::vector<float>* ranges) {
   const Pose2 s = Compose(root_pose, sensor_in_root_);
   const double c = std::cos(s.yaw), sn = std::sin(s.yaw);
-  const Eigen::Vector2d origin(s.x, s.y);
+  const int n = spec_.samples;
+  for (int i = 0; i < n; ++i) {
+    dir_x_[i] = c * cos_[i] - sn * sin_[i];
+    dir_y_[i] = sn * cos_[i] + c * sin_[i];
+  }
+  // Cast a little past max_range so noise can still bring a far return inside the limit.
+  const double reach = spec_.max_range + 5.0 * spec_.noise_stddev;
+  slice_->CastFan(Eigen::Vector2d(s.x, s.y), s.yaw + spec_.min_angle, increment_, n,
+                  dir_x_.data(), dir_y_.data(), reach, true_ranges_.data());
   const double inf = std::numeric_limits<double>::infinity();
-  ranges->resize(spec_.samples);
-  for (int i = 0; i < spec_.samples; ++i) {
-    const Eigen::Vector2d dir(c * cos_[i] - sn * sin_[i], sn * cos_[i] + c * sin_[i]);
-    // Cast a little past max_range so noise can still push a far return inside the limit.
-    const double reach = spec_.max_range + 5.0 * spec_.noise_stddev;
-    double r = slice_->CastRay(origin, dir, reach).range;
+  const bool noisy = spec_.noise_stddev > 0 || spec_.noise_mean != 0;
+  ranges->resize(n);
+  for (int i = 0; i < n; ++i) {
+    double r = true_ranges_[i];
     if (std::isfinite(r)) {
-      if (spec_.noise_stddev > 0 || spec_.noise_mean != 0) r += noise_(rng_);
+      if (noisy) r += noise_(rng_);
       if (spec_.resolution > 0) r = std::round(r / spec_.resolution) * spec_.resolution;
       if (r > spec_.max_range) r = inf;
       else if (r < spec_.min_range) r = -inf;
@@ -42,7 +51,7 @@ void Lidar::Scan(const Pose2& root_pose, std::vector<float>* ranges) {
     }
     (*ranges)[i] = static_cast<float>(r);
   }
-  rays_cast_ += spec_.samples;
+  rays_cast_ += n;
 }
 
 }  // namespace minibot3d_sim

@@ -12,6 +12,10 @@ void ValidateOptions(const SimulatorOptions& o) {
   if (!(o.physics_step > 0.0 && o.physics_step <= 0.02)) {
     bad("physics_step must be in (0, 0.02] s, got " + std::to_string(o.physics_step));
   }
+  if (!(o.odom_wheel_separation_multiplier > 0.0)) {
+    bad("odom_wheel_separation_multiplier must be > 0, got " +
+        std::to_string(o.odom_wheel_separation_multiplier));
+  }
   if (!(o.cmd_timeout > 0.0)) bad("cmd_timeout must be > 0 s, got " + std::to_string(o.cmd_timeout));
   if (!std::isfinite(o.spawn.x) || !std::isfinite(o.spawn.y) || !std::isfinite(o.spawn.yaw)) {
     bad("spawn pose (x, y, yaw) must be finite");
@@ -23,6 +27,8 @@ Simulator::Simulator(const RobotModel& robot, World world, const SimulatorOption
   ValidateOptions(options_);
   geometry_.wheel_separation = robot_.drive.wheel_separation;
   geometry_.wheel_radius = robot_.drive.wheel_diameter / 2.0;
+  odom_geometry_ = geometry_;
+  odom_geometry_.wheel_separation *= options_.odom_wheel_separation_multiplier;
   backend_ = MakePhysicsBackend(options_.physics, robot_, world_);
   lidar_slice_ = std::make_unique<WorldSlice>(world_, robot_.lidar.pose_in_root.translation().z());
   body_slice_ = std::make_unique<WorldSlice>(world_, robot_.body_pose.translation().z());
@@ -57,18 +63,19 @@ void Simulator::Step() {
   ++steps_;
 
   // Wheel odometry: what the encoders say, integrated exactly over the step.
-  const Twist2 wheels = TwistFromWheelSpeeds(backend_->wheel_velocities(), geometry_);
+  const Twist2 wheels = TwistFromWheelSpeeds(backend_->wheel_velocities(), odom_geometry_);
   odom_twist_ = wheels;
   odom_pose_ = IntegrateTwist(odom_pose_, wheels.vx, wheels.wz, dt);
 
-  // A collision event is a contact with a shape the body was not touching in the previous step.
-  std::set<int> now;
+  const double now = time();
+  in_contact_ = !contacts_.empty();
   for (const Contact& c : contacts_) {
-    const bool begins = !touching_.count(c.shape) && !now.count(c.shape);
-    now.insert(c.shape);
+    auto it = last_touch_.find(c.shape);
+    const bool begins = it == last_touch_.end() || now - it->second > kContactRelease;
+    last_touch_[c.shape] = now;
     if (!begins) continue;
     CollisionEvent e;
-    e.time = time();
+    e.time = now;
     e.contact = c;
     e.shape_name = c.shape >= 0 && c.shape < static_cast<int>(world_.shapes.size())
                        ? world_.shapes[c.shape].name
@@ -76,7 +83,6 @@ void Simulator::Step() {
     events_.push_back(e);
     ++collision_count_;
   }
-  touching_ = std::move(now);
 }
 
 bool Simulator::ScanDue() const {
@@ -101,14 +107,16 @@ void Simulator::Reset() {
   odom_twist_ = Twist2{};
   cmd_v_ = cmd_w_ = 0.0;
   cmd_time_ = -1e9;
-  touching_.clear();
+  last_touch_.clear();
+  in_contact_ = false;
 }
 
 void Simulator::SetPose(const Pose2& pose) {
   backend_->SetPose(pose);
   cmd_v_ = cmd_w_ = 0.0;
   cmd_time_ = -1e9;
-  touching_.clear();
+  last_touch_.clear();
+  in_contact_ = false;
 }
 
 bool Simulator::PoseCollides(const Pose2& pose, std::string* what) const {

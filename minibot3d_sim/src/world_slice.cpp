@@ -504,6 +504,84 @@ RayHit WorldSlice::CastRay(const Eigen::Vector2d& origin, const Eigen::Vector2d&
   return hit;
 }
 
+void WorldSlice::CastFan(const Eigen::Vector2d& origin, double angle0, double increment, int n,
+                         const double* dir_x, const double* dir_y, double max_range,
+                         double* ranges) const {
+  for (int k = 0; k < n; ++k) ranges[k] = kInf;
+  if (n <= 0 || !(max_range >= 0.0)) return;
+  const double ox = origin.x(), oy = origin.y();
+  const double two_pi = 2.0 * M_PI;
+  // Beams whose angle lies in [lo, lo + width] (radians, any lo), widened a hair so rounding never
+  // drops a beam; the exact intersection test below rejects any extra one.
+  auto for_beams = [&](double lo, double width, auto&& test) {
+    if (n == 1 || increment <= 0.0) {
+      const double d = std::remainder(angle0 - lo - width / 2, two_pi);
+      if (std::abs(d) <= width / 2 + 1e-9) test(0);
+      return;
+    }
+    double start = std::fmod(lo - angle0 - 1e-9, two_pi);
+    if (start < 0.0) start += two_pi;
+    const double end = start + width + 2e-9;
+    // The interval, and its copy one turn earlier (for intervals that wrap past 2π).
+    for (double shift : {0.0, -two_pi}) {
+      const double a = start + shift, b = end + shift;
+      if (b < 0.0) continue;
+      int k0 = static_cast<int>(std::ceil(a / increment));
+      int k1 = static_cast<int>(std::floor(b / increment));
+      k0 = std::max(k0, 0);
+      k1 = std::min(k1, n - 1);
+      for (int k = k0; k <= k1; ++k) test(k);
+    }
+  };
+  const std::size_t n_segments = segments_.size();
+  for (std::size_t item = 0; item < prims_.size(); ++item) {
+    const Prim& p = prims_[item];
+    const double wx = p.x - ox, wy = p.y - oy;
+    if (item < n_segments) {
+      // Cull by the distance from the origin to the segment.
+      const double len2 = p.u * p.u + p.v * p.v;
+      double s = len2 > 0.0 ? -(wx * p.u + wy * p.v) / len2 : 0.0;
+      s = std::clamp(s, 0.0, 1.0);
+      const double cx = wx + s * p.u, cy = wy + s * p.v;
+      if (cx * cx + cy * cy > max_range * max_range) continue;
+      const double bx = wx + p.u, by = wy + p.v;  // the far end, relative to the origin
+      const double cross = wx * by - wy * bx;
+      if (std::abs(cross) <= 1e-12 * (len2 + 1e-30)) continue;  // seen edge-on: blocks no beam
+      const double ang_a = std::atan2(wy, wx);
+      const double span = std::atan2(cross, wx * bx + wy * by);  // signed angle a → b
+      const double lo = span >= 0.0 ? ang_a : ang_a + span;
+      for_beams(lo, std::abs(span), [&](int k) {
+        const double dx = dir_x[k], dy = dir_y[k];
+        const double denom = dx * p.v - dy * p.u;
+        if (denom == 0.0) return;
+        const double t = (wx * p.v - wy * p.u) / denom;
+        const double sp = (wx * dy - wy * dx) / denom;
+        if (sp < -1e-12 || sp > 1.0 + 1e-12 || t < 0.0) return;
+        if (t < ranges[k]) ranges[k] = t;
+      });
+    } else {
+      const double d2 = wx * wx + wy * wy, r = p.v;  // circles: u = r², v = r
+      const double d = std::sqrt(d2);
+      if (d - r > max_range) continue;
+      // From inside the circle every beam meets it on the way out.
+      const double half = d > r ? std::asin(r / d) : M_PI;
+      const double centre = d > 0.0 ? std::atan2(wy, wx) : 0.0;
+      for_beams(centre - half, 2.0 * half, [&](int k) {
+        const double b = wx * dir_x[k] + wy * dir_y[k];
+        const double disc = b * b - (d2 - p.u);
+        if (disc < 0.0) return;
+        const double root = std::sqrt(disc);
+        double t = b - root;
+        if (t < 0.0) t = b + root;
+        if (t >= 0.0 && t < ranges[k]) ranges[k] = t;
+      });
+    }
+  }
+  for (int k = 0; k < n; ++k) {
+    if (ranges[k] > max_range) ranges[k] = kInf;
+  }
+}
+
 bool WorldSlice::ItemTouchesPolygon(std::uint32_t item,
                                     const std::vector<Eigen::Vector2d>& polygon,
                                     double orientation) const {

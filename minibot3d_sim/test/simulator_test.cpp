@@ -84,11 +84,43 @@ TEST(SimulatorTest, WallStopsTheRobotWithOneCollisionEvent) {
     const auto events = sim.TakeCollisionEvents();
     ASSERT_GE(events.size(), 1u);
     EXPECT_EQ(events[0].shape_name, "east");
-    EXPECT_LE(sim.collision_count(), 2u) << "pushing against a wall is one collision, not many";
+    EXPECT_EQ(sim.collision_count(), 1u) << "pushing against a wall is one collision, not many";
     EXPECT_LT(sim.true_pose().x, 1.0 - 0.12 + 0.01) << "the front face went into the wall";
     EXPECT_GT(sim.true_pose().x, 0.7);
     EXPECT_TRUE(sim.in_contact());
   }
+}
+
+// A triangle-mesh cube ahead: Bullet meets it as boxes along its cross-section (MeshBand), the
+// lidar as its exact cut; both must agree that it is there.
+TEST(SimulatorTest, MeshObstacleStopsTheRobotAndIsSeen) {
+  World world = MakeRoom(3.0);
+  auto cube = std::make_shared<TriangleMesh>();
+  for (int i = 0; i < 8; ++i) {
+    cube->vertices.emplace_back((i & 1) ? 0.2f : -0.2f, (i & 2) ? 0.2f : -0.2f,
+                                (i & 4) ? 0.5f : 0.0f);
+  }
+  const std::uint32_t faces[12][3] = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5}, {0, 4, 5},
+                                      {0, 5, 1}, {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4},
+                                      {1, 5, 7}, {1, 7, 3}};
+  for (const auto& f : faces) cube->triangles.push_back({f[0], f[1], f[2]});
+  Shape mesh;
+  mesh.type = ShapeType::kMesh;
+  mesh.name = "cube::link::collision";
+  mesh.pose.translation() = Eigen::Vector3d(1.5, 0.0, 0.0);  // near face at x = 1.3
+  mesh.mesh = cube;
+  world.shapes.push_back(mesh);
+  Simulator sim(MakeRobot(), world, Options("bullet"));
+  std::vector<float> ranges;
+  sim.TakeScan(&ranges);
+  // Beam 180 of 360 over [-π, π] points straight ahead; the lidar sits 0.02 m ahead of the root.
+  EXPECT_NEAR(ranges[180], 1.3 - 0.02, 0.01);
+  Drive(&sim, 8.0, 0.4, 0.0);
+  const auto events = sim.TakeCollisionEvents();
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].shape_name, "cube::link::collision");
+  EXPECT_LT(sim.true_pose().x, 1.3 - 0.12 + 0.01);
+  EXPECT_GT(sim.true_pose().x, 1.0);
 }
 
 TEST(SimulatorTest, BulletTurnInPlaceSlipsSoOdometryDrifts) {
@@ -99,6 +131,15 @@ TEST(SimulatorTest, BulletTurnInPlaceSlipsSoOdometryDrifts) {
   // Skid-steering slips: the wheels turn more than the body does.
   EXPECT_GT(std::abs(NormalizeAngle(odom_yaw - true_yaw)), 0.05);
   EXPECT_LT(std::hypot(sim.true_pose().x, sim.true_pose().y), 0.05);
+}
+
+TEST(SimulatorTest, CalibratedTrackCorrectsTurnInPlaceOdometry) {
+  // Wheels at (±0.075, ±0.1): turning in place, the body turns b²/(a² + b²) of the no-slip rate.
+  SimulatorOptions o = Options("bullet");
+  o.odom_wheel_separation_multiplier = (0.075 * 0.075 + 0.1 * 0.1) / (0.1 * 0.1);
+  Simulator sim(MakeRobot(), MakeRoom(), o);
+  Drive(&sim, 3.0, 0.0, 1.0);
+  EXPECT_NEAR(NormalizeAngle(sim.odom_pose().yaw - sim.true_pose().yaw), 0.0, 0.03);
 }
 
 TEST(SimulatorTest, ResetAndTeleport) {

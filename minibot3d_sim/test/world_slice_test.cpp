@@ -567,6 +567,46 @@ TEST(WorldSliceTest, DefaultWorldAgreesWithBulletRayTest) {
             << " ranges within 1 mm of Bullet, worst difference along the surface normal "
             << worst_along_normal * 1e3 << " mm\n";
 }
+
+// CastFan (the lidar's batched cast) gives what CastRay gives, beam by beam, for full circles
+// (Gazebo-style, first and last beam both at ±π), partial fans and single beams, from many poses.
+TEST(WorldSliceTest, FanCastMatchesRayCastInDefaultWorld) {
+  WorldLoadOptions options;
+  options.use_gazebo_model_path_env = false;
+  const World world =
+      LoadWorld(std::string(MINIBOT3D_SIM_SOURCE_DIR) + "/worlds/default.world", options, nullptr);
+  const WorldSlice slice(world, 0.125);
+  std::mt19937 rng(42);
+  std::uniform_real_distribution<double> ux(-5.5, 5.5), uy(-4.5, 4.5), ua(-M_PI, M_PI);
+  struct Fan { double min_angle, max_angle; int n; double range; };
+  const Fan fans[] = {{-M_PI, M_PI, 360, 12.0}, {-M_PI / 4, M_PI / 3, 97, 3.0},
+                      {0.3, 0.3, 1, 12.0}, {-2.0, 2.0, 721, 30.0}};
+  int compared = 0, hits = 0;
+  for (int pose = 0; pose < 200; ++pose) {
+    const Eigen::Vector2d o(ux(rng), uy(rng));
+    const double yaw = ua(rng);
+    for (const Fan& f : fans) {
+      const double inc = f.n > 1 ? (f.max_angle - f.min_angle) / (f.n - 1) : 0.0;
+      std::vector<double> dx(f.n), dy(f.n), fan(f.n);
+      for (int k = 0; k < f.n; ++k) {
+        dx[k] = std::cos(yaw + f.min_angle + k * inc);
+        dy[k] = std::sin(yaw + f.min_angle + k * inc);
+      }
+      slice.CastFan(o, yaw + f.min_angle, inc, f.n, dx.data(), dy.data(), f.range, fan.data());
+      for (int k = 0; k < f.n; ++k) {
+        const double ray = slice.CastRay(o, Eigen::Vector2d(dx[k], dy[k]), f.range).range;
+        ++compared;
+        if (std::isinf(ray)) {
+          EXPECT_TRUE(std::isinf(fan[k])) << "pose " << pose << " beam " << k << ": " << fan[k];
+        } else {
+          ++hits;
+          EXPECT_NEAR(fan[k], ray, 1e-9) << "pose " << pose << " beam " << k;
+        }
+      }
+    }
+  }
+  EXPECT_GT(hits, compared / 2);
+}
 #endif
 
 }  // namespace

@@ -1,7 +1,7 @@
 // A planar ray-cast lidar modelled on Gazebo's ray sensor.
 //
 // All beams of a scan are cast at one instant (as Gazebo does) against the world's cross-section at
-// the sensor's height (WorldSlice), beam i at min_angle + i·(max_angle − min_angle)/(samples − 1) in
+// the sensor's height (WorldSlice::CastFan: one pass over the nearby primitives per scan), beam i at min_angle + i·(max_angle − min_angle)/(samples − 1) in
 // the sensor frame. Each true range gets additive Gaussian noise N(mean, stddev²), is quantised to
 // the range resolution, and is reported per REP 117: +inf when nothing is within max_range, −inf
 // when the return is closer than min_range.
@@ -37,6 +37,7 @@ class Lidar {
   Pose2 sensor_in_root_;
   double increment_ = 0.0;
   std::vector<double> cos_, sin_;  // beam directions in the sensor frame
+  std::vector<double> dir_x_, dir_y_, true_ranges_;  // per-scan scratch
   std::mt19937 rng_;
   std::normal_distribution<double> noise_;
   long rays_cast_ = 0;

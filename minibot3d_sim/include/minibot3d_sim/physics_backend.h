@@ -50,7 +50,8 @@ class PhysicsBackend {
   virtual std::array<double, 4> wheel_positions() const = 0;   // joint angles (rad), unwrapped
 };
 
-// Factory: "bullet", "kinematic", or "bullet_naive" (the full rigid-body model, for comparison). Throws std::invalid_argument naming an unknown backend.
+// Factory: "bullet", "kinematic", or "bullet_naive" (the full rigid-body model, kept to measure
+// against). Throws std::invalid_argument naming an unknown backend.
 std::unique_ptr<PhysicsBackend> MakePhysicsBackend(const std::string& name,
                                                    const RobotModel& robot, const World& world);
 

@@ -12,7 +12,7 @@
 
 #include <cstdint>
 #include <memory>
-#include <set>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -32,6 +32,11 @@ struct SimulatorOptions {
   double cmd_timeout = 0.5;        // s of sim time
   Pose2 spawn;
   unsigned seed = 1;               // lidar noise
+  // Odometry's effective track = wheel_separation × this (diff_drive_controller's
+  // wheel_separation_multiplier). A skid-steer robot turning in place slips sideways, so its wheels
+  // turn (a² + b²)/b² times more than a no-slip model expects (a: half wheelbase, b: half track);
+  // real skid-steer robots calibrate this. 1.0 integrates the raw wheel speeds.
+  double odom_wheel_separation_multiplier = 1.0;
 };
 
 // Throws std::invalid_argument naming the offending option and value.
@@ -69,10 +74,12 @@ class Simulator {
   void TakeScan(std::vector<float>* ranges);
   const Lidar& lidar() const { return *lidar_; }
 
-  // Collision events since the last call (one per world shape the body starts touching).
+  // Collision events since the last call: one each time the body starts touching a world shape it
+  // has not touched for kContactRelease seconds (a robot pushing against a wall keeps flickering in
+  // and out of contact from step to step; that is one collision, not hundreds).
   std::vector<CollisionEvent> TakeCollisionEvents();
   std::uint64_t collision_count() const { return collision_count_; }
-  bool in_contact() const { return !touching_.empty(); }
+  bool in_contact() const { return in_contact_; }
 
   // Back to the spawn pose at rest, odometry zeroed, command cleared. Time goes on.
   void Reset();
@@ -92,7 +99,8 @@ class Simulator {
   RobotModel robot_;
   World world_;
   SimulatorOptions options_;
-  SkidSteerGeometry geometry_;
+  SkidSteerGeometry geometry_;       // the drive: cmd_vel → wheel speeds
+  SkidSteerGeometry odom_geometry_;  // odometry: wheel speeds → twist
   std::unique_ptr<PhysicsBackend> backend_;
   std::unique_ptr<WorldSlice> lidar_slice_;
   std::unique_ptr<WorldSlice> body_slice_;
@@ -105,9 +113,11 @@ class Simulator {
   Pose2 odom_pose_;
   Twist2 odom_twist_;
   std::vector<Contact> contacts_;
-  std::set<int> touching_;
+  static constexpr double kContactRelease = 0.25;  // s
+  std::map<int, double> last_touch_;  // world shape → sim time it was last touched
   std::vector<CollisionEvent> events_;
   std::uint64_t collision_count_ = 0;
+  bool in_contact_ = false;
 };
 
 }  // namespace minibot3d_sim
