@@ -17,6 +17,7 @@ setsid roslaunch -p "$ROS_PORT" minibot3d_sim minibot3d_gazebo.launch world:="$w
 launch_pid=$!
 cleanup() { kill -INT -- -"$launch_pid" 2>/dev/null || true; wait "$launch_pid" 2>/dev/null || true; }
 trap cleanup EXIT
+wait_for_master 60
 status=0
 rosrun minibot3d_sim drive_square.py --side 1.0 --laps 2 --timeout 300 || status=$?
 if [ $status -ne 0 ]; then

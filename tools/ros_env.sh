@@ -13,3 +13,11 @@ ROS_PORT="${ROS_PORT:-$(ros_free_port)}"
 export ROS_MASTER_URI="http://127.0.0.1:${ROS_PORT}"
 export ROS_HOSTNAME=127.0.0.1
 unset ROS_IP
+# Waits (bounded) until the master at ROS_MASTER_URI answers.
+wait_for_master() {
+  local deadline=$((SECONDS + ${1:-30}))
+  until /usr/bin/python3 -c 'import rosgraph, sys; sys.exit(0 if rosgraph.is_master_online() else 1)' 2>/dev/null; do
+    if [ $SECONDS -ge $deadline ]; then echo "no ROS master at $ROS_MASTER_URI" >&2; return 1; fi
+    sleep 0.2
+  done
+}

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# make bench: prints the performance figures README.md quotes.
+#   tools/bench.sh [CARMEN_LOG]   (the log is for the SLAM benchmark, once minibot3d_slam exists)
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+source tools/ros_env.sh
+log="${1:-}"
+bin=devel/lib/minibot3d_sim
+world=minibot3d_sim/worlds/default.world
+mkdir -p build/bench
+urdf=build/bench/minibot3d.urdf
+xacro minibot3d_description/urdf/minibot3d.xacro -o "$urdf"
+echo "== machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')"
+
+echo "== simulator core (no ROS): 600 s of sim time driving a 1 m square in the default world,"
+echo "   lidar 360 beams at 10 Hz, physics step 1 ms, one core"
+for physics in kinematic bullet bullet_naive; do
+  seconds=600; [ "$physics" = bullet_naive ] && seconds=120
+  "$bin/sim_bench" "$urdf" "$world" --physics "$physics" --seconds "$seconds" --x -3 --y -1.5
+done
+
+echo "== physics step cost (Google Benchmark, ~40 static shapes)"
+"$bin/physics_bench" --benchmark_min_time=0.2 2>/dev/null | grep -E "^(BM_|Benchmark|-)" || true
+echo "== lidar ray casting (Google Benchmark, default world)"
+"$bin/world_slice_bench" --benchmark_min_time=0.2 2>/dev/null | grep -E "^(BM_|Benchmark|-)" || true
+
+echo "== simulator node (ROS, real_time_factor 0): a constant arc (0.2 m/s, 0.4 rad/s) in the"
+echo "   default world with all topics published (odom/tf/joint_states/ground truth 100 Hz,"
+echo "   /clock 200 Hz, /scan 10 Hz) and robot_state_publisher running; 3 runs each"
+for physics in kinematic kinematic kinematic bullet bullet bullet; do
+  setsid roslaunch -p "$ROS_PORT" minibot3d_sim minibot3d_gazebo.launch physics:="$physics" \
+    real_time_factor:=0 x:=-2.6 y:=-2.1 yaw:=0 cmd_timeout:=1000000 > build/bench/node_$physics.log 2>&1 &
+  pid=$!
+  wait_for_master 60
+  rostopic pub /cmd_vel geometry_msgs/Twist '{linear: {x: 0.2}, angular: {z: 0.4}}' > /dev/null 2>&1 &
+  pub=$!
+  /usr/bin/python3 tools/measure_node_rtf.py "physics=$physics" --warmup 10 --span 600 || true
+  kill "$pub" 2>/dev/null || true
+  kill -INT -- -"$pid" 2>/dev/null || true
+  wait "$pid" 2>/dev/null || true
+done
+
+echo "== SLAM (minibot3d_slam): not implemented yet (issue 4)${log:+; log given: $log}"
