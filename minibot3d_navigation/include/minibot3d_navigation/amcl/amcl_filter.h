@@ -1,0 +1,200 @@
+// Adaptive Monte Carlo localization (AMCL), ROS-free core.
+//
+// References: Thrun, Burgard & Fox, "Probabilistic Robotics" (2005), ch. 8
+// (MCL, table 8.2; augmented MCL, table 8.3; low-variance resampling,
+// table 4.4) and Fox, "KLD-sampling: Adaptive particle filters" (2003).
+// Behaviour and parameters follow ROS 1 amcl.
+//
+// The belief over the robot pose in the map frame is a set of weighted
+// particles.  Each Update(odom_pose, scan):
+//  1. gating: nothing happens until odometry has moved more than update_min_d
+//     (Euclidean) or turned more than update_min_a since the last update,
+//     unless RequestNoMotionUpdate() was called (amcl's
+//     request_nomotion_update) or it is the first scan after initialization;
+//  2. prediction: every particle is moved by the odometry increment with
+//     sampled noise (motion_model.h);
+//  3. correction: weights are multiplied by the laser likelihood
+//     (sensor_model.h), in log space so no likelihood underflows, and
+//     normalised.  The average likelihood feeds two exponential filters,
+//     w_slow and w_fast (recovery_alpha_slow/fast);
+//  4. every resample_interval corrections, the set is resampled with the
+//     low-variance (systematic) sampler.  Its size is chosen by KLD-sampling
+//     (kld_sampling.h): the smallest n >= min_particles for which the n drawn
+//     particles occupy few enough histogram bins that Fox's bound is met
+//     (found by fixed-point iteration: draw n, count bins k, n <- bound(k)),
+//     clamped to max_particles.  With probability max(0, 1 - w_fast/w_slow)
+//     each draw is replaced by a pose uniform over free space (augmented MCL:
+//     recovers from a wrong convergence / kidnapping); after an injection
+//     w_slow and w_fast restart, as in amcl;
+//  5. the pose estimate is the weighted mean/covariance of the heaviest
+//     cluster of particles (pose_clusters.h).
+//
+// Errors: configuration mistakes (options, map, initial pose) throw
+// std::invalid_argument with a message naming the offending value, and leave
+// the filter unchanged.  Bad run-time inputs (non-finite odometry, malformed
+// scan) are rejected by Update() with a status; the filter keeps its last
+// good state (odometry is not consumed, so the motion is applied by the next
+// good update).  Not thread-safe: call from one thread.
+#ifndef MINIBOT3D_NAVIGATION_AMCL_AMCL_FILTER_H_
+#define MINIBOT3D_NAVIGATION_AMCL_AMCL_FILTER_H_
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "minibot3d_navigation/amcl/amcl_options.h"
+#include "minibot3d_navigation/amcl/motion_model.h"
+#include "minibot3d_navigation/amcl/occupancy_map.h"
+#include "minibot3d_navigation/amcl/pose_clusters.h"
+#include "minibot3d_navigation/amcl/sensor_model.h"
+#include "minibot3d_navigation/amcl/types.h"
+
+namespace minibot3d_navigation {
+namespace amcl {
+
+enum class UpdateStatus {
+  kUpdated,              // prediction + correction applied
+  kMotionOnly,           // prediction applied; the scan had no usable beams
+                         // (e.g. all max range) or no particle explained it
+  kSkippedNoMotion,      // below update_min_d / update_min_a: nothing changed
+  kRejectedBadOdometry,  // non-finite odometry pose: nothing changed
+  kRejectedBadScan,      // malformed scan (see PrepareScan): nothing changed
+};
+
+const char* UpdateStatusName(UpdateStatus status);
+
+struct UpdateResult {
+  UpdateStatus status = UpdateStatus::kSkippedNoMotion;
+  bool resampled = false;
+  std::string message;  // why, for kMotionOnly and the rejections
+};
+
+struct PoseEstimate {
+  Pose2D mean;                                           // map frame
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  // x, y, yaw
+  double weight = 0.0;    // probability mass of the chosen cluster
+  int cluster_count = 0;  // number of hypotheses in the set
+};
+
+class AmclFilter {
+ public:
+  enum class Initialization {
+    kFromOptions,      // Gaussian at initial_pose_* with initial_cov_*
+    kGlobal,           // uniform over free space (global localization)
+    kCurrentEstimate,  // SetMap only: Gaussian at the current estimate
+  };
+
+  // Validates the options, precomputes the map (distance field, free cells)
+  // and initialises the particles.  Throws std::invalid_argument on invalid
+  // options, a malformed map or one without free cells, or (kFromOptions)
+  // an initial pose outside the map.
+  AmclFilter(const AmclOptions& options, const OccupancyGrid& grid,
+             Initialization init = Initialization::kFromOptions,
+             uint64_t seed = 0x5eed);
+  // Same with an already built map model (shared, e.g. between filters).
+  AmclFilter(const AmclOptions& options, std::shared_ptr<const MapModel> map,
+             Initialization init = Initialization::kFromOptions,
+             uint64_t seed = 0x5eed);
+
+  // Replaces the map (new distance field) and re-initialises the particles.
+  // Throws (and keeps the old map and particles) like the constructor.
+  void SetMap(const OccupancyGrid& grid,
+              Initialization init = Initialization::kCurrentEstimate);
+
+  // Gaussian initialization (amcl's initialpose): max_particles particles
+  // drawn from N(mean, covariance).  Throws std::invalid_argument, leaving
+  // the filter unchanged, if the mean is not finite or outside the map, or
+  // the covariance is not finite, symmetric and positive semi-definite.
+  void SetPose(const Pose2D& mean, const Eigen::Matrix3d& covariance);
+
+  // max_particles particles uniform over free space (amcl's
+  // global_localization service).
+  void GlobalLocalization();
+
+  // The next Update() corrects even if the robot has not moved (amcl's
+  // request_nomotion_update service).
+  void RequestNoMotionUpdate() { force_update_ = true; }
+
+  // One filter step for a scan and the odometry pose of the robot base at
+  // the scan's time stamp (see the header comment).
+  UpdateResult Update(const Pose2D& odom_pose, const LaserScan& scan);
+
+  // Current pose estimate: heaviest cluster.  Always available (computed at
+  // initialization and after every prediction / correction).
+  const PoseEstimate& estimate() const { return estimate_; }
+  // All hypotheses, heaviest first.
+  const std::vector<PoseCluster>& clusters() const { return clusters_; }
+  // The particle cloud (for publishing particlecloud); weights sum to 1.
+  const std::vector<Particle>& particles() const { return particles_; }
+  // amcl's convergence test: all particles within 0.5 m (x and y) of the
+  // mean.  Enables beam skipping.
+  bool converged() const { return converged_; }
+  // Probability with which the next resampling injects random poses,
+  // max(0, 1 - w_fast / w_slow); 0 when recovery is disabled.
+  double InjectionProbability() const;
+  // Odometry pose of the last applied update (valid after the first).
+  bool has_odom_reference() const { return have_odom_; }
+  const Pose2D& odom_reference() const { return odom_ref_; }
+
+  const AmclOptions& options() const { return options_; }
+  const MapModel& map() const { return *map_; }
+  const MotionModel& motion_model() const { return *motion_; }
+  const SensorModel& sensor_model() const { return *sensor_; }
+
+  // Heap bytes of the particle set and the filter's scratch buffers
+  // (capacity-based), and of the map and sensor-model tables.
+  size_t ParticleMemoryBytes() const;
+  size_t MapMemoryBytes() const;
+
+ private:
+  void Init(Initialization init, const Pose2D& mean, const Eigen::Matrix3d& cov);
+  void SampleGaussian(const Pose2D& mean, const Eigen::Matrix3d& cov,
+                      const MapModel& map, std::vector<Particle>* out);
+  void ResetAfterInitialization();
+  // Multiplies weights by exp(log_likelihoods_) and normalises; updates
+  // w_slow / w_fast.  False (weights untouched) if no particle has a
+  // positive finite likelihood.
+  bool ApplyLikelihoods();
+  void Resample();
+  // Low-variance resampling of `count` particles into resample_buffer_,
+  // each replaced by a free-space pose with probability inject_probability.
+  void LowVarianceDraw(int count, double inject_probability);
+  void UpdateConvergence();
+  void UpdateEstimate();
+
+  AmclOptions options_;
+  std::shared_ptr<const MapModel> map_;
+  std::unique_ptr<MotionModel> motion_;
+  std::unique_ptr<SensorModel> sensor_;
+  std::mt19937_64 rng_;
+
+  std::vector<Particle> particles_;
+  std::vector<Particle> resample_buffer_;
+  std::vector<double> log_likelihoods_;
+  std::vector<uint64_t> bin_scratch_;
+  PreparedScan scan_;
+
+  bool have_odom_ = false;
+  Pose2D odom_ref_;
+  bool force_update_ = false;
+  int resample_count_ = 0;
+  // Augmented MCL averages, in log space (likelihoods of a scan with many
+  // beams are far below the smallest double).
+  bool have_w_avg_ = false;
+  double log_w_slow_ = 0.0;
+  double log_w_fast_ = 0.0;
+  bool converged_ = false;
+
+  std::vector<PoseCluster> clusters_;
+  PoseEstimate estimate_;
+};
+
+}  // namespace amcl
+}  // namespace minibot3d_navigation
+
+#endif  // MINIBOT3D_NAVIGATION_AMCL_AMCL_FILTER_H_

@@ -1,0 +1,89 @@
+// Parameters of the ROS-free AMCL core.
+//
+// Names and defaults follow the ROS 1 `amcl` node (navigation stack) so that
+// existing amcl YAML files can be loaded parameter by parameter through
+// SetAmclOption().  See amcl_filter.h for the algorithm they configure
+// (Thrun, Burgard & Fox, "Probabilistic Robotics" ch. 8; Fox, "KLD-sampling:
+// Adaptive particle filters", 2003).
+#ifndef MINIBOT3D_NAVIGATION_AMCL_AMCL_OPTIONS_H_
+#define MINIBOT3D_NAVIGATION_AMCL_AMCL_OPTIONS_H_
+
+#include <string>
+#include <vector>
+
+#include "minibot3d_navigation/amcl/types.h"
+
+namespace minibot3d_navigation {
+namespace amcl {
+
+struct AmclOptions {
+  // --- Filter (KLD-sampling, resampling, recovery) ---
+  int min_particles = 100;
+  int max_particles = 5000;
+  double kld_err = 0.01;  // epsilon: max K-L error between true and sampled pdf
+  // Upper standard normal quantile z_{1-delta}.  As in ROS amcl the value is
+  // used directly as the quantile (0.99 is *not* a probability here).
+  double kld_z = 0.99;
+  double update_min_d = 0.2;        // metres of odometry travel before an update
+  double update_min_a = kPi / 6.0;  // radians of odometry rotation before an update
+  int resample_interval = 2;        // sensor updates between resamplings
+  double recovery_alpha_slow = 0.0;  // 0 disables augmented-MCL injection
+  double recovery_alpha_fast = 0.0;
+
+  // --- Odometry model (see motion_model.h) ---
+  std::string odom_model_type = "diff";  // diff, diff-corrected, omni, omni-corrected
+  double odom_alpha1 = 0.2;  // rotation noise from rotation
+  double odom_alpha2 = 0.2;  // rotation noise from translation
+  double odom_alpha3 = 0.2;  // translation noise from translation
+  double odom_alpha4 = 0.2;  // translation noise from rotation
+  double odom_alpha5 = 0.2;  // strafe noise from translation (omni only)
+
+  // --- Laser model (see sensor_model.h) ---
+  std::string laser_model_type = "likelihood_field";  // likelihood_field, likelihood_field_prob, beam
+  int laser_max_beams = 30;
+  double laser_z_hit = 0.95;
+  double laser_z_short = 0.1;
+  double laser_z_max = 0.05;
+  double laser_z_rand = 0.05;
+  double laser_sigma_hit = 0.2;
+  double laser_lambda_short = 0.1;
+  double laser_likelihood_max_dist = 2.0;
+  double laser_min_range = -1.0;  // <= 0: use the scan's range_min
+  double laser_max_range = -1.0;  // <= 0: use the scan's range_max
+  bool do_beamskip = false;
+  double beam_skip_distance = 0.5;
+  double beam_skip_threshold = 0.3;
+  double beam_skip_error_threshold = 0.9;
+
+  // --- Initial pose (Gaussian) ---
+  double initial_pose_x = 0.0;
+  double initial_pose_y = 0.0;
+  double initial_pose_a = 0.0;
+  double initial_cov_xx = 0.5 * 0.5;
+  double initial_cov_yy = 0.5 * 0.5;
+  double initial_cov_aa = (kPi / 12.0) * (kPi / 12.0);
+};
+
+// Throws std::invalid_argument whose message lists every offending parameter
+// with its value (not just the first), e.g.
+// "invalid AMCL options: min_particles=600 > max_particles=500; laser_sigma_hit=-0.1 must be > 0".
+void ValidateAmclOptions(const AmclOptions& options);
+
+// Sets the option called `name` (ROS amcl parameter name) from its text form
+// ("0.25", "500", "true", "likelihood_field").  Throws std::invalid_argument
+// for an unknown name or text that does not parse as the option's type.  Does
+// not validate ranges; call ValidateAmclOptions() once all are set.
+void SetAmclOption(const std::string& name, const std::string& text,
+                   AmclOptions* options);
+
+// True if `name` is an option SetAmclOption() understands.  Lets the ROS node
+// skip node-only parameters (frame ids, tf tolerances, ...) of a shared YAML.
+bool IsAmclOptionName(const std::string& name);
+
+// All option names, in declaration order.
+std::vector<std::string> AmclOptionNames();
+
+}  // namespace amcl
+}  // namespace minibot3d_navigation
+
+#endif  // MINIBOT3D_NAVIGATION_AMCL_AMCL_OPTIONS_H_

@@ -1,0 +1,53 @@
+// Options of the RBPF SLAM core, named and defaulted as ROS gmapping's slam_gmapping parameters so
+// existing YAML files work. Read and validated in one place (ValidateOptions).
+#ifndef MINIBOT3D_SLAM_GMAPPING_OPTIONS_H_
+#define MINIBOT3D_SLAM_GMAPPING_OPTIONS_H_
+
+#include <string>
+
+namespace minibot3d_slam {
+
+struct GmappingOptions {
+  // Filter.
+  int particles = 30;
+  double resampleThreshold = 0.5;  // resample when N_eff < resampleThreshold · particles
+  // Motion model (odometry noise: srr range from range, srt range from rotation, str rotation from
+  // range, stt rotation from rotation).
+  double srr = 0.1, srt = 0.2, str = 0.1, stt = 0.2;
+  // When to process a scan.
+  double linearUpdate = 1.0;    // m travelled
+  double angularUpdate = 0.5;   // rad turned
+  double temporalUpdate = -1.0;  // s since the last processed scan; < 0 disables
+  // Scan matcher (the improved proposal).
+  double sigma = 0.05;        // endpoint matching standard deviation (m)
+  int kernelSize = 1;         // search window for the correspondence of an endpoint (cells)
+  double lstep = 0.05;        // initial linear step of the hill climber (m)
+  double astep = 0.05;        // initial angular step (rad)
+  int iterations = 5;         // step halvings
+  double lsigma = 0.075;      // likelihood sigma (m)
+  double ogain = 3.0;         // gain smoothing the likelihood
+  int lskip = 0;              // use every (lskip+1)-th beam for the likelihood
+  double minimumScore = 0.0;  // below it, the scan match is not trusted (odometry used)
+  // Sampling around the matched pose.
+  double llsamplerange = 0.01, llsamplestep = 0.01;
+  double lasamplerange = 0.005, lasamplestep = 0.005;
+  // Map.
+  double delta = 0.05;        // resolution (m)
+  double maxUrange = 80.0;    // readings used to update the map are cut to this range (m)
+  double maxRange = 0.0;      // beyond it a reading is a no-return; 0: the sensor's range_max
+  double xmin = -100.0, ymin = -100.0, xmax = 100.0, ymax = 100.0;  // initial map extent
+  double occ_thresh = 0.25;   // occupancy probability above which a cell is published occupied
+  // Random seed of the particle filter (for reproducible runs).
+  unsigned seed = 0;
+};
+
+// Throws std::invalid_argument naming each offending parameter and its value.
+void ValidateOptions(const GmappingOptions& options);
+
+// Sets one option from its gmapping name and a textual value ("particles", "30"). Throws
+// std::invalid_argument naming an unknown parameter or a value that does not parse.
+void SetOption(GmappingOptions* options, const std::string& name, const std::string& value);
+
+}  // namespace minibot3d_slam
+
+#endif  // MINIBOT3D_SLAM_GMAPPING_OPTIONS_H_

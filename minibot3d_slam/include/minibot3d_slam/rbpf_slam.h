@@ -1,0 +1,51 @@
+// Grid-based Rao-Blackwellized particle filter SLAM after Grisetti, Stachniss & Burgard,
+// "Improved techniques for grid mapping with Rao-Blackwellized particle filters" (IEEE T-RO 2007).
+// (Algorithm summary: see the implementation's header comment.)
+#ifndef MINIBOT3D_SLAM_RBPF_SLAM_H_
+#define MINIBOT3D_SLAM_RBPF_SLAM_H_
+
+#include <memory>
+#include <vector>
+
+#include "minibot3d_slam/gmapping_options.h"
+#include "minibot3d_slam/types.h"
+
+namespace minibot3d_slam {
+
+class RbpfSlam {
+ public:
+  explicit RbpfSlam(const GmappingOptions& options);  // validates options (throws)
+  ~RbpfSlam();
+  RbpfSlam(const RbpfSlam&) = delete;
+  RbpfSlam& operator=(const RbpfSlam&) = delete;
+
+  // Feeds one scan with the odometry pose of the robot's base at the scan's time. Returns true
+  // when the scan was processed (moved linearUpdate/angularUpdate, temporalUpdate passed, or the
+  // first scan); false when it was only used to advance the motion model.
+  bool AddScan(const LaserScan& scan, const Pose2& odom);
+
+  // The best particle's pose of the base in the map frame at the last scan given to AddScan
+  // (processed or not: unprocessed scans move the pose by the odometry increment).
+  Pose2 BestPose() const;
+  // map → odom correction for that pose: Compose(MapToOdom(), odom) == BestPose().
+  Pose2 MapToOdom() const;
+  // The best particle's map, occupancy probabilities thresholded as gmapping does (100 above
+  // occ_thresh, 0 below, -1 never observed); grows as the robot explores.
+  GridMap Map() const;
+  // The best particle's poses at every processed scan, oldest first.
+  std::vector<StampedPose> BestTrajectory() const;
+  // Entropy of the normalised particle weights (gmapping's ~entropy).
+  double Entropy() const;
+
+  int processed_scans() const;
+  int resamples() const;
+  const GmappingOptions& options() const;
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace minibot3d_slam
+
+#endif  // MINIBOT3D_SLAM_RBPF_SLAM_H_

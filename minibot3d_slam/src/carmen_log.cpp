@@ -1,0 +1,287 @@
+// CARMEN log reader (carmen_log.h).
+//
+// Formats (one message per line, '#' starts a comment line):
+//   FLASER n r_1..r_n x y θ odom_x odom_y odom_θ ipc_timestamp ipc_hostname logger_timestamp
+//     n beams from −90° on, at the PARAM laser_front_laser_resolution (degrees) when given, else as
+//     SICK scanners log them: 181/361 beams cover 180° end to end (step π/(n−1)), 180/360 beams
+//     drop the last one (step π/n) — in general π/(n−1) for odd n, π/n for even n (as gmapping).
+//   ROBOTLASER1 type start_angle fov angular_res max_range accuracy remission_mode n r_1..r_n
+//     m rem_1..rem_m laser_x laser_y laser_θ robot_x robot_y robot_θ tv rv forward_safety
+//     side_safety turn_axis ipc_timestamp ipc_hostname logger_timestamp
+//   PARAM name value ...   (robot_front_laser_max, robot_frontlaser_offset,
+//                           laser_front_laser_resolution are used)
+// The odometry is odom_* (FLASER) or robot_* (ROBOTLASER1). The sensor's mounting is the laser
+// pose relative to it when that is one rigid offset throughout the log; when the relative pose
+// varies (the laser pose fields then hold corrected poses, not a mounting) or is zero, the mounting
+// is robot_frontlaser_offset metres ahead of the base.
+//
+// No-return detection: laser loggers write a fixed saturation value for beams without echo (81.83
+// in the Intel log, 50.0 or 81.9 elsewhere). Among the readings in the upper half of the observed
+// range, the most frequent value is taken as that saturation value when it dominates (≥ 10 and
+// ≥ 0.05 % of all readings, ≥ 5× the next most frequent value there); readings at or above it, at or
+// above robot_front_laser_max, or at or above a ROBOTLASER1's max_range become +inf.
+#include "minibot3d_slam/carmen_log.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace minibot3d_slam {
+
+namespace {
+
+constexpr std::size_t kMaxWarnings = 100;
+
+struct RawScan {
+  LogScan log;
+  Pose2 laser_pose;  // as written in the log (world frame)
+  bool has_max = false;
+  double max_range = 0.0;
+};
+
+void SplitFields(const std::string& line, std::vector<std::string>* out) {
+  out->clear();
+  std::size_t i = 0;
+  const std::size_t n = line.size();
+  while (i < n) {
+    while (i < n && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    if (i >= n) break;
+    std::size_t j = i;
+    while (j < n && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+    out->emplace_back(line, i, j - i);
+    i = j;
+  }
+}
+
+bool ToDouble(const std::string& s, double* v) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  *v = std::strtod(s.c_str(), &end);
+  return end == s.c_str() + s.size() && errno != ERANGE && !std::isnan(*v);
+}
+
+bool ToCount(const std::string& s, int* v) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  const long x = std::strtol(s.c_str(), &end, 10);
+  if (end != s.c_str() + s.size() || errno == ERANGE || x < 0 || x > 1000000) return false;
+  *v = static_cast<int>(x);
+  return true;
+}
+
+class LineError : public std::exception {
+ public:
+  explicit LineError(std::string why) : why_(std::move(why)) {}
+  const char* what() const noexcept override { return why_.c_str(); }
+
+ private:
+  std::string why_;
+};
+
+// Reads field `i` as a number or throws LineError naming it.
+double Number(const std::vector<std::string>& f, std::size_t i, const char* what) {
+  if (i >= f.size()) throw LineError(std::string("truncated: missing ") + what);
+  double v;
+  if (!ToDouble(f[i], &v)) throw LineError(std::string("not a number for ") + what + ": '" + f[i] + "'");
+  return v;
+}
+
+int Count(const std::vector<std::string>& f, std::size_t i, const char* what) {
+  if (i >= f.size()) throw LineError(std::string("truncated: missing ") + what);
+  int v;
+  if (!ToCount(f[i], &v)) throw LineError(std::string("bad ") + what + ": '" + f[i] + "'");
+  return v;
+}
+
+std::vector<double> Readings(const std::vector<std::string>& f, std::size_t first, int n) {
+  if (first + static_cast<std::size_t>(n) > f.size()) {
+    throw LineError("fewer readings than the declared " + std::to_string(n));
+  }
+  std::vector<double> r(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) r[static_cast<std::size_t>(i)] = Number(f, first + i, "a range reading");
+  return r;
+}
+
+RawScan ParseFlaser(const std::vector<std::string>& f, double resolution_deg) {
+  RawScan s;
+  const int n = Count(f, 1, "number of readings");
+  if (n < 1) throw LineError("no readings");
+  s.log.scan.ranges = Readings(f, 2, n);
+  std::size_t k = 2 + static_cast<std::size_t>(n);
+  if (f.size() < k + 7) throw LineError("truncated after the readings (fewer fields than the poses and timestamp need, or fewer readings than declared)");
+  s.laser_pose = Pose2{Number(f, k, "x"), Number(f, k + 1, "y"), Number(f, k + 2, "theta")};
+  s.log.odom = Pose2{Number(f, k + 3, "odom_x"), Number(f, k + 4, "odom_y"), Number(f, k + 5, "odom_theta")};
+  s.log.timestamp = Number(f, k + 6, "ipc_timestamp");
+  s.log.scan.angles.resize(static_cast<std::size_t>(n));
+  double step = n % 2 == 1 ? M_PI / std::max(n - 1, 1) : M_PI / n;
+  if (resolution_deg > 0.0) step = resolution_deg * M_PI / 180.0;
+  for (int i = 0; i < n; ++i) s.log.scan.angles[static_cast<std::size_t>(i)] = -M_PI / 2 + i * step;
+  return s;
+}
+
+RawScan ParseRobotLaser(const std::vector<std::string>& f) {
+  RawScan s;
+  const double start = Number(f, 2, "start_angle");
+  Number(f, 3, "field_of_view");
+  const double res = Number(f, 4, "angular_resolution");
+  s.max_range = Number(f, 5, "maximum_range");
+  s.has_max = s.max_range > 0.0;
+  Number(f, 6, "accuracy");
+  Number(f, 7, "remission_mode");
+  const int n = Count(f, 8, "number of readings");
+  if (n < 1) throw LineError("no readings");
+  s.log.scan.ranges = Readings(f, 9, n);
+  std::size_t k = 9 + static_cast<std::size_t>(n);
+  const int m = Count(f, k, "number of remissions");
+  k += 1 + static_cast<std::size_t>(m);
+  if (f.size() < k + 12) throw LineError("truncated after the readings (fewer fields than the poses and timestamp need, or fewer readings than declared)");
+  s.laser_pose = Pose2{Number(f, k, "laser_x"), Number(f, k + 1, "laser_y"), Number(f, k + 2, "laser_theta")};
+  s.log.odom = Pose2{Number(f, k + 3, "robot_x"), Number(f, k + 4, "robot_y"), Number(f, k + 5, "robot_theta")};
+  s.log.timestamp = Number(f, k + 11, "ipc_timestamp");
+  s.log.scan.angles.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) s.log.scan.angles[static_cast<std::size_t>(i)] = start + i * res;
+  return s;
+}
+
+// The saturation value written for no-returns, or +inf when the log has none (see file comment).
+double DetectSaturation(const std::vector<RawScan>& scans) {
+  double top = 0.0;
+  std::size_t total = 0;
+  for (const RawScan& s : scans) {
+    for (double r : s.log.scan.ranges) {
+      if (std::isfinite(r)) top = std::max(top, r);
+    }
+    total += s.log.scan.ranges.size();
+  }
+  if (top <= 0.0) return std::numeric_limits<double>::infinity();
+  std::unordered_map<double, std::size_t> counts;
+  for (const RawScan& s : scans) {
+    for (double r : s.log.scan.ranges) {
+      if (std::isfinite(r) && r >= 0.5 * top) ++counts[r];
+    }
+  }
+  double best = 0.0;
+  std::size_t best_n = 0, second_n = 0;
+  for (const auto& [value, n] : counts) {
+    if (n > best_n || (n == best_n && value > best)) {
+      second_n = best_n;
+      best_n = n;
+      best = value;
+    } else if (n > second_n) {
+      second_n = n;
+    }
+  }
+  const double needed = std::max(10.0, 5e-4 * static_cast<double>(total));
+  if (static_cast<double>(best_n) >= needed && best_n >= 5 * second_n) return best;
+  return std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+CarmenLog ReadCarmenLog(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read CARMEN log " + path + ": " + std::strerror(errno));
+  CarmenLog log;
+  std::vector<RawScan> raw;
+  double front_laser_max = std::numeric_limits<double>::infinity();
+  double front_laser_offset = 0.0;
+  double front_laser_resolution = 0.0;  // degrees; 0: from the beam count
+  std::size_t dropped_warnings = 0;
+  auto warn = [&](int line, const std::string& why) {
+    if (log.warnings.size() < kMaxWarnings) {
+      log.warnings.push_back(path + ":" + std::to_string(line) + ": " + why);
+    } else {
+      ++dropped_warnings;
+    }
+  };
+  std::string line;
+  std::vector<std::string> f;
+  while (std::getline(in, line)) {
+    ++log.lines;
+    SplitFields(line, &f);
+    if (f.empty() || f[0][0] == '#') continue;
+    const std::string& type = f[0];
+    try {
+      if (type == "FLASER" || type == "ROBOTLASER1") {
+        raw.push_back(type == "FLASER" ? ParseFlaser(f, front_laser_resolution) : ParseRobotLaser(f));
+        raw.back().log.scan.time = raw.back().log.timestamp;
+      } else if (type == "PARAM" && f.size() >= 3 && f[1] == "robot_front_laser_max") {
+        front_laser_max = Number(f, 2, "robot_front_laser_max");
+      } else if (type == "PARAM" && f.size() >= 3 && f[1] == "laser_front_laser_resolution") {
+        front_laser_resolution = Number(f, 2, "laser_front_laser_resolution");
+        if (front_laser_resolution <= 0.0) throw LineError("laser_front_laser_resolution must be > 0");
+      } else if (type == "PARAM" && f.size() >= 3 && f[1] == "robot_frontlaser_offset") {
+        front_laser_offset = Number(f, 2, "robot_frontlaser_offset");
+      } else {
+        ++log.skipped[type];
+      }
+    } catch (const LineError& e) {
+      warn(log.lines, type + " line skipped: " + e.what());
+      ++log.skipped[type];
+    }
+  }
+  if (in.bad()) throw std::runtime_error("error reading CARMEN log " + path);
+  if (dropped_warnings > 0) {
+    log.warnings.push_back(path + ": " + std::to_string(dropped_warnings) + " more malformed lines");
+  }
+  if (raw.empty()) {
+    throw std::runtime_error("CARMEN log " + path + " holds no laser message (FLASER/ROBOTLASER1) in " +
+                             std::to_string(log.lines) + " lines" + (log.lines == 0 ? " (empty file)" : ""));
+  }
+
+  // Sensor mounting: the laser pose relative to the odometry when it is one rigid offset.
+  std::vector<Pose2> rel;
+  rel.reserve(raw.size());
+  for (const RawScan& s : raw) rel.push_back(Between(s.laser_pose, s.log.odom));
+  auto median = [&](auto get) {
+    std::vector<double> v;
+    v.reserve(rel.size());
+    for (const Pose2& p : rel) v.push_back(get(p));
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  };
+  const Pose2 mount{median([](const Pose2& p) { return p.x; }), median([](const Pose2& p) { return p.y; }),
+                    median([](const Pose2& p) { return p.theta; })};
+  bool rigid = true;
+  for (const Pose2& p : rel) {
+    if (std::hypot(p.x - mount.x, p.y - mount.y) > 0.02 ||
+        std::fabs(NormalizeAngle(p.theta - mount.theta)) > 0.02) {
+      rigid = false;
+      break;
+    }
+  }
+  const bool zero = std::hypot(mount.x, mount.y) < 1e-6 && std::fabs(mount.theta) < 1e-6;
+  Pose2 sensor_in_base{front_laser_offset, 0.0, 0.0};
+  if (rigid && !zero) sensor_in_base = mount;
+  if (!rigid) {
+    log.warnings.push_back(path + ": the laser pose fields are not a fixed offset from the odometry; "
+                           "using robot_frontlaser_offset = " + std::to_string(front_laser_offset) +
+                           " m as the sensor mounting");
+  }
+
+  const double saturation = DetectSaturation(raw);
+  log.scans.reserve(raw.size());
+  for (RawScan& s : raw) {
+    double limit = std::min(saturation, front_laser_max);
+    if (s.has_max) limit = std::min(limit, s.max_range);
+    for (double& r : s.log.scan.ranges) {
+      if (!(r < limit)) r = std::numeric_limits<double>::infinity();
+    }
+    s.log.scan.range_min = 0.0;
+    s.log.scan.range_max = limit;
+    s.log.scan.sensor_in_base = sensor_in_base;
+    log.scans.push_back(std::move(s.log));
+  }
+  return log;
+}
+
+}  // namespace minibot3d_slam

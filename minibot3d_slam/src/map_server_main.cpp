@@ -1,0 +1,97 @@
+// map_server: serves a map in map_server's format (NAME.yaml + image) as ROS map_server does:
+// latched `map` (nav_msgs/OccupancyGrid) and `map_metadata` (nav_msgs/MapMetaData), and the
+// service `static_map` (nav_msgs/GetMap). Loading and all its checks live in map_io.
+//
+//   rosrun minibot3d_slam map_server MAP.yaml [_frame_id:=map]
+#include <nav_msgs/GetMap.h>
+#include <nav_msgs/MapMetaData.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <ros/ros.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "minibot3d_slam/map_io.h"
+#include "minibot3d_slam/types.h"
+
+namespace {
+
+constexpr char kUsage[] =
+    "Usage: map_server MAP.yaml [_frame_id:=map]\n"
+    "  Publishes the map latched on 'map' and 'map_metadata' and serves 'static_map'.\n"
+    "  Exit codes: 1 the map cannot be loaded, 2 bad arguments.\n";
+
+nav_msgs::OccupancyGrid ToMessage(const minibot3d_slam::GridMap& map, const std::string& frame_id) {
+  nav_msgs::OccupancyGrid msg;
+  msg.header.frame_id = frame_id;
+  msg.header.stamp = ros::Time::now();
+  msg.info.map_load_time = msg.header.stamp;
+  msg.info.resolution = static_cast<float>(map.resolution);
+  msg.info.width = static_cast<unsigned>(map.width);
+  msg.info.height = static_cast<unsigned>(map.height);
+  msg.info.origin.position.x = map.origin_x;
+  msg.info.origin.position.y = map.origin_y;
+  msg.info.origin.position.z = 0.0;
+  // A yaw-only rotation about z.
+  msg.info.origin.orientation.z = std::sin(map.origin_theta / 2.0);
+  msg.info.origin.orientation.w = std::cos(map.origin_theta / 2.0);
+  msg.data.assign(map.data.begin(), map.data.end());
+  return msg;
+}
+
+class MapServer {
+ public:
+  explicit MapServer(const nav_msgs::OccupancyGrid& map) {
+    response_.map = map;
+    ros::NodeHandle nh;
+    service_ = nh.advertiseService("static_map", &MapServer::OnStaticMap, this);
+    metadata_pub_ = nh.advertise<nav_msgs::MapMetaData>("map_metadata", 1, /*latch=*/true);
+    map_pub_ = nh.advertise<nav_msgs::OccupancyGrid>("map", 1, /*latch=*/true);
+    metadata_pub_.publish(response_.map.info);
+    map_pub_.publish(response_.map);
+  }
+
+ private:
+  bool OnStaticMap(nav_msgs::GetMap::Request&, nav_msgs::GetMap::Response& res) {
+    res = response_;
+    return true;
+  }
+
+  nav_msgs::GetMap::Response response_;
+  ros::ServiceServer service_;
+  ros::Publisher metadata_pub_;
+  ros::Publisher map_pub_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "map_server");
+  if (argc == 2 && (std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help")) {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  if (argc != 2) {
+    std::fprintf(stderr, "map_server: expected one argument, the map YAML\n%s", kUsage);
+    return 2;
+  }
+  const std::string yaml_path = argv[1];
+  minibot3d_slam::GridMap map;
+  try {
+    map = minibot3d_slam::LoadMap(yaml_path);
+  } catch (const minibot3d_slam::MapIoError& e) {
+    std::fprintf(stderr, "map_server: %s\n", e.what());
+    return 1;
+  }
+
+  ros::NodeHandle private_nh("~");
+  std::string frame_id;
+  private_nh.param<std::string>("frame_id", frame_id, "map");
+  MapServer server(ToMessage(map, frame_id));
+  ROS_INFO("Serving %s: %d x %d cells @ %g m/cell, origin (%g, %g, %g), frame '%s'",
+           yaml_path.c_str(), map.width, map.height, map.resolution, map.origin_x, map.origin_y,
+           map.origin_theta, frame_id.c_str());
+  ros::spin();
+  return 0;
+}

@@ -1,0 +1,301 @@
+// Grid-based Rao-Blackwellized particle filter SLAM after Grisetti, Stachniss & Burgard, "Improved
+// techniques for grid mapping with Rao-Blackwellized particle filters" (IEEE T-RO 2007) — the
+// algorithm of OpenSLAM/ROS gmapping.
+//
+// Each particle carries a pose, a log-weight, its own occupancy grid and its trajectory. Per scan:
+//   1. Motion: every odometry increment moves every particle through the sampling odometry model
+//      (motion_model.h), also for scans that are not processed, so the spread accumulates.
+//   2. A scan is processed when the odometry has travelled linearUpdate (path length) or turned
+//      angularUpdate since the last processed scan, when temporalUpdate seconds passed (if ≥ 0), or
+//      when it is the first scan (which only initialises the maps).
+//   3. Improved proposal, per particle: the scan is matched against the particle's own map by hill
+//      climbing from the particle's predicted pose; when the match score exceeds minimumScore, the
+//      likelihood is sampled on a small grid around the match, a Gaussian is fitted to it and the
+//      new pose is drawn from that Gaussian; the weight is multiplied by the mean likelihood of the
+//      grid (η of the paper). Otherwise the predicted pose is kept and weighted by its likelihood.
+//   4. The scan is integrated into each particle's map at its new pose (ray-traced free space).
+//   5. Adaptive resampling: weights are normalised as gmapping does, w ∝ exp((log w - max) /
+//      (ogain·N)) — the ogain smoothing keeps the very peaked beam likelihoods from collapsing the
+//      filter — and the particles are resampled (low-variance / systematic) only when
+//      N_eff = 1 / Σ w² drops below resampleThreshold · N; the weights are then reset.
+// Memory: the maps share copy-on-write tiles (grid.h), so resampling copies pointer tables, not
+// cells; trajectories are nodes of a tree shared by the particles (each particle points to its
+// newest node, nodes point to their parents), so copying a particle copies one pointer and the best
+// trajectory is a walk up the tree.
+// The best particle is the one with the largest accumulated log-likelihood (gmapping's weightSum).
+#include "minibot3d_slam/rbpf_slam.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+
+#include "grid.h"
+#include "motion_model.h"
+#include "resampling.h"
+#include "scan_matcher.h"
+
+namespace minibot3d_slam {
+
+namespace {
+
+// A node of the trajectory tree.
+struct TrajectoryNode {
+  StampedPose stamped;
+  std::shared_ptr<TrajectoryNode> parent;
+
+  TrajectoryNode(const StampedPose& s, std::shared_ptr<TrajectoryNode> p)
+      : stamped(s), parent(std::move(p)) {}
+  // Releases a long chain of ancestors iteratively: the default destructor would recurse once per
+  // ancestor and could exhaust the stack on long runs.
+  ~TrajectoryNode() {
+    std::shared_ptr<TrajectoryNode> p = std::move(parent);
+    while (p && p.use_count() == 1) {
+      std::shared_ptr<TrajectoryNode> next = std::move(p->parent);
+      p = std::move(next);
+    }
+  }
+  TrajectoryNode(const TrajectoryNode&) = delete;
+  TrajectoryNode& operator=(const TrajectoryNode&) = delete;
+};
+
+struct Particle {
+  Pose2 pose;               // current pose (moved by the motion model at every scan)
+  double weight = 0.0;      // log-weight since the last resampling
+  double weight_sum = 0.0;  // accumulated log-likelihood over the whole run
+  Grid grid;
+  std::shared_ptr<TrajectoryNode> node;  // pose at the last processed scan
+
+  explicit Particle(double resolution) : grid(resolution) {}
+};
+
+// Draws from N(mean, cov) through the eigen-decomposition (cov may be singular).
+Pose2 SampleGaussian(const Pose2& mean, const Eigen::Matrix3d& cov, std::mt19937_64* rng) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  Eigen::Vector3d z(unit(*rng), unit(*rng), unit(*rng));
+  const Eigen::Vector3d sd = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+  const Eigen::Vector3d d = eig.eigenvectors() * sd.cwiseProduct(z);
+  return Pose2{mean.x + d.x(), mean.y + d.y(), NormalizeAngle(mean.theta + d.z())};
+}
+
+}  // namespace
+
+class RbpfSlam::Impl {
+ public:
+  explicit Impl(const GmappingOptions& options)
+      : options_((ValidateOptions(options), options)),
+        matcher_(options),
+        motion_(options),
+        rng_(options.seed) {}
+
+  bool AddScan(const LaserScan& scan, const Pose2& odom);
+  Pose2 BestPose() const;
+  GridMap Map() const;
+  std::vector<StampedPose> BestTrajectory() const;
+  double Entropy() const;
+  std::vector<double> NormalizedWeights() const;
+  int BestIndex() const;
+
+  GmappingOptions options_;
+  ScanMatcher matcher_;
+  MotionModel motion_;
+  std::mt19937_64 rng_;
+  std::vector<Particle> particles_;
+  bool initialized_ = false;
+  Pose2 last_odom_;            // odometry at the last scan given
+  Pose2 processed_odom_;       // odometry at the last processed scan
+  double processed_time_ = 0.0;
+  double linear_ = 0.0, angular_ = 0.0;  // motion since the last processed scan
+  int processed_ = 0;
+  int resamples_ = 0;
+
+ private:
+  void Process(const LaserScan& scan);
+  void Resample(const std::vector<double>& weights);
+};
+
+bool RbpfSlam::Impl::AddScan(const LaserScan& scan, const Pose2& odom) {
+  if (scan.ranges.size() != scan.angles.size()) {
+    throw std::invalid_argument("RbpfSlam::AddScan: scan has " + std::to_string(scan.ranges.size()) +
+                                " ranges but " + std::to_string(scan.angles.size()) + " angles");
+  }
+  if (!initialized_) {
+    initialized_ = true;
+    // The map frame starts at the first odometry pose (as ROS gmapping), and all particles share
+    // the first scan's map.
+    Particle first(options_.delta);
+    first.pose = odom;
+    matcher_.Register(matcher_.Prepare(scan), odom, &first.grid);
+    first.node = std::make_shared<TrajectoryNode>(StampedPose{scan.time, odom}, nullptr);
+    particles_.assign(static_cast<std::size_t>(options_.particles), first);
+    last_odom_ = processed_odom_ = odom;
+    processed_time_ = scan.time;
+    processed_ = 1;
+    return true;
+  }
+  for (Particle& p : particles_) p.pose = motion_.Sample(p.pose, last_odom_, odom, &rng_);
+  const Pose2 u = Between(odom, last_odom_);
+  linear_ += std::hypot(u.x, u.y);
+  angular_ += std::fabs(u.theta);
+  last_odom_ = odom;
+  const bool due = linear_ >= options_.linearUpdate || angular_ >= options_.angularUpdate ||
+                   (options_.temporalUpdate >= 0.0 && scan.time - processed_time_ > options_.temporalUpdate);
+  if (!due) return false;
+  Process(scan);
+  linear_ = angular_ = 0.0;
+  processed_odom_ = odom;
+  processed_time_ = scan.time;
+  ++processed_;
+  return true;
+}
+
+void RbpfSlam::Impl::Process(const LaserScan& scan) {
+  const PreparedScan prepared = matcher_.Prepare(scan);
+  for (Particle& p : particles_) {
+    Pose2 mode;
+    const double score = matcher_.Optimize(p.grid, prepared, p.pose, &mode);
+    double log_likelihood;
+    if (score > options_.minimumScore) {
+      const ProposalFit fit = matcher_.SampleAround(p.grid, prepared, mode);
+      p.pose = SampleGaussian(fit.mean, fit.covariance, &rng_);
+      log_likelihood = fit.log_weight;
+    } else {
+      // The match is not trusted: keep the odometry prediction.
+      log_likelihood = matcher_.LogLikelihood(p.grid, prepared, p.pose);
+    }
+    p.weight += log_likelihood;
+    p.weight_sum += log_likelihood;
+  }
+  // Integrate the scan before resampling: copies of a particle then share the freshly written
+  // tiles instead of each writing (and owning) an identical copy.
+  for (Particle& p : particles_) {
+    matcher_.Register(prepared, p.pose, &p.grid);
+    p.node = std::make_shared<TrajectoryNode>(StampedPose{scan.time, p.pose}, std::move(p.node));
+  }
+  const std::vector<double> w = NormalizedWeights();
+  double sum_sq = 0.0;
+  for (double x : w) sum_sq += x * x;
+  const double neff = 1.0 / sum_sq;
+  if (neff < options_.resampleThreshold * static_cast<double>(particles_.size())) Resample(w);
+}
+
+void RbpfSlam::Impl::Resample(const std::vector<double>& weights) {
+  const std::size_t n = particles_.size();
+  std::uniform_real_distribution<double> uniform(0.0, 1.0 / static_cast<double>(n));
+  std::vector<Particle> next;
+  next.reserve(n);
+  for (std::size_t parent : LowVarianceResample(weights, uniform(rng_))) {
+    next.push_back(particles_[parent]);  // shares tiles and trajectory with its parent
+    next.back().weight = 0.0;
+  }
+  particles_ = std::move(next);
+  ++resamples_;
+}
+
+std::vector<double> RbpfSlam::Impl::NormalizedWeights() const {
+  const double gain = 1.0 / (options_.ogain * static_cast<double>(particles_.size()));
+  double lmax = -std::numeric_limits<double>::infinity();
+  for (const Particle& p : particles_) lmax = std::max(lmax, p.weight);
+  std::vector<double> w(particles_.size());
+  double sum = 0.0;
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    w[i] = std::exp(gain * (particles_[i].weight - lmax));
+    sum += w[i];
+  }
+  for (double& x : w) x /= sum;
+  return w;
+}
+
+int RbpfSlam::Impl::BestIndex() const {
+  int best = 0;
+  for (std::size_t i = 1; i < particles_.size(); ++i) {
+    if (particles_[i].weight_sum > particles_[static_cast<std::size_t>(best)].weight_sum) {
+      best = static_cast<int>(i);
+    }
+  }
+  return best;
+}
+
+Pose2 RbpfSlam::Impl::BestPose() const {
+  if (!initialized_) return Pose2{};
+  const Particle& best = particles_[static_cast<std::size_t>(BestIndex())];
+  // Deterministic between processed scans: the processed pose moved by the odometry increment.
+  return Compose(best.node->stamped.pose, Between(last_odom_, processed_odom_));
+}
+
+GridMap RbpfSlam::Impl::Map() const {
+  GridMap map;
+  map.resolution = options_.delta;
+  const double inv = 1.0 / options_.delta;
+  int ix0 = static_cast<int>(std::floor(options_.xmin * inv + 1e-9));
+  int iy0 = static_cast<int>(std::floor(options_.ymin * inv + 1e-9));
+  int ix1 = static_cast<int>(std::ceil(options_.xmax * inv - 1e-9)) - 1;
+  int iy1 = static_cast<int>(std::ceil(options_.ymax * inv - 1e-9)) - 1;
+  if (initialized_) {
+    const Grid& grid = particles_[static_cast<std::size_t>(BestIndex())].grid;
+    int ax0, ay0, ax1, ay1;
+    if (grid.AllocatedBounds(&ax0, &ay0, &ax1, &ay1)) {
+      ix0 = std::min(ix0, ax0);
+      iy0 = std::min(iy0, ay0);
+      ix1 = std::max(ix1, ax1);
+      iy1 = std::max(iy1, ay1);
+    }
+  }
+  map.origin_x = ix0 * options_.delta;
+  map.origin_y = iy0 * options_.delta;
+  map.width = ix1 - ix0 + 1;
+  map.height = iy1 - iy0 + 1;
+  map.data.assign(static_cast<std::size_t>(map.width) * map.height, -1);
+  if (!initialized_) return map;
+  const Grid& grid = particles_[static_cast<std::size_t>(BestIndex())].grid;
+  for (int y = 0; y < map.height; ++y) {
+    for (int x = 0; x < map.width; ++x) {
+      const GridCell& c = grid.At(ix0 + x, iy0 + y);
+      if (c.visits == 0) continue;
+      const double occupancy = static_cast<double>(c.hits) / c.visits;
+      map.data[static_cast<std::size_t>(y) * map.width + x] = occupancy > options_.occ_thresh ? 100 : 0;
+    }
+  }
+  return map;
+}
+
+std::vector<StampedPose> RbpfSlam::Impl::BestTrajectory() const {
+  std::vector<StampedPose> out;
+  if (!initialized_) return out;
+  for (const TrajectoryNode* n = particles_[static_cast<std::size_t>(BestIndex())].node.get();
+       n != nullptr; n = n->parent.get()) {
+    out.push_back(n->stamped);
+  }
+  std::reverse(out.begin(), out.end());
+  return out;
+}
+
+double RbpfSlam::Impl::Entropy() const {
+  if (!initialized_) return 0.0;
+  double h = 0.0;
+  for (double w : NormalizedWeights()) {
+    if (w > 0.0) h -= w * std::log(w);
+  }
+  return h;
+}
+
+RbpfSlam::RbpfSlam(const GmappingOptions& options) : impl_(std::make_unique<Impl>(options)) {}
+RbpfSlam::~RbpfSlam() = default;
+bool RbpfSlam::AddScan(const LaserScan& scan, const Pose2& odom) { return impl_->AddScan(scan, odom); }
+Pose2 RbpfSlam::BestPose() const { return impl_->BestPose(); }
+Pose2 RbpfSlam::MapToOdom() const {
+  // map→odom T satisfies T ⊕ odom = best pose, so T = best ⊕ odom⁻¹.
+  const Pose2 odom_inverse = Between(Pose2{}, impl_->last_odom_);
+  return Compose(impl_->BestPose(), odom_inverse);
+}
+GridMap RbpfSlam::Map() const { return impl_->Map(); }
+std::vector<StampedPose> RbpfSlam::BestTrajectory() const { return impl_->BestTrajectory(); }
+double RbpfSlam::Entropy() const { return impl_->Entropy(); }
+int RbpfSlam::processed_scans() const { return impl_->processed_; }
+int RbpfSlam::resamples() const { return impl_->resamples_; }
+const GmappingOptions& RbpfSlam::options() const { return impl_->options_; }
+
+}  // namespace minibot3d_slam

@@ -1,0 +1,268 @@
+// gmapping-style scan matcher and improved proposal (see scan_matcher.h).
+#include "scan_matcher.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace minibot3d_slam {
+
+namespace {
+// gmapping's log-likelihood of a beam without any admissible hit, in units of 1/lsigma.
+constexpr double kNoMatchLikelihood = -0.5;
+
+// exp(-x) for x >= 0 by linear interpolation in a table (relative error < 2e-6 where it matters):
+// the matching score calls it once per beam and pose, and libm's exp was ~10 % of the run time.
+class NegExpTable {
+ public:
+  static constexpr double kMax = 20.0;   // exp(-20) ≈ 2e-9: treated as 0 beyond
+  static constexpr int kPerUnit = 256;
+  NegExpTable() {
+    for (int i = 0; i <= kSize; ++i) table_[i] = std::exp(-static_cast<double>(i) / kPerUnit);
+  }
+  double operator()(double x) const {
+    if (!(x < kMax)) return 0.0;
+    const double f = x * kPerUnit;
+    const int i = static_cast<int>(f);
+    const double t = f - i;
+    return table_[i] + t * (table_[i + 1] - table_[i]);
+  }
+
+ private:
+  static constexpr int kSize = static_cast<int>(kMax * kPerUnit) + 1;
+  double table_[kSize + 1];
+};
+
+const NegExpTable& NegExp() {
+  static const NegExpTable table;
+  return table;
+}
+
+}  // namespace
+
+ScanMatcher::ScanMatcher(const GmappingOptions& options)
+    : options_(options), free_back_(options.delta * std::sqrt(2.0)) {}
+
+PreparedScan ScanMatcher::Prepare(const LaserScan& scan) const {
+  PreparedScan out;
+  out.sensor_in_base = scan.sensor_in_base;
+  const std::size_t n = std::min(scan.ranges.size(), scan.angles.size());
+  const double range_min = std::max(scan.range_min, 0.0);
+  const double sensor_max = scan.range_max > 0.0 ? scan.range_max : std::numeric_limits<double>::infinity();
+  const double max_range = options_.maxRange > 0.0 ? std::min(options_.maxRange, sensor_max) : sensor_max;
+  out.map_range.reserve(n);
+  out.map_cos.reserve(n);
+  out.map_sin.reserve(n);
+  out.map_hit.reserve(n);
+  int skip = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = scan.ranges[i];
+    // No-returns (NaN, ±inf, at or below range_min, at or beyond the maximum range) carry no
+    // information about where free space ends, so they update nothing (as gmapping skips readings
+    // beyond maxRange).
+    if (!std::isfinite(r) || r <= range_min || r >= max_range) continue;
+    const double a = scan.angles[i];
+    if (!std::isfinite(a)) continue;
+    const double ca = std::cos(a), sa = std::sin(a);
+    const bool hit = r <= options_.maxUrange;
+    out.map_range.push_back(hit ? r : options_.maxUrange);
+    out.map_cos.push_back(ca);
+    out.map_sin.push_back(sa);
+    out.map_hit.push_back(hit ? 1 : 0);
+    if (!hit) continue;
+    if (skip == 0) {
+      out.match_range.push_back(r);
+      out.match_cos.push_back(ca);
+      out.match_sin.push_back(sa);
+    }
+    skip = skip >= options_.lskip ? 0 : skip + 1;
+  }
+  return out;
+}
+
+template <class F>
+void ScanMatcher::ForEachBeam(const Grid& grid, const PreparedScan& scan, const Pose2& pose,
+                              F&& f) const {
+  const Pose2 lp = Compose(pose, scan.sensor_in_base);
+  const double c = std::cos(lp.theta), s = std::sin(lp.theta);
+  const int k = options_.kernelSize;
+  const std::size_t n = scan.match_range.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dx = c * scan.match_cos[i] - s * scan.match_sin[i];
+    const double dy = s * scan.match_cos[i] + c * scan.match_sin[i];
+    const double r = scan.match_range[i];
+    const double px = lp.x + r * dx, py = lp.y + r * dy;
+    const int ix = grid.CellX(px), iy = grid.CellY(py);
+    const double bx = free_back_ * dx, by = free_back_ * dy;  // one step back along the beam
+    double best = -1.0;
+    // An occupied cell is admissible when the point one step back along the beam from its mean
+    // endpoint lies in a free or unknown cell: the wall was seen from the side this beam comes
+    // from. (gmapping applies the endpoint cell's back-step offset to every cell of the window,
+    // which rejects or accepts cells depending on where the endpoint falls within its cell and
+    // makes the score jump by whole beams for millimetre moves.)
+    const int lx = ix & Grid::kTileMask, ly = iy & Grid::kTileMask;
+    constexpr int kReach = 2;  // the back step (√2 cells from a point in the cell) stays within 2 cells
+    const Grid::Tile* tile = nullptr;
+    const bool fast = lx - k - kReach >= 0 && lx + k + kReach < Grid::kTileSize && ly - k - kReach >= 0 &&
+                      ly + k + kReach < Grid::kTileSize;
+    if (fast) {
+      // The window and every back-step partner lie in one tile (most beams): look the tile up
+      // once and address cells directly.
+      tile = grid.TileAt(ix >> Grid::kTileBits, iy >> Grid::kTileBits);
+      if (tile == nullptr) {
+        f(best);
+        continue;
+      }
+    }
+    for (int yy = -k; yy <= k; ++yy) {
+      for (int xx = -k; xx <= k; ++xx) {
+        const int cx = ix + xx, cy = iy + yy;
+        const GridCell& cell = fast ? tile->cells[((ly + yy) << Grid::kTileBits) | (lx + xx)] : grid.At(cx, cy);
+        if (!cell.Occupied()) continue;
+        const double mx = grid.MeanX(cx, cell), my = grid.MeanY(cy, cell);
+        const int fx = grid.CellX(mx - bx), fy = grid.CellY(my - by);
+        const GridCell& partner =
+            fast ? tile->cells[((ly + fy - iy) << Grid::kTileBits) | (lx + fx - ix)] : grid.At(fx, fy);
+        if (!partner.FreeOrUnknown()) continue;
+        const double ex = px - mx, ey = py - my;
+        const double d2 = ex * ex + ey * ey;
+        if (best < 0.0 || d2 < best) best = d2;
+      }
+    }
+    f(best);
+  }
+}
+
+double ScanMatcher::Score(const Grid& grid, const PreparedScan& scan, const Pose2& pose) const {
+  double score = 0.0;
+  const double inv_sigma = 1.0 / options_.sigma;  // gmapping: exp(-d² / sigma)
+  const NegExpTable& neg_exp = NegExp();
+  ForEachBeam(grid, scan, pose, [&](double d2) {
+    if (d2 >= 0.0) score += neg_exp(d2 * inv_sigma);
+  });
+  return score;
+}
+
+double ScanMatcher::LogLikelihood(const Grid& grid, const PreparedScan& scan, const Pose2& pose,
+                                  int* matched) const {
+  double l = 0.0;
+  int found = 0;
+  const double inv_lsigma = 1.0 / options_.lsigma;
+  ForEachBeam(grid, scan, pose, [&](double d2) {
+    if (d2 >= 0.0) {
+      l -= d2 * inv_lsigma;
+      ++found;
+    } else {
+      l += kNoMatchLikelihood * inv_lsigma;
+    }
+  });
+  if (matched != nullptr) *matched = found;
+  return l;
+}
+
+double ScanMatcher::Optimize(const Grid& grid, const PreparedScan& scan, const Pose2& initial,
+                             Pose2* best) const {
+  Pose2 current = initial;
+  double current_score = Score(grid, scan, current);
+  double ldelta = options_.lstep, adelta = options_.astep;
+  int refinements = 0;
+  // The move that would undo the last improving move: its pose is the previous one, whose score is
+  // known to be lower, so it is not evaluated again (same result, ~10 % fewer evaluations).
+  int undo = -1;
+  // Bounded for safety; every improving round raises the score, so this is never reached in
+  // practice.
+  for (int round = 0; round < 1000; ++round) {
+    const Pose2 moves[6] = {{ldelta, 0, 0}, {-ldelta, 0, 0}, {0, ldelta, 0},
+                            {0, -ldelta, 0}, {0, 0, adelta}, {0, 0, -adelta}};
+    int round_move = -1;
+    Pose2 round_best = current;
+    double round_score = current_score;
+    for (int m = 0; m < 6; ++m) {
+      if (m == undo) continue;
+      const Pose2 candidate{current.x + moves[m].x, current.y + moves[m].y,
+                            NormalizeAngle(current.theta + moves[m].theta)};
+      const double sc = Score(grid, scan, candidate);
+      if (sc > round_score) {
+        round_score = sc;
+        round_best = candidate;
+        round_move = m;
+      }
+    }
+    if (round_move >= 0) {
+      current = round_best;
+      current_score = round_score;
+      undo = round_move ^ 1;  // moves come in opposite pairs (0,1), (2,3), (4,5)
+    } else {
+      // No neighbour improves: refine the steps, or stop after `iterations` refinements.
+      if (++refinements > options_.iterations) break;
+      ldelta *= 0.5;
+      adelta *= 0.5;
+      undo = -1;
+    }
+  }
+  *best = current;
+  return current_score;
+}
+
+ProposalFit ScanMatcher::SampleAround(const Grid& grid, const PreparedScan& scan,
+                                      const Pose2& mode) const {
+  const int nl = options_.llsamplestep > 0.0
+                     ? static_cast<int>(std::floor(options_.llsamplerange / options_.llsamplestep + 1e-9))
+                     : 0;
+  const int na = options_.lasamplestep > 0.0
+                     ? static_cast<int>(std::floor(options_.lasamplerange / options_.lasamplestep + 1e-9))
+                     : 0;
+  struct Sample {
+    Eigen::Vector3d offset;
+    double l;
+  };
+  std::vector<Sample> samples;
+  samples.reserve(static_cast<std::size_t>((2 * nl + 1) * (2 * nl + 1) * (2 * na + 1)));
+  double lmax = -std::numeric_limits<double>::infinity();
+  for (int i = -nl; i <= nl; ++i) {
+    for (int j = -nl; j <= nl; ++j) {
+      for (int t = -na; t <= na; ++t) {
+        const Eigen::Vector3d off(i * options_.llsamplestep, j * options_.llsamplestep,
+                                  t * options_.lasamplestep);
+        const Pose2 p{mode.x + off.x(), mode.y + off.y(), NormalizeAngle(mode.theta + off.z())};
+        const double l = LogLikelihood(grid, scan, p);
+        samples.push_back({off, l});
+        lmax = std::max(lmax, l);
+      }
+    }
+  }
+  // Normalise in the log domain: w_j = exp(l_j - lmax).
+  double wsum = 0.0;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Sample& s : samples) {
+    const double w = std::exp(s.l - lmax);
+    wsum += w;
+    mean += w * s.offset;
+  }
+  mean /= wsum;
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const Sample& s : samples) {
+    const double w = std::exp(s.l - lmax) / wsum;
+    const Eigen::Vector3d d = s.offset - mean;
+    cov += w * d * d.transpose();
+  }
+  ProposalFit fit;
+  fit.mean = Pose2{mode.x + mean.x(), mode.y + mean.y(), NormalizeAngle(mode.theta + mean.z())};
+  fit.covariance = cov;
+  fit.log_weight = lmax + std::log(wsum / static_cast<double>(samples.size()));
+  return fit;
+}
+
+void ScanMatcher::Register(const PreparedScan& scan, const Pose2& pose, Grid* grid) const {
+  const Pose2 lp = Compose(pose, scan.sensor_in_base);
+  const double c = std::cos(lp.theta), s = std::sin(lp.theta);
+  for (std::size_t i = 0; i < scan.map_range.size(); ++i) {
+    const double dx = c * scan.map_cos[i] - s * scan.map_sin[i];
+    const double dy = s * scan.map_cos[i] + c * scan.map_sin[i];
+    const double r = scan.map_range[i];
+    grid->TraceRay(lp.x, lp.y, lp.x + r * dx, lp.y + r * dy, scan.map_hit[i] != 0);
+  }
+}
+
+}  // namespace minibot3d_slam

@@ -1,0 +1,138 @@
+// Tests of the gmapping options: validation messages and setting by name.
+#include "minibot3d_slam/gmapping_options.h"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace minibot3d_slam {
+namespace {
+
+std::string ValidationMessage(const GmappingOptions& o) {
+  try {
+    ValidateOptions(o);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(GmappingOptionsTest, DefaultsAreValid) { EXPECT_NO_THROW(ValidateOptions(GmappingOptions{})); }
+
+TEST(GmappingOptionsTest, MessageNamesEveryOffendingParameterWithItsValue) {
+  GmappingOptions o;
+  o.particles = 0;
+  o.delta = -0.5;
+  o.resampleThreshold = 1.5;
+  o.maxRange = 10.0;  // below maxUrange = 80
+  o.srt = -0.1;
+  o.kernelSize = -1;
+  o.lsigma = 0.0;
+  const std::string m = ValidationMessage(o);
+  for (const char* part : {"particles = 0", "delta = -0.5", "resampleThreshold = 1.5", "maxRange = 10",
+                           "srt = -0.1", "kernelSize = -1", "lsigma = 0"}) {
+    EXPECT_NE(m.find(part), std::string::npos) << part << " not in: " << m;
+  }
+  EXPECT_EQ(m.find("sigma = 0.05"), std::string::npos) << m;  // valid ones are not named
+}
+
+TEST(GmappingOptionsTest, RangesAndExtents) {
+  GmappingOptions o;
+  o.maxRange = 80.0;  // == maxUrange is fine
+  EXPECT_NO_THROW(ValidateOptions(o));
+  o.resampleThreshold = 1.0;
+  EXPECT_NO_THROW(ValidateOptions(o));
+  o.xmin = 5.0;
+  o.xmax = 5.0;
+  EXPECT_NE(ValidationMessage(o).find("xmin = 5"), std::string::npos);
+  o = GmappingOptions{};
+  o.ymax = -200.0;
+  EXPECT_NE(ValidationMessage(o).find("ymax = -200"), std::string::npos);
+  o = GmappingOptions{};
+  o.resampleThreshold = 0.0;
+  EXPECT_NE(ValidationMessage(o).find("resampleThreshold = 0"), std::string::npos);
+  o = GmappingOptions{};
+  o.maxUrange = 0.0;
+  EXPECT_NE(ValidationMessage(o).find("maxUrange = 0"), std::string::npos);
+  o = GmappingOptions{};
+  o.iterations = -1;
+  o.lskip = -2;
+  o.llsamplestep = 0.0;
+  const std::string m = ValidationMessage(o);
+  EXPECT_NE(m.find("iterations = -1"), std::string::npos) << m;
+  EXPECT_NE(m.find("lskip = -2"), std::string::npos) << m;
+  EXPECT_NE(m.find("llsamplestep = 0"), std::string::npos) << m;
+}
+
+TEST(GmappingOptionsTest, SetOptionByGmappingName) {
+  GmappingOptions o;
+  SetOption(&o, "particles", "80");
+  SetOption(&o, "linearUpdate", "0.25");
+  SetOption(&o, "angularUpdate", " 0.1 ");
+  SetOption(&o, "temporalUpdate", "-1");
+  SetOption(&o, "srr", "1e-2");
+  SetOption(&o, "srt", "0.3");
+  SetOption(&o, "str", "0.4");
+  SetOption(&o, "stt", "0.5");
+  SetOption(&o, "kernelSize", "2");
+  SetOption(&o, "lskip", "3");
+  SetOption(&o, "iterations", "7");
+  SetOption(&o, "maxUrange", "16");
+  SetOption(&o, "maxRange", "20");
+  SetOption(&o, "xmin", "-10");
+  SetOption(&o, "occ_thresh", "0.3");
+  SetOption(&o, "seed", "42");
+  SetOption(&o, "minimumScore", "50");
+  SetOption(&o, "delta", "0.1");
+  EXPECT_EQ(o.particles, 80);
+  EXPECT_DOUBLE_EQ(o.linearUpdate, 0.25);
+  EXPECT_DOUBLE_EQ(o.angularUpdate, 0.1);
+  EXPECT_DOUBLE_EQ(o.srr, 0.01);
+  EXPECT_DOUBLE_EQ(o.srt, 0.3);
+  EXPECT_DOUBLE_EQ(o.str, 0.4);
+  EXPECT_DOUBLE_EQ(o.stt, 0.5);
+  EXPECT_EQ(o.kernelSize, 2);
+  EXPECT_EQ(o.lskip, 3);
+  EXPECT_EQ(o.iterations, 7);
+  EXPECT_DOUBLE_EQ(o.maxUrange, 16.0);
+  EXPECT_DOUBLE_EQ(o.maxRange, 20.0);
+  EXPECT_DOUBLE_EQ(o.xmin, -10.0);
+  EXPECT_DOUBLE_EQ(o.occ_thresh, 0.3);
+  EXPECT_EQ(o.seed, 42u);
+  EXPECT_DOUBLE_EQ(o.minimumScore, 50.0);
+  EXPECT_DOUBLE_EQ(o.delta, 0.1);
+  for (const char* name : {"resampleThreshold", "sigma", "lstep", "astep", "lsigma", "ogain", "llsamplerange",
+                           "llsamplestep", "lasamplerange", "lasamplestep", "ymin", "xmax", "ymax"}) {
+    EXPECT_NO_THROW(SetOption(&o, name, "0.5")) << name;
+  }
+  EXPECT_DOUBLE_EQ(o.ogain, 0.5);
+  EXPECT_DOUBLE_EQ(o.lasamplestep, 0.5);
+}
+
+TEST(GmappingOptionsTest, SetOptionRejectsBadValuesAndNames) {
+  GmappingOptions o;
+  for (const char* bad : {"2.5", "abc", "", "3x", "1e2"}) {
+    try {
+      SetOption(&o, "particles", bad);
+      FAIL() << bad;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("particles"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(std::string("'") + bad + "'"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(SetOption(&o, "kernelSize", "1.0"), std::invalid_argument);
+  EXPECT_THROW(SetOption(&o, "seed", "-1"), std::invalid_argument);
+  EXPECT_THROW(SetOption(&o, "delta", "0.05m"), std::invalid_argument);
+  EXPECT_THROW(SetOption(&o, "delta", "nan"), std::invalid_argument);
+  try {
+    SetOption(&o, "maxurange", "10");  // names are case-sensitive, as in gmapping
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("maxurange"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(o.particles, 30);  // unchanged by the failures
+}
+
+}  // namespace
+}  // namespace minibot3d_slam

@@ -1,0 +1,284 @@
+// Tests of the RBPF SLAM core (rbpf_slam.h) and its resampling step.
+#include "minibot3d_slam/rbpf_slam.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+
+#include "resampling.h"
+#include "synthetic_world.h"
+
+namespace minibot3d_slam {
+namespace {
+
+using testing_world::Office;
+using testing_world::World;
+
+TEST(ResamplingTest, DominantParticleIsCopiedEverywhere) {
+  std::vector<double> w(20, 1e-9);
+  w[13] = 1.0 - 19 * 1e-9;
+  for (double u0 : {0.001, 0.01, 0.049}) {
+    for (std::size_t parent : LowVarianceResample(w, u0)) EXPECT_EQ(parent, 13u) << u0;
+  }
+}
+
+TEST(ResamplingTest, CopiesAreProportionalToWeights) {
+  // Systematic resampling draws a particle of weight w floor(N·w) or ceil(N·w) times.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 50; ++trial) {
+    std::vector<double> w(30);
+    double sum = 0.0;
+    for (double& x : w) sum += (x = u(rng) * u(rng));
+    for (double& x : w) x /= sum;
+    const std::vector<std::size_t> parents = LowVarianceResample(w, u(rng) / 30.0);
+    ASSERT_EQ(parents.size(), w.size());
+    std::vector<int> copies(w.size(), 0);
+    for (std::size_t p : parents) ++copies[p];
+    for (std::size_t i = 0; i < w.size(); ++i) {
+      EXPECT_GE(copies[i], static_cast<int>(std::floor(30 * w[i] - 1e-9))) << i;
+      EXPECT_LE(copies[i], static_cast<int>(std::ceil(30 * w[i] + 1e-9))) << i;
+    }
+  }
+  // Uniform weights: every particle once.
+  const std::vector<std::size_t> same = LowVarianceResample(std::vector<double>(8, 0.125), 0.06);
+  for (std::size_t i = 0; i < same.size(); ++i) EXPECT_EQ(same[i], i);
+}
+
+// A closed tour of the office: straight legs and turns in place, at scan rate.
+std::vector<Pose2> Tour() {
+  std::vector<Pose2> truth;
+  Pose2 p{-4.5, -2.8, 0.0};
+  auto go = [&](double dist, double step) {
+    const int n = static_cast<int>(std::round(dist / step));
+    for (int i = 0; i < n; ++i) {
+      p = Compose(p, Pose2{step, 0.0, 0.0});
+      truth.push_back(p);
+    }
+  };
+  auto turn = [&](double angle) {
+    const int n = static_cast<int>(std::round(std::fabs(angle) / 0.1));
+    for (int i = 0; i < n; ++i) {
+      p.theta = NormalizeAngle(p.theta + angle / n);
+      truth.push_back(p);
+    }
+  };
+  truth.push_back(p);
+  for (int lap = 0; lap < 2; ++lap) {
+    go(8.8, 0.1);
+    turn(M_PI / 2);
+    go(5.6, 0.1);
+    turn(M_PI / 2);
+    go(8.8, 0.1);
+    turn(M_PI / 2);
+    go(5.6, 0.1);
+    turn(M_PI / 2);
+  }
+  return truth;
+}
+
+TEST(RbpfSlamTest, NoisyOdometryTourGivesTrajectoryAndMapCloseToTheTruth) {
+  const World world = Office();
+  const std::vector<Pose2> truth = Tour();
+  // Odometry with a systematic rotation bias (3 %) and a scale error (2 %) plus noise, so that it
+  // drifts by decimetres over the tour.
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::vector<Pose2> odom{truth[0]};
+  for (std::size_t i = 1; i < truth.size(); ++i) {
+    Pose2 u = Between(truth[i], truth[i - 1]);
+    u.x = u.x * 1.02 + 0.003 * noise(rng);
+    u.y += 0.002 * noise(rng);
+    u.theta = u.theta * 1.03 + 0.002 * noise(rng) + 0.0015 * std::fabs(u.x) / 0.1;
+    odom.push_back(Compose(odom.back(), u));
+  }
+  GmappingOptions o;
+  o.particles = 15;
+  o.linearUpdate = 0.3;
+  o.angularUpdate = 0.25;
+  o.seed = 5;
+  RbpfSlam slam(o);
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    slam.AddScan(world.Scan(truth[i], 181, M_PI, 30.0, 0.1 * static_cast<double>(i)), odom[i]);
+  }
+  EXPECT_GT(slam.processed_scans(), 60);
+  // The map frame starts at the first odometry pose, which is the first true pose here.
+  const std::vector<StampedPose> traj = slam.BestTrajectory();
+  ASSERT_EQ(static_cast<int>(traj.size()), slam.processed_scans());
+  double worst = 0.0, worst_odom = 0.0, sum = 0.0;
+  for (const StampedPose& sp : traj) {
+    const std::size_t i = static_cast<std::size_t>(std::lround(sp.time / 0.1));
+    worst = std::max(worst, std::hypot(sp.pose.x - truth[i].x, sp.pose.y - truth[i].y));
+    sum += std::hypot(sp.pose.x - truth[i].x, sp.pose.y - truth[i].y);
+    worst_odom = std::max(worst_odom, std::hypot(odom[i].x - truth[i].x, odom[i].y - truth[i].y));
+  }
+  EXPECT_GT(worst_odom, 0.5);  // the odometry alone is far off
+  // gmapping's matcher (5 cm cells, a deliberately wide score) is good to a few centimetres.
+  EXPECT_LT(sum / static_cast<double>(traj.size()), 0.12);
+  EXPECT_LT(worst, 0.25);
+  const Pose2 last = slam.BestPose();
+  EXPECT_LT(std::hypot(last.x - truth.back().x, last.y - truth.back().y), 0.15);
+  EXPECT_LT(std::fabs(NormalizeAngle(last.theta - truth.back().theta)), 0.05);
+
+  // Walls are where they are: sample points along every wall; nearly all must be occupied within
+  // one cell, while the middle of the free corridor is free.
+  const GridMap map = slam.Map();
+  auto value = [&](double x, double y) {
+    const int cx = static_cast<int>(std::floor((x - map.origin_x) / map.resolution));
+    const int cy = static_cast<int>(std::floor((y - map.origin_y) / map.resolution));
+    if (cx < 0 || cy < 0 || cx >= map.width || cy >= map.height) return -1;
+    return static_cast<int>(map.data[static_cast<std::size_t>(cy) * map.width + cx]);
+  };
+  auto occupied_near = [&](double x, double y) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        if (value(x + dx * map.resolution, y + dy * map.resolution) == 100) return true;
+      }
+    }
+    return false;
+  };
+  int samples = 0, hits = 0;
+  for (const auto& s : {world.walls[0], world.walls[1], world.walls[2], world.walls[3]}) {
+    for (double t = 0.05; t < 0.95; t += 0.02) {
+      ++samples;
+      hits += occupied_near(s.x0 + t * (s.x1 - s.x0), s.y0 + t * (s.y1 - s.y0)) ? 1 : 0;
+    }
+  }
+  EXPECT_GT(hits, 0.9 * samples);
+  for (double x = -4.0; x <= 4.0; x += 0.5) EXPECT_EQ(value(x, -2.8), 0) << x;
+  EXPECT_EQ(value(0.0, 0.0), -1);  // inside the inner block: never seen
+}
+
+LaserScan WallScan(double time, int beams = 91) {
+  // Facing a wall 3 m ahead and walls 2 m to both sides (a corridor's end).
+  World w;
+  w.AddBox(-5.0, -2.0, 3.0, 2.0);
+  return w.Scan(Pose2{}, beams, M_PI, 30.0, time);
+}
+
+TEST(RbpfSlamTest, UpdatesAreTriggeredByMotionAndTime) {
+  GmappingOptions o;
+  o.particles = 3;
+  o.linearUpdate = 0.5;
+  o.angularUpdate = 0.3;
+  o.temporalUpdate = 2.0;
+  RbpfSlam slam(o);
+  EXPECT_TRUE(slam.AddScan(WallScan(0.0), Pose2{}));  // the first scan always
+  EXPECT_FALSE(slam.AddScan(WallScan(0.1), Pose2{0.2, 0.0, 0.0}));
+  EXPECT_FALSE(slam.AddScan(WallScan(0.2), Pose2{0.4, 0.0, 0.0}));
+  EXPECT_TRUE(slam.AddScan(WallScan(0.3), Pose2{0.55, 0.0, 0.0}));  // 0.55 m travelled
+  EXPECT_FALSE(slam.AddScan(WallScan(0.4), Pose2{0.55, 0.0, 0.2}));
+  EXPECT_TRUE(slam.AddScan(WallScan(0.5), Pose2{0.55, 0.0, 0.35}));  // 0.35 rad turned
+  // Path length counts, not net displacement: forth and back 0.3 m each.
+  EXPECT_FALSE(slam.AddScan(WallScan(0.6), Pose2{0.85, 0.0, 0.35}));
+  EXPECT_TRUE(slam.AddScan(WallScan(0.7), Pose2{0.55, 0.0, 0.35}));
+  // Standing still: only the temporal update fires, after more than 2 s.
+  EXPECT_FALSE(slam.AddScan(WallScan(2.0), Pose2{0.55, 0.0, 0.35}));
+  EXPECT_TRUE(slam.AddScan(WallScan(2.8), Pose2{0.55, 0.0, 0.35}));
+  EXPECT_EQ(slam.processed_scans(), 5);
+  EXPECT_EQ(slam.BestTrajectory().size(), 5u);
+  // Without the temporal update, standing still never processes.
+  o.temporalUpdate = -1.0;
+  RbpfSlam still(o);
+  EXPECT_TRUE(still.AddScan(WallScan(0.0), Pose2{}));
+  for (int i = 1; i < 50; ++i) EXPECT_FALSE(still.AddScan(WallScan(i * 1.0), Pose2{}));
+}
+
+TEST(RbpfSlamTest, PoseBetweenProcessedScansFollowsOdometry) {
+  GmappingOptions o;
+  o.particles = 4;
+  RbpfSlam slam(o);
+  const Pose2 start{1.0, 2.0, 0.5};
+  slam.AddScan(WallScan(0.0), start);
+  EXPECT_NEAR(slam.BestPose().x, 1.0, 1e-12);  // the map frame starts at the first odometry pose
+  const Pose2 odom = Compose(start, Pose2{0.2, 0.05, 0.1});
+  EXPECT_FALSE(slam.AddScan(WallScan(0.1), odom));
+  const Pose2 best = slam.BestPose();
+  EXPECT_NEAR(best.x, odom.x, 1e-9);
+  EXPECT_NEAR(best.y, odom.y, 1e-9);
+  const Pose2 back = Compose(slam.MapToOdom(), odom);
+  EXPECT_NEAR(back.x, best.x, 1e-9);
+  EXPECT_NEAR(back.y, best.y, 1e-9);
+  EXPECT_NEAR(NormalizeAngle(back.theta - best.theta), 0.0, 1e-9);
+  EXPECT_GE(slam.Entropy(), 0.0);
+  EXPECT_LE(slam.Entropy(), std::log(4.0) + 1e-9);
+}
+
+TEST(RbpfSlamTest, BadReadingsAndOddScansAreHandled) {
+  GmappingOptions o;
+  o.particles = 5;
+  o.linearUpdate = 0.1;
+  RbpfSlam slam(o);
+  World w;
+  w.AddBox(-5.0, -2.0, 3.0, 2.0);
+  w.AddBox(1.0, 1.0, 1.5, 1.5);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  LaserScan s = w.Scan(Pose2{}, 91, M_PI, 30.0, 0.0);
+  s.ranges[3] = nan;
+  s.ranges[10] = inf;
+  s.ranges[11] = -inf;
+  s.ranges[12] = 0.0;
+  s.ranges[20] = 1e9;
+  EXPECT_TRUE(slam.AddScan(s, Pose2{}));
+  // Fewer beams, in reversed order, over a narrower field of view.
+  LaserScan few = w.Scan(Pose2{0.15, 0.0, 0.0}, 31, 2.0, 30.0, 0.1);
+  std::reverse(few.ranges.begin(), few.ranges.end());
+  std::reverse(few.angles.begin(), few.angles.end());
+  EXPECT_TRUE(slam.AddScan(few, Pose2{0.15, 0.0, 0.0}));
+  LaserScan all_bad = w.Scan(Pose2{0.3, 0.0, 0.0}, 91, M_PI, 30.0, 0.2);
+  for (double& r : all_bad.ranges) r = nan;
+  EXPECT_TRUE(slam.AddScan(all_bad, Pose2{0.3, 0.0, 0.0}));
+  LaserScan empty;
+  empty.time = 0.3;
+  EXPECT_TRUE(slam.AddScan(empty, Pose2{0.45, 0.0, 0.0}));
+  // A sensor mounted 0.2 m ahead of the base and turned by 0.3 rad.
+  const Pose2 mount{0.2, 0.0, 0.3};
+  LaserScan mounted = w.Scan(Compose(Pose2{0.6, 0.0, 0.0}, mount), 181, M_PI, 30.0, 0.4);
+  mounted.sensor_in_base = mount;
+  EXPECT_TRUE(slam.AddScan(mounted, Pose2{0.6, 0.0, 0.0}));
+  EXPECT_EQ(slam.processed_scans(), 5);
+  const Pose2 p = slam.BestPose();
+  EXPECT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.theta));
+  EXPECT_LT(std::hypot(p.x - 0.6, p.y), 0.05);
+  EXPECT_LT(std::fabs(p.theta), 0.03);
+  LaserScan mismatched = w.Scan(Pose2{0.6, 0.0, 0.0});
+  mismatched.angles.pop_back();
+  EXPECT_THROW(slam.AddScan(mismatched, Pose2{0.7, 0.0, 0.0}), std::invalid_argument);
+}
+
+TEST(RbpfSlamTest, MapStartsAtTheConfiguredExtentAndGrows) {
+  GmappingOptions o;
+  o.particles = 2;
+  o.xmin = -2.0;
+  o.ymin = -1.0;
+  o.xmax = 2.0;
+  o.ymax = 1.0;
+  RbpfSlam slam(o);
+  GridMap empty = slam.Map();
+  EXPECT_EQ(empty.width, 80);
+  EXPECT_EQ(empty.height, 40);
+  EXPECT_DOUBLE_EQ(empty.origin_x, -2.0);
+  slam.AddScan(WallScan(0.0), Pose2{});
+  const GridMap m = slam.Map();
+  // The walls seen (x = 3 ahead, y = ±2 aside) lie outside the initial extent.
+  EXPECT_GE(m.origin_x + m.width * m.resolution, 3.0);
+  EXPECT_LE(m.origin_y, -2.0);
+  EXPECT_GE(m.origin_y + m.height * m.resolution, 2.0);
+  int occupied = 0;
+  for (auto v : m.data) occupied += v == 100;
+  EXPECT_GT(occupied, 50);
+}
+
+TEST(RbpfSlamTest, InvalidOptionsAreRejected) {
+  GmappingOptions o;
+  o.particles = 0;
+  EXPECT_THROW(RbpfSlam{o}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace minibot3d_slam

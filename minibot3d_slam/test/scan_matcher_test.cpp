@@ -1,0 +1,136 @@
+// Tests of the gmapping-style scan matcher (src/scan_matcher.h) in a synthetic office.
+#include "scan_matcher.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "synthetic_world.h"
+
+namespace minibot3d_slam {
+namespace {
+
+using testing_world::Office;
+using testing_world::World;
+
+// A map of the office built from scans at a few known poses.
+Grid MappedOffice(const ScanMatcher& matcher, const World& world) {
+  Grid grid(0.05);
+  for (const Pose2& p : {Pose2{-4.0, -2.5, 0.3}, Pose2{-4.0, 2.5, -0.4}, Pose2{4.5, -2.5, 2.0},
+                         Pose2{4.5, 0.5, 3.0}, Pose2{0.0, 2.5, -1.0}, Pose2{0.0, -2.5, 1.2}}) {
+    matcher.Register(matcher.Prepare(world.Scan(p)), p, &grid);
+  }
+  return grid;
+}
+
+double AngleDiff(double a, double b) { return std::fabs(NormalizeAngle(a - b)); }
+
+TEST(ScanMatcherTest, RecoversKnownOffset) {
+  GmappingOptions o;
+  const ScanMatcher matcher(o);
+  const World world = Office();
+  const Grid grid = MappedOffice(matcher, world);
+  const Pose2 truth{-3.0, -1.8, 0.7};
+  const PreparedScan scan = matcher.Prepare(world.Scan(truth));
+  for (const Pose2& off : {Pose2{0.1, 0.0, 0.05}, Pose2{-0.08, 0.06, -0.05}, Pose2{0.0, -0.1, 0.03}}) {
+    const Pose2 guess{truth.x + off.x, truth.y + off.y, truth.theta + off.theta};
+    Pose2 found;
+    const double score = matcher.Optimize(grid, scan, guess, &found);
+    EXPECT_NEAR(found.x, truth.x, 0.02) << "offset " << off.x << " " << off.y << " " << off.theta;
+    EXPECT_NEAR(found.y, truth.y, 0.02);
+    EXPECT_LT(AngleDiff(found.theta, truth.theta), 0.01);
+    EXPECT_GT(score, matcher.Score(grid, scan, guess));
+  }
+}
+
+TEST(ScanMatcherTest, ScoreAndLikelihoodPeakAtTheTruth) {
+  GmappingOptions o;
+  const ScanMatcher matcher(o);
+  const World world = Office();
+  const Grid grid = MappedOffice(matcher, world);
+  const Pose2 truth{2.5, 2.8, -2.5};
+  const PreparedScan scan = matcher.Prepare(world.Scan(truth));
+  int matched_truth = 0, matched_off = 0;
+  const double l_truth = matcher.LogLikelihood(grid, scan, truth, &matched_truth);
+  const Pose2 off{truth.x + 0.15, truth.y, truth.theta + 0.05};
+  const double l_off = matcher.LogLikelihood(grid, scan, off, &matched_off);
+  EXPECT_GT(l_truth, l_off);
+  EXPECT_GT(matcher.Score(grid, scan, truth), matcher.Score(grid, scan, off));
+  // Nearly every beam of the true pose finds its wall.
+  EXPECT_GT(matched_truth, static_cast<int>(0.8 * static_cast<double>(scan.match_range.size())));
+  EXPECT_LT(matched_off, matched_truth);
+}
+
+TEST(ScanMatcherTest, EmptyMapMatchesNothing) {
+  GmappingOptions o;
+  const ScanMatcher matcher(o);
+  const Grid empty(0.05);
+  const PreparedScan scan = matcher.Prepare(Office().Scan(Pose2{0.0, 2.5, 0.0}));
+  int matched = -1;
+  const double l = matcher.LogLikelihood(empty, scan, Pose2{}, &matched);
+  EXPECT_EQ(matched, 0);
+  // Each beam without a match costs gmapping's null likelihood -0.5 / lsigma.
+  EXPECT_NEAR(l, -0.5 / o.lsigma * static_cast<double>(scan.match_range.size()), 1e-9);
+  EXPECT_EQ(matcher.Score(empty, scan, Pose2{}), 0.0);
+}
+
+TEST(ScanMatcherTest, SampleAroundFitsAGaussianAtTheMode) {
+  GmappingOptions o;
+  const ScanMatcher matcher(o);
+  const World world = Office();
+  const Grid grid = MappedOffice(matcher, world);
+  const Pose2 truth{-3.0, 2.0, -0.3};
+  const PreparedScan scan = matcher.Prepare(world.Scan(truth));
+  const ProposalFit fit = matcher.SampleAround(grid, scan, truth);
+  EXPECT_NEAR(fit.mean.x, truth.x, o.llsamplerange);
+  EXPECT_NEAR(fit.mean.y, truth.y, o.llsamplerange);
+  EXPECT_LE(AngleDiff(fit.mean.theta, truth.theta), o.lasamplerange);
+  // A covariance: symmetric, non-negative diagonal, bounded by the sampled range.
+  EXPECT_NEAR(fit.covariance(0, 1), fit.covariance(1, 0), 1e-15);
+  for (int i = 0; i < 3; ++i) EXPECT_GE(fit.covariance(i, i), 0.0);
+  EXPECT_LE(fit.covariance(0, 0), o.llsamplerange * o.llsamplerange);
+  // log of the mean likelihood over the grid cannot exceed the best sample's.
+  EXPECT_LE(fit.log_weight, matcher.LogLikelihood(grid, scan, truth) + 1e-9 +
+                                std::fabs(matcher.LogLikelihood(grid, scan, truth)));
+  EXPECT_GT(fit.log_weight, matcher.LogLikelihood(grid, scan, Pose2{truth.x + 0.2, truth.y, truth.theta}));
+  // Without a sampling range, the proposal is the mode itself with zero covariance.
+  o.llsamplerange = 0.0;
+  o.lasamplerange = 0.0;
+  const ScanMatcher point(o);
+  const ProposalFit single = point.SampleAround(grid, scan, truth);
+  EXPECT_DOUBLE_EQ(single.mean.x, truth.x);
+  EXPECT_DOUBLE_EQ(single.covariance.norm(), 0.0);
+  EXPECT_NEAR(single.log_weight, point.LogLikelihood(grid, scan, truth), 1e-9);
+}
+
+TEST(ScanMatcherTest, PrepareClassifiesBeams) {
+  GmappingOptions o;
+  o.maxUrange = 5.0;
+  LaserScan s;
+  s.range_min = 0.1;
+  s.range_max = 20.0;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  s.ranges = {1.0, nan, inf, 0.0, 0.05, 7.0, 20.0, 25.0, 2.0, -inf};
+  for (std::size_t i = 0; i < s.ranges.size(); ++i) s.angles.push_back(0.1 * static_cast<double>(i));
+  const PreparedScan p = ScanMatcher(o).Prepare(s);
+  // 1.0, 7.0 (cut to 5, free only) and 2.0 remain; NaN, ±inf, 0, below range_min, at or beyond
+  // range_max are no-returns.
+  ASSERT_EQ(p.map_range.size(), 3u);
+  EXPECT_DOUBLE_EQ(p.map_range[1], 5.0);
+  EXPECT_EQ(p.map_hit[1], 0);
+  EXPECT_EQ(p.map_hit[0], 1);
+  ASSERT_EQ(p.match_range.size(), 2u);  // beams beyond maxUrange are not matched
+  EXPECT_DOUBLE_EQ(p.match_range[1], 2.0);
+  // lskip = 1 keeps every second matchable beam.
+  o.lskip = 1;
+  EXPECT_EQ(ScanMatcher(o).Prepare(s).match_range.size(), 1u);
+  // maxRange below the sensor's range_max turns 7.0 into a no-return.
+  o.lskip = 0;
+  o.maxRange = 6.0;
+  EXPECT_EQ(ScanMatcher(o).Prepare(s).map_range.size(), 2u);
+}
+
+}  // namespace
+}  // namespace minibot3d_slam

@@ -1,0 +1,78 @@
+#!/usr/bin/env python3
+"""rostest: mapping the default world. Drives a loop through its rooms (route_driver.py), saves
+the map with map_saver, and checks it against the world's ground-truth map: at least 90 % of the
+occupied cells of the saved map lie within 0.1 m of an occupied ground-truth cell, and the map
+covers most of what the route could see."""
+import importlib.util
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+import rospkg
+import rospy
+import rostest
+from nav_msgs.msg import OccupancyGrid
+
+WAYPOINTS = '-2.1,0.6 -2.4,3.0 -2.1,0.6 -0.3,2.0 0.45,0.6 2.5,-1.0 0.8,-2.15 -3,-1.5'
+
+
+def load_route_driver():
+    path = os.path.join(rospkg.RosPack().get_path('minibot3d_sim'), 'scripts', 'route_driver.py')
+    spec = importlib.util.spec_from_file_location('route_driver', path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def occupied_points(occupied, res, origin):
+    rows, cols = np.nonzero(occupied)
+    return np.stack([origin[0] + (cols + 0.5) * res, origin[1] + (rows + 0.5) * res], axis=1)
+
+
+class SlamInSim(unittest.TestCase):
+    def test_map_of_the_default_world(self):
+        rospy.init_node('slam_in_sim_test')
+        truth_yaml = rospy.get_param('~ground_truth_map')
+        sx, sy, syaw = (rospy.get_param('~spawn_x'), rospy.get_param('~spawn_y'),
+                        rospy.get_param('~spawn_yaw'))
+        # The map is published once slam_gmapping has processed its first scan.
+        rospy.wait_for_message('/map', OccupancyGrid, timeout=120.0)
+        drive = subprocess.run(
+            ['rosrun', 'minibot3d_sim', 'route_driver.py', '--map', truth_yaml,
+             '--waypoints', WAYPOINTS, '--speed', '0.3', '--timeout', '400'],
+            capture_output=True, text=True)
+        self.assertEqual(drive.returncode, 0, drive.stdout + drive.stderr)
+        out = tempfile.mkdtemp(prefix='slam_in_sim_')
+        # A map published after the drive ended: wait for the next update, then save it.
+        rospy.wait_for_message('/map', OccupancyGrid, timeout=120.0)
+        save = subprocess.run(['rosrun', 'minibot3d_slam', 'map_saver', '-f',
+                               os.path.join(out, 'map'), '--timeout', '60'],
+                              capture_output=True, text=True)
+        self.assertEqual(save.returncode, 0, save.stdout + save.stderr)
+        rd = load_route_driver()
+        saved, res, origin = rd.load_map(os.path.join(out, 'map.yaml'))
+        truth, tres, torigin = rd.load_map(truth_yaml)
+        pts = occupied_points(saved, res, origin)
+        self.assertGreater(len(pts), 300, 'the saved map has almost no walls')
+        # SLAM's map frame is where the robot started: put its cells in the world frame.
+        c, s = math.cos(syaw), math.sin(syaw)
+        world = np.stack([sx + c * pts[:, 0] - s * pts[:, 1], sy + s * pts[:, 0] + c * pts[:, 1]],
+                         axis=1)
+        tpts = occupied_points(truth, tres, torigin)
+        nearest = np.full(len(world), np.inf)
+        for chunk in np.array_split(np.arange(len(world)), max(1, len(world) // 500)):
+            d = np.hypot(world[chunk, None, 0] - tpts[None, :, 0],
+                         world[chunk, None, 1] - tpts[None, :, 1])
+            nearest[chunk] = d.min(axis=1)
+        within = float(np.mean(nearest <= 0.1))
+        print('slam_in_sim: %d occupied cells, %.1f %% within 0.1 m of the ground truth, '
+              'median distance %.3f m' % (len(world), 100 * within, float(np.median(nearest))))
+        self.assertGreaterEqual(within, 0.90)
+
+
+if __name__ == '__main__':
+    rostest.rosrun('minibot3d_slam', 'slam_in_sim', SlamInSim, sys.argv)
