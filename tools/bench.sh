@@ -40,4 +40,22 @@ for physics in kinematic kinematic kinematic bullet bullet bullet; do
   wait "$pid" 2>/dev/null || true
 done
 
-echo "== SLAM (minibot3d_slam): not implemented yet (issue 4)${log:+; log given: $log}"
+echo "== SLAM on a CARMEN log (slam_offline, gmapping defaults): 10, 30, 100 particles"
+if [ -n "$log" ] && [ -f "$log" ]; then
+  for particles in 10 30 100; do
+    printf 'particles=%s ' "$particles"
+    devel/lib/minibot3d_slam/slam_offline --log "$log" --out "build/bench/carmen_$particles" \
+      --particles "$particles" --quiet | tail -1
+  done
+  /usr/bin/python3 minibot3d_slam/scripts/plot_map.py build/bench/carmen_30/map.yaml \
+    build/bench/carmen_30/trajectory.txt build/bench/carmen_30/map.png
+  echo "map with trajectory: build/bench/carmen_30/map.png"
+else
+  echo "skipped: no CARMEN log at '${log}' (make bench BENCH_LOG=path/to/log.clf)"
+fi
+
+echo "== SLAM in the simulator (relations from the true pose, Kümmerle et al. 2009; config/gmapping.yaml)"
+tools/slam_sim_bench.sh default minibot3d_sim/worlds/default.world maps/default_world.yaml -3 -1.5 0 \
+  "-2.1,0.6 -2.4,3.0 -2.1,0.6 -0.3,2.0 0.45,0.6 2.5,-1.0 0.8,-2.15 -3,-1.5" 2
+tools/slam_sim_bench.sh arena minibot3d_sim/worlds/arena.world maps/arena.yaml 0 0 0 \
+  "1.2,-1.2 1.2,1.0 -1.0,1.2 -1.2,-1.2 0,0" 3

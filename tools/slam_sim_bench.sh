@@ -7,12 +7,19 @@
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 source tools/ros_env.sh
-name=$1 world=$2 map=$3 x=$4 y=$5 yaw=$6 waypoints=$7 laps=${8:-1}
+name=$1 world=$(realpath "$2") map=$(realpath "$3") x=$4 y=$5 yaw=$6 waypoints=$7 laps=${8:-1}
 out=build/bench/slam_$name
 rm -rf "$out" && mkdir -p "$out"
 setsid roslaunch -p "$ROS_PORT" minibot3d_sim minibot3d_gazebo.launch world:="$world" x:="$x" \
   y:="$y" yaw:="$yaw" real_time_factor:=10 > "$out/sim.log" 2>&1 &
 sim=$!
+rec=
+cleanup() {
+  [ -n "$rec" ] && kill -INT -- -"$rec" 2>/dev/null
+  kill -INT -- -"$sim" 2>/dev/null
+  wait 2>/dev/null
+}
+trap cleanup EXIT
 wait_for_master 60
 setsid rosbag record -q -O "$out/drive.bag" /scan /tf /tf_static > "$out/record.log" 2>&1 &
 rec=$!
@@ -24,10 +31,8 @@ done
 status=0
 rosrun minibot3d_sim route_driver.py --map "$map" --waypoints "$waypoints" --laps "$laps" \
   --speed 0.3 --timeout 900 --record "$out/truth_all.txt" || status=$?
-kill -INT -- -"$rec" 2>/dev/null || true
-wait "$rec" 2>/dev/null || true
-kill -INT -- -"$sim" 2>/dev/null || true
-wait "$sim" 2>/dev/null || true
+cleanup
+trap - EXIT
 [ $status -eq 0 ] || { echo "slam_sim_bench $name: the drive failed" >&2; exit 1; }
 # True poses at the scan times (multiples of 0.1 s of sim time).
 awk '{ t = $1 * 10; if (t - int(t + 0.5) < 1e-6 && int(t + 0.5) - t < 1e-6) print }' \

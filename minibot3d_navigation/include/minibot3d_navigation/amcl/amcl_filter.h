@@ -24,8 +24,9 @@
 //     (found by fixed-point iteration: draw n, count bins k, n <- bound(k)),
 //     clamped to max_particles.  With probability max(0, 1 - w_fast/w_slow)
 //     each draw is replaced by a pose uniform over free space (augmented MCL:
-//     recovers from a wrong convergence / kidnapping); after an injection
-//     w_slow and w_fast restart, as in amcl;
+//     recovers from a wrong convergence / kidnapping); after an actual
+//     injection w_fast restarts at w_slow (amcl restarts both, see
+//     Resample() for why not here);
 //  5. the pose estimate is the weighted mean/covariance of the heaviest
 //     cluster of particles (pose_clusters.h).
 //
@@ -152,7 +153,6 @@ class AmclFilter {
   size_t MapMemoryBytes() const;
 
  private:
-  void Init(Initialization init, const Pose2D& mean, const Eigen::Matrix3d& cov);
   void SampleGaussian(const Pose2D& mean, const Eigen::Matrix3d& cov,
                       const MapModel& map, std::vector<Particle>* out);
   void ResetAfterInitialization();
@@ -163,7 +163,8 @@ class AmclFilter {
   void Resample();
   // Low-variance resampling of `count` particles into resample_buffer_,
   // each replaced by a free-space pose with probability inject_probability.
-  void LowVarianceDraw(int count, double inject_probability);
+  // Returns the number of injected poses.
+  int LowVarianceDraw(int count, double inject_probability);
   void UpdateConvergence();
   void UpdateEstimate();
 

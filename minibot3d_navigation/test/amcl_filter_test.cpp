@@ -1,0 +1,439 @@
+// End-to-end tests of the AMCL filter on a synthetic 10 m x 8 m room with
+// asymmetric furniture: tracking from a wrong-ish Gaussian guess, global
+// localization from a uniform set, kidnapping recovery, the update gating,
+// and the error handling for bad configuration and bad inputs.
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <Eigen/LU>
+#include <gtest/gtest.h>
+
+#include "amcl_test_utils.h"
+#include "minibot3d_navigation/amcl/amcl_filter.h"
+
+namespace minibot3d_navigation {
+namespace amcl {
+namespace {
+
+constexpr double kDeg = kPi / 180.0;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Drives a simulated robot: true pose in the map, odometry with 2 % / 0.5 deg
+// noise per step in a drifting odometry frame, 360-beam scans from a laser
+// mounted like minibot3d's (0.02 m ahead, upside down -> yaw pi).
+class RobotSim {
+ public:
+  RobotSim(const OccupancyGrid& grid, const Pose2D& truth, uint64_t seed)
+      : grid_(grid), map_(grid, 2.0), truth_(truth), rng_(seed) {}
+
+  // Moves by the robot-frame increment u; fails the test if the robot would
+  // leave free space (keeps the scripted paths honest).
+  void Move(const Pose2D& u) {
+    truth_ = Compose(truth_, u);
+    int i, j;
+    ASSERT_TRUE(map_.WorldToCell(truth_.x, truth_.y, &i, &j));
+    ASSERT_TRUE(map_.IsFree(i, j)) << truth_.x << ", " << truth_.y;
+    ASSERT_GT(map_.Distance(i, j), 0.15) << "path too close to an obstacle";
+    std::normal_distribution<double> n(0.0, 1.0);
+    const Pose2D noisy{u.x * (1 + 0.02 * n(rng_)), u.y + 0.005 * n(rng_),
+                       u.yaw + 0.5 * kDeg * n(rng_)};
+    odom_ = Compose(odom_, noisy);
+  }
+  // Teleports the robot without odometry (kidnapping).
+  void Kidnap(const Pose2D& p) { truth_ = p; }
+
+  LaserScan Scan() {
+    return testing::SimulateScan(grid_, truth_, kLaserPose, 360, 12.0, 0.01,
+                                 &rng_);
+  }
+  const Pose2D& truth() const { return truth_; }
+  const Pose2D& odom() const { return odom_; }
+
+  static constexpr Pose2D kLaserPose{0.02, 0.0, kPi};
+
+ private:
+  OccupancyGrid grid_;
+  MapModel map_;
+  Pose2D truth_;
+  Pose2D odom_{10.0, -5.0, 1.0};  // odometry frame unrelated to the map
+  std::mt19937_64 rng_;
+};
+
+// A loop through the room (robot-frame increments), ~0.1 m / 5 deg steps.
+std::vector<Pose2D> LoopPath() {
+  std::vector<Pose2D> path;
+  auto straight = [&](int n) {
+    for (int k = 0; k < n; ++k) path.push_back({0.1, 0.0, 0.0});
+  };
+  auto turn = [&](int n, double deg) {
+    for (int k = 0; k < n; ++k) path.push_back({0.05, 0.0, deg * kDeg});
+  };
+  straight(12);  // east-north-east
+  turn(15, 6);   // left 90 deg
+  straight(12);  // north-north-west
+  turn(15, 6);   // left
+  straight(10);  // west-south-west
+  turn(15, 6);   // left
+  straight(8);   // south-south-east
+  return path;
+}
+
+double YawError(const Pose2D& a, const Pose2D& b) {
+  return std::fabs(AngleDiff(a.yaw, b.yaw));
+}
+double PosError(const Pose2D& a, const Pose2D& b) {
+  return std::hypot(a.x - b.x, a.y - b.y);
+}
+
+// Runs the path, feeding every step to the filter.
+void Drive(const std::vector<Pose2D>& path, RobotSim* sim, AmclFilter* filter) {
+  for (const Pose2D& u : path) {
+    sim->Move(u);
+    if (::testing::Test::HasFatalFailure()) return;
+    const UpdateResult r = filter->Update(sim->odom(), sim->Scan());
+    ASSERT_NE(r.status, UpdateStatus::kRejectedBadScan) << r.message;
+    ASSERT_NE(r.status, UpdateStatus::kRejectedBadOdometry) << r.message;
+  }
+}
+
+const Pose2D kStartTruth{2.0, 1.5, 0.3};
+
+TEST(AmclFilterTest, ConvergesFromWrongishGaussianGuess) {
+  const OccupancyGrid grid = testing::MakeAsymmetricRoom();
+  AmclOptions o;  // ROS defaults, 30 beams, likelihood_field, diff
+  o.initial_pose_x = kStartTruth.x + 0.3;
+  o.initial_pose_y = kStartTruth.y - 0.3;
+  o.initial_pose_a = kStartTruth.yaw + 10 * kDeg;
+  AmclFilter filter(o, grid);
+  RobotSim sim(grid, kStartTruth, 21);
+  // First scan: integrated without motion.
+  EXPECT_EQ(filter.Update(sim.odom(), sim.Scan()).status,
+            UpdateStatus::kUpdated);
+  Drive(LoopPath(), &sim, &filter);
+  ASSERT_FALSE(HasFatalFailure());
+  // Settle on the last pose (amcl's request_nomotion_update).
+  for (int k = 0; k < 3; ++k) {
+    filter.RequestNoMotionUpdate();
+    filter.Update(sim.odom(), sim.Scan());
+  }
+  const PoseEstimate& e = filter.estimate();
+  EXPECT_LT(PosError(e.mean, sim.truth()), 0.1)
+      << "estimate " << e.mean.x << ", " << e.mean.y << " truth "
+      << sim.truth().x << ", " << sim.truth().y;
+  EXPECT_LT(YawError(e.mean, sim.truth()), 3 * kDeg);
+  EXPECT_TRUE(filter.converged());
+  EXPECT_GT(e.weight, 0.9);
+  // Covariance: small, symmetric, positive definite.
+  EXPECT_LT(e.covariance(0, 0), 0.05);
+  EXPECT_LT(e.covariance(2, 2), std::pow(5 * kDeg, 2));
+  EXPECT_GT(e.covariance.determinant(), 0.0);
+  EXPECT_LT(filter.particles().size(), 5000u) << "KLD shrank the set";
+}
+
+TEST(AmclFilterTest, GlobalLocalizationConvergesInDistinctiveRoom) {
+  const OccupancyGrid grid = testing::MakeAsymmetricRoom();
+  AmclOptions o;
+  o.max_particles = 20000;  // ~1 per 0.5 m x 0.5 m x 10 deg bin of the room
+  AmclFilter filter(o, grid, AmclFilter::Initialization::kGlobal);
+  EXPECT_EQ(filter.particles().size(), 20000u);
+  EXPECT_GT(filter.estimate().covariance(0, 0), 4.0) << "uniform: no mode";
+  RobotSim sim(grid, kStartTruth, 22);
+  filter.Update(sim.odom(), sim.Scan());
+  Drive(LoopPath(), &sim, &filter);
+  ASSERT_FALSE(HasFatalFailure());
+  for (int k = 0; k < 3; ++k) {
+    filter.RequestNoMotionUpdate();
+    filter.Update(sim.odom(), sim.Scan());
+  }
+  const PoseEstimate& e = filter.estimate();
+  EXPECT_LT(PosError(e.mean, sim.truth()), 0.1)
+      << "estimate " << e.mean.x << ", " << e.mean.y << ", " << e.mean.yaw
+      << " truth " << sim.truth().x << ", " << sim.truth().y << ", "
+      << sim.truth().yaw;
+  EXPECT_LT(YawError(e.mean, sim.truth()), 3 * kDeg);
+}
+
+// Back and forth along a line: 12 x 0.1 m forward, then 180 deg in place.
+std::vector<Pose2D> ShuttlePath(int steps) {
+  std::vector<Pose2D> path;
+  for (int k = 0; k < steps; ++k) {
+    path.push_back(k % 18 < 12 ? Pose2D{0.1, 0.0, 0.0}
+                               : Pose2D{0.0, 0.0, 30 * kDeg});
+  }
+  return path;
+}
+
+TEST(AmclFilterTest, AugmentedMclRecoversFromKidnapping) {
+  const OccupancyGrid grid = testing::MakeAsymmetricRoom();
+  AmclOptions o;
+  o.max_particles = 10000;
+  o.recovery_alpha_slow = 0.001;
+  o.recovery_alpha_fast = 0.1;
+  o.initial_pose_x = kStartTruth.x;
+  o.initial_pose_y = kStartTruth.y;
+  o.initial_pose_a = kStartTruth.yaw;
+  AmclFilter filter(o, grid);
+  RobotSim sim(grid, kStartTruth, 23);
+  filter.Update(sim.odom(), sim.Scan());
+  Drive(ShuttlePath(48), &sim, &filter);  // ends with a forward leg
+  ASSERT_FALSE(HasFatalFailure());
+  filter.RequestNoMotionUpdate();
+  filter.Update(sim.odom(), sim.Scan());
+  ASSERT_LT(PosError(filter.estimate().mean, sim.truth()), 0.1);
+  const Pose2D lost_estimate = filter.estimate().mean;
+
+  // Carry the robot 4.5 m away and turn it round: odometry sees nothing.
+  sim.Kidnap({6.0, 4.0, 3.0});
+  double max_injection = 0.0;
+  bool injected_far = false;
+  for (const Pose2D& u : ShuttlePath(102)) {  // ends with a forward leg
+    sim.Move(u);
+    ASSERT_FALSE(HasFatalFailure());
+    filter.Update(sim.odom(), sim.Scan());
+    max_injection = std::max(max_injection, filter.InjectionProbability());
+    for (const Particle& p : filter.particles()) {
+      if (PosError(p.pose, lost_estimate) > 3.0 &&
+          PosError(p.pose, sim.truth()) > 1.0) {
+        injected_far = true;  // neither old belief nor truth: a random pose
+      }
+    }
+  }
+  EXPECT_GT(max_injection, 0.01) << "w_fast dropped below w_slow";
+  EXPECT_TRUE(injected_far) << "random poses were injected";
+  for (int k = 0; k < 3; ++k) {
+    filter.RequestNoMotionUpdate();
+    filter.Update(sim.odom(), sim.Scan());
+  }
+  EXPECT_LT(PosError(filter.estimate().mean, sim.truth()), 0.1)
+      << "estimate " << filter.estimate().mean.x << ", "
+      << filter.estimate().mean.y << " truth " << sim.truth().x << ", "
+      << sim.truth().y;
+  EXPECT_LT(YawError(filter.estimate().mean, sim.truth()), 3 * kDeg);
+}
+
+TEST(AmclFilterTest, UpdatesOnlyAfterEnoughMotionOrWhenForced) {
+  const OccupancyGrid grid = testing::MakeAsymmetricRoom();
+  AmclOptions o;
+  o.initial_pose_x = kStartTruth.x;
+  o.initial_pose_y = kStartTruth.y;
+  o.initial_pose_a = kStartTruth.yaw;
+  AmclFilter filter(o, grid);
+  RobotSim sim(grid, kStartTruth, 24);
+  EXPECT_EQ(filter.Update(sim.odom(), sim.Scan()).status, UpdateStatus::kUpdated);
+  sim.Move({0.1, 0.0, 0.0});  // 0.1 m < update_min_d 0.2
+  const std::vector<Particle> before = filter.particles();
+  EXPECT_EQ(filter.Update(sim.odom(), sim.Scan()).status,
+            UpdateStatus::kSkippedNoMotion);
+  ASSERT_EQ(filter.particles().size(), before.size());
+  EXPECT_EQ(filter.particles()[7].pose.x, before[7].pose.x);
+  filter.RequestNoMotionUpdate();
+  UpdateResult r = filter.Update(sim.odom(), sim.Scan());
+  EXPECT_EQ(r.status, UpdateStatus::kUpdated);
+  EXPECT_TRUE(r.resampled) << "second correction, resample_interval 2";
+  EXPECT_EQ(filter.Update(sim.odom(), sim.Scan()).status,
+            UpdateStatus::kSkippedNoMotion)
+      << "the request is consumed";
+  sim.Move({0.0, 0.0, 35 * kDeg});  // > update_min_a (30 deg)
+  r = filter.Update(sim.odom(), sim.Scan());
+  EXPECT_EQ(r.status, UpdateStatus::kUpdated);
+  EXPECT_FALSE(r.resampled) << "third correction";
+}
+
+TEST(AmclFilterTest, RejectsBadInputAndKeepsLastGoodState) {
+  const OccupancyGrid grid = testing::MakeAsymmetricRoom();
+  AmclOptions o;
+  o.initial_pose_x = kStartTruth.x;
+  o.initial_pose_y = kStartTruth.y;
+  o.initial_pose_a = kStartTruth.yaw;
+  AmclFilter filter(o, grid);
+  RobotSim sim(grid, kStartTruth, 25);
+  filter.Update(sim.odom(), sim.Scan());
+  const std::vector<Pose2D> path = LoopPath();
+  Drive(std::vector<Pose2D>(path.begin(), path.begin() + 40), &sim, &filter);
+  ASSERT_FALSE(HasFatalFailure());
+  const PoseEstimate good = filter.estimate();
+  const std::vector<Particle> particles = filter.particles();
+
+  sim.Move({0.3, 0.0, 0.0});
+  LaserScan bad = sim.Scan();
+  bad.angles.resize(10);
+  UpdateResult r = filter.Update(sim.odom(), bad);
+  EXPECT_EQ(r.status, UpdateStatus::kRejectedBadScan);
+  EXPECT_NE(r.message.find("angles"), std::string::npos) << r.message;
+  r = filter.Update({kNaN, 0.0, 0.0}, sim.Scan());
+  EXPECT_EQ(r.status, UpdateStatus::kRejectedBadOdometry);
+  LaserScan no_range = sim.Scan();
+  no_range.range_max = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(filter.Update(sim.odom(), no_range).status,
+            UpdateStatus::kRejectedBadScan);
+  ASSERT_EQ(filter.particles().size(), particles.size());
+  for (size_t k = 0; k < particles.size(); k += 97) {
+    EXPECT_EQ(filter.particles()[k].pose.x, particles[k].pose.x);
+    EXPECT_EQ(filter.particles()[k].weight, particles[k].weight);
+  }
+  EXPECT_EQ(filter.estimate().mean.x, good.mean.x);
+
+  // A scan with no usable return (all NaN / inf / below range_min): the
+  // motion is applied, the weights are not touched.
+  LaserScan blind = sim.Scan();
+  for (size_t b = 0; b < blind.ranges.size(); ++b) {
+    blind.ranges[b] = b % 3 == 0   ? std::numeric_limits<float>::quiet_NaN()
+                      : b % 3 == 1 ? std::numeric_limits<float>::infinity()
+                                   : 0.01f;
+  }
+  r = filter.Update(sim.odom(), blind);
+  EXPECT_EQ(r.status, UpdateStatus::kMotionOnly) << r.message;
+  EXPECT_TRUE(std::isfinite(filter.estimate().mean.x));
+
+  // Partly corrupted scans are fine: the filter keeps tracking.
+  for (int k = 0; k < 10; ++k) {
+    sim.Move(path[40 + k]);
+    ASSERT_FALSE(HasFatalFailure());
+    LaserScan s = sim.Scan();
+    for (size_t b = 0; b < s.ranges.size(); b += 4) {
+      s.ranges[b] = (b % 8 == 0) ? std::numeric_limits<float>::quiet_NaN()
+                                 : std::numeric_limits<float>::infinity();
+    }
+    filter.Update(sim.odom(), s);
+  }
+  for (int k = 0; k < 3; ++k) {
+    filter.RequestNoMotionUpdate();
+    filter.Update(sim.odom(), sim.Scan());
+  }
+  EXPECT_LT(PosError(filter.estimate().mean, sim.truth()), 0.1);
+  EXPECT_LT(YawError(filter.estimate().mean, sim.truth()), 3 * kDeg);
+}
+
+TEST(AmclFilterTest, InitialPoseOutsideMapIsAClearError) {
+  const OccupancyGrid grid = testing::MakeAsymmetricRoom();  // x -2..8, y -1.5..6.5
+  AmclOptions o;
+  o.initial_pose_x = 20.0;
+  try {
+    AmclFilter filter(o, grid);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("outside the map"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("x=20"), std::string::npos) << msg;
+  }
+  // Global initialization does not need the pose.
+  AmclFilter filter(o, grid, AmclFilter::Initialization::kGlobal);
+  const std::vector<Particle> before = filter.particles();
+  EXPECT_THROW(filter.SetPose({-5.0, 0.0, 0.0}, Eigen::Matrix3d::Identity()),
+               std::invalid_argument);
+  Eigen::Matrix3d not_psd = Eigen::Matrix3d::Identity();
+  not_psd(0, 0) = -1.0;
+  EXPECT_THROW(filter.SetPose({1.0, 1.0, 0.0}, not_psd), std::invalid_argument);
+  Eigen::Matrix3d asym = Eigen::Matrix3d::Identity();
+  asym(0, 1) = 0.5;
+  EXPECT_THROW(filter.SetPose({1.0, 1.0, 0.0}, asym), std::invalid_argument);
+  ASSERT_EQ(filter.particles().size(), before.size()) << "state unchanged";
+  EXPECT_EQ(filter.particles()[3].pose.x, before[3].pose.x);
+
+  // A valid SetPose draws max_particles from the Gaussian.
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  cov.diagonal() << 0.04, 0.01, 0.0025;
+  filter.SetPose({1.0, 2.0, 3.0}, cov);
+  const PoseCluster stats = WholeSetStatistics(filter.particles());
+  EXPECT_EQ(filter.particles().size(), 5000u);
+  EXPECT_NEAR(stats.mean.x, 1.0, 0.01);
+  EXPECT_NEAR(stats.mean.y, 2.0, 0.01);
+  EXPECT_NEAR(stats.mean.yaw, 3.0, 0.01);
+  EXPECT_NEAR(stats.covariance(0, 0), 0.04, 0.004);
+  EXPECT_NEAR(stats.covariance(1, 1), 0.01, 0.001);
+  EXPECT_NEAR(stats.covariance(2, 2), 0.0025, 0.00025);
+}
+
+TEST(AmclFilterTest, MapWithoutFreeCellsIsAClearError) {
+  OccupancyGrid grid = testing::MakeFreeGrid(2.0, 2.0, 0.1);
+  grid.data.assign(grid.data.size(), -1);  // all unknown
+  try {
+    AmclFilter filter(AmclOptions(), grid, AmclFilter::Initialization::kGlobal);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("no free cells"), std::string::npos)
+        << e.what();
+  }
+  // SetMap with such a map keeps the old map and particles.
+  AmclOptions o;
+  o.initial_pose_x = kStartTruth.x;
+  o.initial_pose_y = kStartTruth.y;
+  AmclFilter filter(o, testing::MakeAsymmetricRoom());
+  const int width = filter.map().width();
+  EXPECT_THROW(filter.SetMap(grid), std::invalid_argument);
+  EXPECT_EQ(filter.map().width(), width);
+  // A good new map re-initialises around the current estimate.
+  filter.SetMap(testing::MakeWalledRoom(6.0, 5.0, 0.05));
+  EXPECT_EQ(filter.map().width(), 120);
+  EXPECT_LT(PosError(filter.estimate().mean, kStartTruth), 0.1);
+}
+
+TEST(AmclOptionsTest, ValidationNamesEveryOffendingParameter) {
+  AmclOptions o;
+  EXPECT_NO_THROW(ValidateAmclOptions(o));
+  o.min_particles = 600;
+  o.max_particles = 500;
+  o.odom_model_type = "tank";
+  o.laser_model_type = "sonar";
+  o.laser_sigma_hit = -0.1;
+  o.laser_z_hit = 0.0;
+  o.laser_z_rand = 0.0;
+  o.kld_err = 0.0;
+  o.resample_interval = 0;
+  o.recovery_alpha_slow = 0.2;
+  o.recovery_alpha_fast = 0.1;
+  o.beam_skip_threshold = 1.5;
+  o.initial_cov_xx = kNaN;
+  try {
+    ValidateAmclOptions(o);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    const std::string msg = e.what();
+    for (const char* part :
+         {"min_particles=600 > max_particles=500", "odom_model_type='tank'",
+          "laser_model_type='sonar'", "laser_sigma_hit=-0.1",
+          "laser_z_hit+laser_z_rand=0", "kld_err=0", "resample_interval=0",
+          "recovery_alpha_slow=0.2 must be < recovery_alpha_fast=0.1",
+          "beam_skip_threshold=1.5", "initial_cov_xx=nan"}) {
+      EXPECT_NE(msg.find(part), std::string::npos) << part << " in: " << msg;
+    }
+  }
+  // The filter constructor validates too, before touching the map.
+  EXPECT_THROW(AmclFilter(o, testing::MakeAsymmetricRoom()),
+               std::invalid_argument);
+}
+
+TEST(AmclOptionsTest, SetOptionParsesRosParameterText) {
+  AmclOptions o;
+  SetAmclOption("min_particles", "500", &o);
+  SetAmclOption("kld_err", " 0.05 ", &o);
+  SetAmclOption("do_beamskip", "true", &o);
+  SetAmclOption("laser_model_type", "likelihood_field_prob", &o);
+  SetAmclOption("odom_alpha5", "1e-3", &o);
+  EXPECT_EQ(o.min_particles, 500);
+  EXPECT_DOUBLE_EQ(o.kld_err, 0.05);
+  EXPECT_TRUE(o.do_beamskip);
+  EXPECT_EQ(o.laser_model_type, "likelihood_field_prob");
+  EXPECT_DOUBLE_EQ(o.odom_alpha5, 1e-3);
+  EXPECT_THROW(SetAmclOption("min_particles", "5.5", &o), std::invalid_argument);
+  EXPECT_THROW(SetAmclOption("kld_err", "abc", &o), std::invalid_argument);
+  EXPECT_THROW(SetAmclOption("do_beamskip", "maybe", &o), std::invalid_argument);
+  EXPECT_THROW(SetAmclOption("base_frame_id", "base_link", &o),
+               std::invalid_argument);
+  EXPECT_FALSE(IsAmclOptionName("base_frame_id"));
+  EXPECT_TRUE(IsAmclOptionName("laser_likelihood_max_dist"));
+  EXPECT_EQ(AmclOptionNames().size(), 36u);
+  // Defaults are amcl's.
+  const AmclOptions d;
+  EXPECT_EQ(d.min_particles, 100);
+  EXPECT_EQ(d.max_particles, 5000);
+  EXPECT_DOUBLE_EQ(d.update_min_a, kPi / 6);
+  EXPECT_DOUBLE_EQ(d.initial_cov_aa, std::pow(kPi / 12, 2));
+  EXPECT_EQ(d.laser_max_beams, 30);
+}
+
+}  // namespace
+}  // namespace amcl
+}  // namespace minibot3d_navigation
