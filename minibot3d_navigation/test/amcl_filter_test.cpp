@@ -2,7 +2,9 @@
 // asymmetric furniture: tracking from a wrong-ish Gaussian guess, global
 // localization from a uniform set, kidnapping recovery, the update gating,
 // and the error handling for bad configuration and bad inputs.
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -221,7 +223,8 @@ TEST(AmclFilterTest, UpdatesOnlyAfterEnoughMotionOrWhenForced) {
   o.initial_pose_a = kStartTruth.yaw;
   AmclFilter filter(o, grid);
   RobotSim sim(grid, kStartTruth, 24);
-  EXPECT_EQ(filter.Update(sim.odom(), sim.Scan()).status, UpdateStatus::kUpdated);
+  EXPECT_EQ(filter.Update(sim.odom(), sim.Scan()).status,
+            UpdateStatus::kUpdated);
   sim.Move({0.1, 0.0, 0.0});  // 0.1 m < update_min_d 0.2
   const std::vector<Particle> before = filter.particles();
   EXPECT_EQ(filter.Update(sim.odom(), sim.Scan()).status,
@@ -307,7 +310,8 @@ TEST(AmclFilterTest, RejectsBadInputAndKeepsLastGoodState) {
 }
 
 TEST(AmclFilterTest, InitialPoseOutsideMapIsAClearError) {
-  const OccupancyGrid grid = testing::MakeAsymmetricRoom();  // x -2..8, y -1.5..6.5
+  // The room spans x -2..8, y -1.5..6.5.
+  const OccupancyGrid grid = testing::MakeAsymmetricRoom();
   AmclOptions o;
   o.initial_pose_x = 20.0;
   try {
@@ -417,9 +421,11 @@ TEST(AmclOptionsTest, SetOptionParsesRosParameterText) {
   EXPECT_TRUE(o.do_beamskip);
   EXPECT_EQ(o.laser_model_type, "likelihood_field_prob");
   EXPECT_DOUBLE_EQ(o.odom_alpha5, 1e-3);
-  EXPECT_THROW(SetAmclOption("min_particles", "5.5", &o), std::invalid_argument);
+  EXPECT_THROW(SetAmclOption("min_particles", "5.5", &o),
+               std::invalid_argument);
   EXPECT_THROW(SetAmclOption("kld_err", "abc", &o), std::invalid_argument);
-  EXPECT_THROW(SetAmclOption("do_beamskip", "maybe", &o), std::invalid_argument);
+  EXPECT_THROW(SetAmclOption("do_beamskip", "maybe", &o),
+               std::invalid_argument);
   EXPECT_THROW(SetAmclOption("base_frame_id", "base_link", &o),
                std::invalid_argument);
   EXPECT_FALSE(IsAmclOptionName("base_frame_id"));

@@ -69,7 +69,8 @@ TEST(AmclKldTest, CountsDistinctOccupiedBins) {
     std::vector<Particle> particles;
     for (int b = 0; b < k; ++b) {
       // Three particles per bin: bin centres along x and through yaw.
-      const double x = 0.25 + 0.5 * (b % 10), yaw = -kPi + (b / 10 + 0.5) * 10 * kDeg;
+      const double x = 0.25 + 0.5 * (b % 10);
+      const double yaw = -kPi + (b / 10 + 0.5) * 10 * kDeg;
       for (int r = 0; r < 3; ++r) {
         particles.push_back({{x + 0.05 * r, 0.1, yaw + r * kDeg}, 1.0});
       }

@@ -4,6 +4,8 @@
 // formulas (motion_model.h).  Distinct alphas catch swapped coefficients.
 #include <cmath>
 #include <random>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -88,7 +90,8 @@ double ESin2(double s) { return 0.5 * (1 - std::exp(-2 * s * s)); }
 void CheckDiffStraight(const std::string& type, double t, double sr,
                        double st) {
   const Pose2D new_odom = Compose(kOldOdom, {t, 0.0, 0.0});
-  const Moments m = SampleMoments(type, DistinctAlphas(), kStart, kOldOdom, new_odom);
+  const Moments m =
+      SampleMoments(type, DistinctAlphas(), kStart, kOldOdom, new_odom);
   const double et2 = t * t + st * st;
   ExpectRel(m.mean_fwd, t * ECos(sr), "mean forward");
   EXPECT_NEAR(m.mean_left, 0.0, 5 * std::sqrt(et2 * ESin2(sr) / kSamples));
@@ -136,7 +139,8 @@ TEST(AmclMotionModelTest, DiffCorrectedGeneralIncrementYawMoments) {
   const Pose2D local{0.4, 0.1, 0.3};
   const OdomAlphas a = DistinctAlphas();
   const Moments m =
-      SampleMoments("diff-corrected", a, kStart, kOldOdom, Compose(kOldOdom, local));
+      SampleMoments("diff-corrected", a, kStart, kOldOdom,
+                    Compose(kOldOdom, local));
   const double t = std::hypot(local.x, local.y);
   const double rot1 = std::atan2(local.y, local.x);
   const double rot2 = local.yaw - rot1;
@@ -169,7 +173,8 @@ TEST(AmclMotionModelTest, DiffBackwardMotionIsNotAHalfTurn) {
 void CheckOmni(const std::string& type, double sd_trans, double sd_rot,
                double sd_strafe, const Pose2D& local) {
   const Moments m =
-      SampleMoments(type, DistinctAlphas(), kStart, kOldOdom, Compose(kOldOdom, local));
+      SampleMoments(type, DistinctAlphas(), kStart, kOldOdom,
+                    Compose(kOldOdom, local));
   const double bearing = std::atan2(local.y, local.x);
   // Along-track (va) and cross-track (vc) noises are independent, so in the
   // start frame var_fwd = c^2 va + s^2 vc and var_left = s^2 va + c^2 vc.
@@ -188,8 +193,9 @@ TEST(AmclMotionModelTest, OmniMoments) {
   const OdomAlphas a = DistinctAlphas();
   const double t2 = local.x * local.x + local.y * local.y;
   const double r2 = local.yaw * local.yaw;
-  CheckOmni("omni", a.alpha3 * t2 + a.alpha1 * r2, a.alpha4 * r2 + a.alpha2 * t2,
-            a.alpha1 * r2 + a.alpha5 * t2, local);
+  CheckOmni("omni", a.alpha3 * t2 + a.alpha1 * r2,
+            a.alpha4 * r2 + a.alpha2 * t2, a.alpha1 * r2 + a.alpha5 * t2,
+            local);
 }
 
 TEST(AmclMotionModelTest, OmniCorrectedMoments) {
@@ -205,7 +211,8 @@ TEST(AmclMotionModelTest, OmniCorrectedMoments) {
 TEST(AmclMotionModelTest, ZeroAlphasAreDeterministicAndExact) {
   OdomAlphas zero{0, 0, 0, 0, 0};
   const Pose2D local{0.4, -0.15, -0.7};
-  for (const char* type : {"diff", "diff-corrected", "omni", "omni-corrected"}) {
+  for (const char* type :
+       {"diff", "diff-corrected", "omni", "omni-corrected"}) {
     auto model = CreateMotionModel(type, zero);
     std::vector<Particle> p(1);
     p[0].pose = kStart;

@@ -6,6 +6,7 @@
 #include <limits>
 #include <memory>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -302,8 +303,8 @@ TEST(AmclSensorModelTest, BeamModelMatchesHandComputation) {
               cube_log(0.95 * std::exp(-zl * zl / denom) + 0.05 / rmax), 1e-5);
   // Max-range reading: z_max instead of z_rand.
   const double zm = rmax - expected;
-  EXPECT_NEAR(one_beam(rmax), cube_log(0.95 * std::exp(-zm * zm / denom) + 0.05),
-              1e-6);
+  EXPECT_NEAR(one_beam(rmax),
+              cube_log(0.95 * std::exp(-zm * zm / denom) + 0.05), 1e-6);
   EXPECT_GT(one_beam(0.66), one_beam(0.4));
   EXPECT_GT(one_beam(0.66), one_beam(0.9));
   EXPECT_GT(one_beam(0.4), one_beam(0.9)) << "short readings are explained";

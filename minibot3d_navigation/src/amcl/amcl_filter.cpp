@@ -162,7 +162,8 @@ void AmclFilter::SampleGaussian(const Pose2D& mean, const Eigen::Matrix3d& cov,
   }
 }
 
-void AmclFilter::SetPose(const Pose2D& mean, const Eigen::Matrix3d& covariance) {
+void AmclFilter::SetPose(const Pose2D& mean,
+                         const Eigen::Matrix3d& covariance) {
   std::vector<Particle> fresh;
   SampleGaussian(mean, covariance, *map_, &fresh);  // throws before any change
   particles_.swap(fresh);
@@ -217,7 +218,8 @@ void AmclFilter::ResetAfterInitialization() {
   UpdateEstimate();
 }
 
-UpdateResult AmclFilter::Update(const Pose2D& odom_pose, const LaserScan& scan) {
+UpdateResult AmclFilter::Update(const Pose2D& odom_pose,
+                                const LaserScan& scan) {
   UpdateResult result;
   if (!IsFinite(odom_pose)) {
     result.status = UpdateStatus::kRejectedBadOdometry;
@@ -325,7 +327,9 @@ int AmclFilter::LowVarianceDraw(int count, double inject_probability) {
   int injected = 0;
   for (int m = 0; m < count; ++m) {
     const double target = start + m * step;
-    while (target > cumulative && i + 1 < n) cumulative += particles_[++i].weight;
+    while (target > cumulative && i + 1 < n) {
+      cumulative += particles_[++i].weight;
+    }
     Particle& out = resample_buffer_[m];
     if (inject_probability > 0.0 && unit(rng_) < inject_probability) {
       out.pose = map_->SampleFreePose(&rng_);

@@ -183,7 +183,8 @@ void ValidateAmclOptions(const AmclOptions& o) {
             std::string(name) + "=" + Num(v) + " must be in [0, 1]");
   };
   auto finite = [&](const char* name, double v) {
-    require(std::isfinite(v), std::string(name) + "=" + Num(v) + " must be finite");
+    require(std::isfinite(v),
+            std::string(name) + "=" + Num(v) + " must be finite");
   };
 
   require(o.min_particles >= 1,
@@ -210,9 +211,10 @@ void ValidateAmclOptions(const AmclOptions& o) {
                 " must be < recovery_alpha_fast=" + Num(o.recovery_alpha_fast));
   }
 
-  require(o.odom_model_type == "diff" || o.odom_model_type == "diff-corrected" ||
-              o.odom_model_type == "omni" || o.odom_model_type == "omni-corrected",
-          "odom_model_type='" + o.odom_model_type +
+  const std::string& odom = o.odom_model_type;
+  require(odom == "diff" || odom == "diff-corrected" || odom == "omni" ||
+              odom == "omni-corrected",
+          "odom_model_type='" + odom +
               "' is not one of diff, diff-corrected, omni, omni-corrected");
   non_negative("odom_alpha1", o.odom_alpha1);
   non_negative("odom_alpha2", o.odom_alpha2);
@@ -238,7 +240,8 @@ void ValidateAmclOptions(const AmclOptions& o) {
                                   o.laser_z_rand
                             : o.laser_z_hit + o.laser_z_rand;
   require(z_sum > 0.0,
-          std::string(beam ? "laser_z_hit+laser_z_short+laser_z_max+laser_z_rand="
+          std::string(beam ? "laser_z_hit+laser_z_short+laser_z_max+"
+                             "laser_z_rand="
                            : "laser_z_hit+laser_z_rand=") +
               Num(z_sum) + " must be > 0");
   positive("laser_sigma_hit", o.laser_sigma_hit);

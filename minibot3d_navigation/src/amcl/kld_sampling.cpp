@@ -24,7 +24,8 @@ PoseBin BinOfPose(const Pose2D& pose) {
   PoseBin b;
   b.ix = static_cast<int>(ClampBin(std::floor(pose.x / kBinSizeXY)));
   b.iy = static_cast<int>(ClampBin(std::floor(pose.y / kBinSizeXY)));
-  int a = static_cast<int>(std::floor((NormalizeAngle(pose.yaw) + kPi) / kBinSizeYaw));
+  int a = static_cast<int>(
+      std::floor((NormalizeAngle(pose.yaw) + kPi) / kBinSizeYaw));
   if (a < 0 || a >= kYawBins) a = ((a % kYawBins) + kYawBins) % kYawBins;
   b.iyaw = a;
   return b;
@@ -39,7 +40,8 @@ uint64_t BinKey(const PoseBin& bin) {
 PoseBin BinFromKey(uint64_t key) {
   PoseBin b;
   b.iyaw = static_cast<int>(key & 63u);
-  b.iy = static_cast<int>(static_cast<int64_t>((key >> 6) & kXYMask) - kXYOffset);
+  b.iy = static_cast<int>(static_cast<int64_t>((key >> 6) & kXYMask) -
+                          kXYOffset);
   b.ix = static_cast<int>(
       static_cast<int64_t>((key >> (kXYBits + 6)) & kXYMask) - kXYOffset);
   return b;

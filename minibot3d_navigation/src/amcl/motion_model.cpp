@@ -16,7 +16,8 @@ constexpr double kMinTransForBearing = 0.01;
 // Distance of a rotation from "straight ahead or straight back": the noise
 // magnitude of rot1/rot2 must not explode when the robot reverses.
 double RotNoiseMagnitude(double rot) {
-  return std::min(std::fabs(AngleDiff(rot, 0.0)), std::fabs(AngleDiff(rot, kPi)));
+  return std::min(std::fabs(AngleDiff(rot, 0.0)),
+                  std::fabs(AngleDiff(rot, kPi)));
 }
 
 class DiffMotionModel : public MotionModel {

@@ -172,7 +172,9 @@ double MapModel::CalcRangeGrid(double gx, double gy, double angle,
       j += step_j;
     }
     if (t >= max_range) return max_range;
-    if (!InBounds(i, j) || state_[Index(i, j)] != kFree) return std::max(t, 0.0);
+    if (!InBounds(i, j) || state_[Index(i, j)] != kFree) {
+      return std::max(t, 0.0);
+    }
   }
 }
 

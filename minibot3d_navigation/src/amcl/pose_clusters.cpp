@@ -58,7 +58,8 @@ PoseCluster Finish(const Moments& m) {
 
 }  // namespace
 
-std::vector<PoseCluster> ClusterParticles(const std::vector<Particle>& particles) {
+std::vector<PoseCluster> ClusterParticles(
+    const std::vector<Particle>& particles) {
   std::vector<PoseCluster> result;
   if (particles.empty()) return result;
   const std::vector<double> w = UsableWeights(particles);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -88,31 +89,23 @@ bool PrepareScan(const LaserScan& scan, const AmclOptions& options,
 
 namespace {
 
-// Shared machinery of the two likelihood-field models: the Gaussian hit term
-// z_hit * exp(-d^2 / 2 sigma^2) is a function of the cell only, so it is
-// tabulated once per map and the per-beam work is a transform and a lookup.
+// Shared machinery of the two likelihood-field models.  A beam's
+// contribution is a function of the cell its end point falls in only:
+//   pz(cell) = z_hit * exp(-d(cell)^2 / 2 sigma^2) + z_rand / range_max
+// and the models need pz^3 (likelihood_field) or log pz
+// (likelihood_field_prob).  So f(pz) is tabulated per cell, and the per-beam
+// work is a transform and a lookup.  The table depends on range_max through
+// z_rand / range_max and is rebuilt only when that changes (normally once).
 class LikelihoodFieldBase : public SensorModel {
  public:
   LikelihoodFieldBase(const AmclOptions& o, std::shared_ptr<const MapModel> map)
       : map_(std::move(map)),
         z_hit_(o.laser_z_hit),
         z_rand_(o.laser_z_rand),
-        beam_skip_distance_(o.beam_skip_distance),
+        hit_denom_(2.0 * o.laser_sigma_hit * o.laser_sigma_hit),
         inv_resolution_(1.0 / map_->resolution()),
         width_(map_->width()),
-        height_(map_->height()) {
-    const double denom = 2.0 * o.laser_sigma_hit * o.laser_sigma_hit;
-    hit_table_.resize(static_cast<size_t>(width_) * height_);
-    for (int j = 0; j < height_; ++j) {
-      for (int i = 0; i < width_; ++i) {
-        const double d = map_->Distance(i, j);
-        hit_table_[static_cast<size_t>(j) * width_ + i] =
-            z_hit_ * std::exp(-(d * d) / denom);
-      }
-    }
-    const double dmax = map_->max_occ_dist();
-    off_map_hit_ = z_hit_ * std::exp(-(dmax * dmax) / denom);
-  }
+        height_(map_->height()) {}
 
   int UsableBeamCount(const PreparedScan& scan) const override {
     int count = 0;
@@ -121,14 +114,31 @@ class LikelihoodFieldBase : public SensorModel {
   }
 
   size_t MemoryBytes() const override {
-    return hit_table_.capacity() * sizeof(double) +
+    return table_.capacity() * sizeof(double) +
            endpoints_.capacity() * sizeof(double);
   }
 
  protected:
-  // Beam end points in the robot base frame (laser pose applied once per
-  // scan, not once per particle), max-range readings excluded.
-  void PrepareEndpoints(const PreparedScan& scan) {
+  // f(pz) per beam: pz^3 or log(pz).
+  virtual double BeamTerm(double pz) const = 0;
+
+  // Tabulates BeamTerm for every cell and for "off the map" (where amcl
+  // uses the capped maximum distance) for the scan's range_max, and
+  // computes the beam end points in the robot base frame (laser pose
+  // applied once per scan, not per particle), max-range readings excluded.
+  void PrepareScanTables(const PreparedScan& scan) {
+    const double rand_term = z_rand_ / scan.range_max;
+    if (!(rand_term == table_rand_term_)) {
+      table_.resize(static_cast<size_t>(width_) * height_);
+      for (int j = 0; j < height_; ++j) {
+        for (int i = 0; i < width_; ++i) {
+          table_[static_cast<size_t>(j) * width_ + i] =
+              BeamTerm(HitTerm(map_->Distance(i, j)) + rand_term);
+        }
+      }
+      off_map_term_ = BeamTerm(HitTerm(map_->max_occ_dist()) + rand_term);
+      table_rand_term_ = rand_term;
+    }
     endpoints_.clear();
     const Pose2D& lp = scan.laser_pose;
     for (const auto& b : scan.beams) {
@@ -140,22 +150,48 @@ class LikelihoodFieldBase : public SensorModel {
     }
   }
 
+  double HitTerm(double d) const {
+    return z_hit_ * std::exp(-(d * d) / hit_denom_);
+  }
+
   // Cell index of a grid-frame point, or -1 off the map.
-  long CellIndex(double gx, double gy) const {  // NOLINT(runtime/int)
+  std::ptrdiff_t CellIndex(double gx, double gy) const {
     const double fi = gx * inv_resolution_, fj = gy * inv_resolution_;
     if (!(fi >= 0.0 && fj >= 0.0 && fi < width_ && fj < height_)) return -1;
-    return static_cast<long>(fj) * width_ + static_cast<long>(fi);  // NOLINT
+    return static_cast<std::ptrdiff_t>(fj) * width_ +
+           static_cast<std::ptrdiff_t>(fi);
+  }
+
+  // Calls visit(beam index, cell index or -1) for every end point of a
+  // particle.  Inlined into the models' loops.
+  template <typename Visit>
+  void ForEachEndpoint(const Pose2D& particle, Visit&& visit) const {
+    const Pose2D g = map_->WorldToGridFrame(particle);
+    const double c = std::cos(g.yaw), s = std::sin(g.yaw);
+    const size_t nb = endpoints_.size() / 2;
+    for (size_t b = 0; b < nb; ++b) {
+      const double bx = endpoints_[2 * b], by = endpoints_[2 * b + 1];
+      visit(b, CellIndex(g.x + c * bx - s * by, g.y + s * bx + c * by));
+    }
+  }
+
+  size_t endpoint_count() const { return endpoints_.size() / 2; }
+  double Term(std::ptrdiff_t idx) const {
+    return idx < 0 ? off_map_term_ : table_[idx];
   }
 
   std::shared_ptr<const MapModel> map_;
+
+ private:
   double z_hit_;
   double z_rand_;
-  double beam_skip_distance_;
+  double hit_denom_;
   double inv_resolution_;
   int width_;
   int height_;
-  std::vector<double> hit_table_;
-  double off_map_hit_ = 0.0;
+  std::vector<double> table_;
+  double table_rand_term_ = std::numeric_limits<double>::quiet_NaN();
+  double off_map_term_ = 0.0;
   std::vector<double> endpoints_;  // x0, y0, x1, y1, ...
 };
 
@@ -167,26 +203,20 @@ class LikelihoodFieldModel : public LikelihoodFieldBase {
                              const std::vector<Particle>& particles,
                              bool /*filter_converged*/,
                              std::vector<double>* log_likelihoods) override {
-    PrepareEndpoints(scan);
-    const double rand_term = z_rand_ / scan.range_max;
-    const size_t nb = endpoints_.size() / 2;
+    PrepareScanTables(scan);
     log_likelihoods->resize(particles.size());
     for (size_t k = 0; k < particles.size(); ++k) {
-      const Pose2D g = map_->WorldToGridFrame(particles[k].pose);
-      const double c = std::cos(g.yaw), s = std::sin(g.yaw);
       double p = 1.0;
-      for (size_t b = 0; b < nb; ++b) {
-        const double bx = endpoints_[2 * b], by = endpoints_[2 * b + 1];
-        const long idx = CellIndex(g.x + c * bx - s * by,  // NOLINT
-                                   g.y + s * bx + c * by);
-        const double pz = (idx < 0 ? off_map_hit_ : hit_table_[idx]) + rand_term;
-        p += pz * pz * pz;
-      }
+      ForEachEndpoint(particles[k].pose,
+                      [&](size_t, std::ptrdiff_t idx) { p += Term(idx); });
       (*log_likelihoods)[k] = std::log(p);
     }
   }
 
   std::string name() const override { return "likelihood_field"; }
+
+ protected:
+  double BeamTerm(double pz) const override { return pz * pz * pz; }
 };
 
 class LikelihoodFieldProbModel : public LikelihoodFieldBase {
@@ -195,6 +225,7 @@ class LikelihoodFieldProbModel : public LikelihoodFieldBase {
                            std::shared_ptr<const MapModel> map)
       : LikelihoodFieldBase(o, std::move(map)),
         do_beamskip_(o.do_beamskip),
+        beam_skip_distance_(o.beam_skip_distance),
         beam_skip_threshold_(o.beam_skip_threshold),
         beam_skip_error_threshold_(o.beam_skip_error_threshold) {}
 
@@ -202,46 +233,40 @@ class LikelihoodFieldProbModel : public LikelihoodFieldBase {
                              const std::vector<Particle>& particles,
                              bool filter_converged,
                              std::vector<double>* log_likelihoods) override {
-    PrepareEndpoints(scan);
-    const double rand_term = z_rand_ / scan.range_max;
-    const size_t nb = endpoints_.size() / 2;
+    PrepareScanTables(scan);
+    const size_t nb = endpoint_count();
     const size_t np = particles.size();
     log_likelihoods->resize(np);
     // Beam skipping only makes sense once the particles agree on the pose;
     // before that "most particles disagree" says nothing about the beam.
     const bool skip = do_beamskip_ && filter_converged && np > 0 && nb > 0;
-    if (skip) {
-      pz_.resize(np * nb);
-      agree_count_.assign(nb, 0);
-    }
-    for (size_t k = 0; k < np; ++k) {
-      const Pose2D g = map_->WorldToGridFrame(particles[k].pose);
-      const double c = std::cos(g.yaw), s = std::sin(g.yaw);
-      double log_p = 0.0;
-      for (size_t b = 0; b < nb; ++b) {
-        const double bx = endpoints_[2 * b], by = endpoints_[2 * b + 1];
-        const long idx = CellIndex(g.x + c * bx - s * by,  // NOLINT
-                                   g.y + s * bx + c * by);
-        double hit = off_map_hit_;
-        if (idx >= 0) {
-          hit = hit_table_[idx];
-          if (skip && map_->Distance(static_cast<int>(idx % width_),
-                                     static_cast<int>(idx / width_)) <
-                          beam_skip_distance_) {
-            ++agree_count_[b];
-          }
-        }
-        const double pz = hit + rand_term;
-        if (skip) {
-          pz_[k * nb + b] = pz;
-        } else {
-          log_p += std::log(pz);
-        }
+    if (!skip) {
+      for (size_t k = 0; k < np; ++k) {
+        double log_p = 0.0;
+        ForEachEndpoint(particles[k].pose, [&](size_t, std::ptrdiff_t idx) {
+          log_p += Term(idx);
+        });
+        (*log_likelihoods)[k] = log_p;
       }
-      (*log_likelihoods)[k] = log_p;
+      return;
     }
-    if (!skip) return;
 
+    // First pass: keep every log pz and count, per beam, the particles whose
+    // end point lies within beam_skip_distance of a mapped obstacle.
+    log_pz_.resize(np * nb);
+    agree_count_.assign(nb, 0);
+    const int width = map_->width();
+    for (size_t k = 0; k < np; ++k) {
+      double* row = &log_pz_[k * nb];
+      ForEachEndpoint(particles[k].pose, [&](size_t b, std::ptrdiff_t idx) {
+        row[b] = Term(idx);
+        if (idx >= 0 && map_->Distance(static_cast<int>(idx % width),
+                                       static_cast<int>(idx / width)) <
+                            beam_skip_distance_) {
+          ++agree_count_[b];
+        }
+      });
+    }
     use_beam_.assign(nb, 0);
     size_t skipped = 0;
     for (size_t b = 0; b < nb; ++b) {
@@ -257,9 +282,10 @@ class LikelihoodFieldProbModel : public LikelihoodFieldBase {
     // so open space cannot trigger this by itself.)
     const bool use_all = skipped >= nb * beam_skip_error_threshold_;
     for (size_t k = 0; k < np; ++k) {
+      const double* row = &log_pz_[k * nb];
       double log_p = 0.0;
       for (size_t b = 0; b < nb; ++b) {
-        if (use_all || use_beam_[b]) log_p += std::log(pz_[k * nb + b]);
+        if (use_all || use_beam_[b]) log_p += row[b];
       }
       (*log_likelihoods)[k] = log_p;
     }
@@ -268,15 +294,20 @@ class LikelihoodFieldProbModel : public LikelihoodFieldBase {
   std::string name() const override { return "likelihood_field_prob"; }
 
   size_t MemoryBytes() const override {
-    return LikelihoodFieldBase::MemoryBytes() + pz_.capacity() * sizeof(double) +
+    return LikelihoodFieldBase::MemoryBytes() +
+           log_pz_.capacity() * sizeof(double) +
            agree_count_.capacity() * sizeof(int) + use_beam_.capacity();
   }
 
+ protected:
+  double BeamTerm(double pz) const override { return std::log(pz); }
+
  private:
   bool do_beamskip_;
+  double beam_skip_distance_;
   double beam_skip_threshold_;
   double beam_skip_error_threshold_;
-  std::vector<double> pz_;  // particle-major scratch for beam skipping
+  std::vector<double> log_pz_;  // particle-major scratch for beam skipping
   std::vector<int> agree_count_;
   std::vector<char> use_beam_;
 };
@@ -352,7 +383,9 @@ std::unique_ptr<SensorModel> CreateSensorModel(
   if (type == "likelihood_field_prob") {
     return std::make_unique<LikelihoodFieldProbModel>(options, std::move(map));
   }
-  if (type == "beam") return std::make_unique<BeamModel>(options, std::move(map));
+  if (type == "beam") {
+    return std::make_unique<BeamModel>(options, std::move(map));
+  }
   throw std::invalid_argument("laser_model_type='" + type + "' is unknown");
 }
 

@@ -30,6 +30,13 @@
 //  5. the pose estimate is the weighted mean/covariance of the heaviest
 //     cluster of particles (pose_clusters.h).
 //
+// Deliberate differences from ROS amcl (each explained where implemented):
+// update gating uses the Euclidean odometry distance (amcl: |dx| or |dy|);
+// KLD gives min_particles for one occupied bin (amcl: max_particles); the
+// average likelihood omits amcl's extra 1/N; only w_fast restarts, and only
+// after an actual injection; the estimate's covariance is that of the chosen
+// cluster (amcl publishes the whole-set one: WholeSetStatistics()).
+//
 // Errors: configuration mistakes (options, map, initial pose) throw
 // std::invalid_argument with a message naming the offending value, and leave
 // the filter unchanged.  Bad run-time inputs (non-finite odometry, malformed

@@ -24,14 +24,17 @@ struct AmclOptions {
   // Upper standard normal quantile z_{1-delta}.  As in ROS amcl the value is
   // used directly as the quantile (0.99 is *not* a probability here).
   double kld_z = 0.99;
-  double update_min_d = 0.2;        // metres of odometry travel before an update
-  double update_min_a = kPi / 6.0;  // radians of odometry rotation before an update
+  // Odometry travel (metres, Euclidean) / rotation (radians) since the last
+  // filter update before the next one.
+  double update_min_d = 0.2;
+  double update_min_a = kPi / 6.0;
   int resample_interval = 2;        // sensor updates between resamplings
   double recovery_alpha_slow = 0.0;  // 0 disables augmented-MCL injection
   double recovery_alpha_fast = 0.0;
 
   // --- Odometry model (see motion_model.h) ---
-  std::string odom_model_type = "diff";  // diff, diff-corrected, omni, omni-corrected
+  // diff, diff-corrected, omni, omni-corrected
+  std::string odom_model_type = "diff";
   double odom_alpha1 = 0.2;  // rotation noise from rotation
   double odom_alpha2 = 0.2;  // rotation noise from translation
   double odom_alpha3 = 0.2;  // translation noise from translation
@@ -39,7 +42,8 @@ struct AmclOptions {
   double odom_alpha5 = 0.2;  // strafe noise from translation (omni only)
 
   // --- Laser model (see sensor_model.h) ---
-  std::string laser_model_type = "likelihood_field";  // likelihood_field, likelihood_field_prob, beam
+  // likelihood_field, likelihood_field_prob, beam
+  std::string laser_model_type = "likelihood_field";
   int laser_max_beams = 30;
   double laser_z_hit = 0.95;
   double laser_z_short = 0.1;
@@ -65,8 +69,8 @@ struct AmclOptions {
 };
 
 // Throws std::invalid_argument whose message lists every offending parameter
-// with its value (not just the first), e.g.
-// "invalid AMCL options: min_particles=600 > max_particles=500; laser_sigma_hit=-0.1 must be > 0".
+// with its value (not just the first), e.g. "invalid AMCL options:
+// min_particles=600 > max_particles=500; laser_sigma_hit=-0.1 must be > 0".
 void ValidateAmclOptions(const AmclOptions& options);
 
 // Sets the option called `name` (ROS amcl parameter name) from its text form

@@ -38,8 +38,8 @@ PoseBin BinOfPose(const Pose2D& pose);
 uint64_t BinKey(const PoseBin& bin);
 PoseBin BinFromKey(uint64_t key);
 
-// Number of distinct bins occupied by the particle poses (weights ignored).  *scratch is reused storage
-// so the filter does not allocate per resampling.
+// Number of distinct bins occupied by the particle poses (weights ignored).
+// *scratch is reused storage so the filter does not allocate per resampling.
 int CountOccupiedBins(const std::vector<Particle>& particles,
                       std::vector<uint64_t>* scratch);
 

@@ -87,7 +87,8 @@ class MapModel {
     if (!(fi >= 0.0 && fj >= 0.0 && fi < width_ && fj < height_)) {
       return max_occ_dist_;  // also catches NaN
     }
-    return distance_[static_cast<size_t>(fj) * width_ + static_cast<size_t>(fi)];
+    return distance_[static_cast<size_t>(fj) * width_ +
+                     static_cast<size_t>(fi)];
   }
 
   // Range along a ray from a grid-frame point until it enters a cell that is

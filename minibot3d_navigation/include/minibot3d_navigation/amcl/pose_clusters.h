@@ -30,7 +30,8 @@ struct PoseCluster {
 
 // Clusters sorted by decreasing weight (empty for an empty set).  Weights
 // that are all zero or not finite are treated as uniform.
-std::vector<PoseCluster> ClusterParticles(const std::vector<Particle>& particles);
+std::vector<PoseCluster> ClusterParticles(
+    const std::vector<Particle>& particles);
 
 // Weighted mean/covariance of a whole set with the same circular yaw
 // statistics (what amcl calls the set covariance).

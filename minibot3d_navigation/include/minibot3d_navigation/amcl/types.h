@@ -59,7 +59,7 @@ struct Particle {
 // One laser scan as the filter consumes it.  The ROS node fills this from a
 // sensor_msgs/LaserScan plus the laser->base transform.
 struct LaserScan {
-  std::vector<float> ranges;   // metres; NaN / +-inf allowed (see sensor_model.h)
+  std::vector<float> ranges;   // metres; NaN/inf allowed (sensor_model.h)
   std::vector<double> angles;  // beam bearing in the laser frame, radians
   double range_min = 0.0;      // sensor limits from the message
   double range_max = 0.0;

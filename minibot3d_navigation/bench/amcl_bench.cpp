@@ -1,0 +1,161 @@
+// Google Benchmark for the AMCL core: time per filter update (prediction +
+// 60-beam correction + resampling every resample_interval = 2 updates +
+// clustering) for 500 / 2,000 / 10,000 particles on a 10 m x 8 m map with
+// 5 cm cells; the three sensor models alone; the per-map precomputation; and
+// the memory the filter holds per particle (counter "bytes_per_particle").
+#include <cmath>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "minibot3d_navigation/amcl/amcl_filter.h"
+
+namespace minibot3d_navigation {
+namespace amcl {
+namespace {
+
+// 10 m x 8 m room with a partition, a box and a pillar (grid frame metres).
+OccupancyGrid BenchRoom(double width_m = 10.0, double height_m = 8.0,
+                        double res = 0.05) {
+  OccupancyGrid g;
+  g.resolution = res;
+  g.width = static_cast<int>(std::lround(width_m / res));
+  g.height = static_cast<int>(std::lround(height_m / res));
+  g.data.assign(static_cast<size_t>(g.width) * g.height, 0);
+  auto box = [&g, res](double x0, double y0, double x1, double y1) {
+    for (int j = 0; j < g.height; ++j) {
+      for (int i = 0; i < g.width; ++i) {
+        const double cx = (i + 0.5) * res, cy = (j + 0.5) * res;
+        if (cx >= x0 && cx <= x1 && cy >= y0 && cy <= y1) {
+          g.data[static_cast<size_t>(j) * g.width + i] = 100;
+        }
+      }
+    }
+  };
+  box(0, 0, width_m, res);
+  box(0, height_m - res, width_m, height_m);
+  box(0, 0, res, height_m);
+  box(width_m - res, 0, width_m, height_m);
+  box(6.0, 0.0, 6.15, 3.0);
+  box(1.5, 5.5, 2.7, 6.3);
+  box(4.0, 3.8, 4.3, 4.1);
+  return g;
+}
+
+// A 360-beam scan (the filter keeps laser_max_beams of it) ray-cast in the
+// map from `robot`.
+LaserScan BenchScan(const MapModel& map, const Pose2D& robot) {
+  LaserScan scan;
+  scan.range_min = 0.15;
+  scan.range_max = 12.0;
+  scan.angles = MakeBeamAngles(-kPi, 2 * kPi / 360, 360);
+  for (double a : scan.angles) {
+    scan.ranges.push_back(static_cast<float>(
+        map.CalcRange({robot.x, robot.y, robot.yaw + a}, scan.range_max)));
+  }
+  return scan;
+}
+
+AmclOptions BenchOptions(int particles, const std::string& model) {
+  AmclOptions o;
+  o.min_particles = o.max_particles = particles;  // fixed set size
+  o.laser_max_beams = 60;
+  o.laser_model_type = model;
+  o.initial_pose_x = 3.0;
+  o.initial_pose_y = 2.0;
+  o.initial_pose_a = 0.4;
+  return o;
+}
+
+// One Update() per iteration; odometry alternates between two poses 0.25 m
+// apart (> update_min_d), so every call predicts and corrects.
+void BM_FilterUpdate(benchmark::State& state, const std::string& model) {
+  const int n = static_cast<int>(state.range(0));
+  const AmclOptions o = BenchOptions(n, model);
+  auto map =
+      std::make_shared<MapModel>(BenchRoom(), o.laser_likelihood_max_dist);
+  AmclFilter filter(o, map);
+  const Pose2D a{3.0, 2.0, 0.4};
+  const Pose2D b = Compose(a, {0.25, 0.0, 0.0});
+  const LaserScan scan_a = BenchScan(*map, a), scan_b = BenchScan(*map, b);
+  filter.Update(a, scan_a);
+  bool at_a = true;
+  for (auto _ : state) {
+    at_a = !at_a;
+    const UpdateResult r =
+        at_a ? filter.Update(a, scan_a) : filter.Update(b, scan_b);
+    benchmark::DoNotOptimize(r);
+  }
+  state.counters["particles"] = static_cast<double>(filter.particles().size());
+  state.counters["bytes_per_particle"] =
+      static_cast<double>(filter.ParticleMemoryBytes()) /
+      filter.particles().size();
+  state.counters["map_kib"] = filter.MapMemoryBytes() / 1024.0;
+  state.SetItemsProcessed(state.iterations() * n);
+}
+BENCHMARK_CAPTURE(BM_FilterUpdate, likelihood_field,
+                  std::string("likelihood_field"))
+    ->Arg(500)->Arg(2000)->Arg(10000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_FilterUpdate, likelihood_field_prob,
+                  std::string("likelihood_field_prob"))
+    ->Arg(500)->Arg(2000)->Arg(10000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_FilterUpdate, beam, std::string("beam"))
+    ->Arg(500)->Arg(2000)->Arg(10000)->Unit(benchmark::kMillisecond);
+
+// The correction step alone (60 beams).
+void BM_SensorModel(benchmark::State& state, const std::string& model) {
+  const int n = static_cast<int>(state.range(0));
+  const AmclOptions o = BenchOptions(n, model);
+  auto map =
+      std::make_shared<MapModel>(BenchRoom(), o.laser_likelihood_max_dist);
+  auto sensor = CreateSensorModel(o, map);
+  const Pose2D truth{3.0, 2.0, 0.4};
+  PreparedScan scan;
+  std::string error;
+  if (!PrepareScan(BenchScan(*map, truth), o, &scan, &error)) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> noise(0.0, 0.3);
+  std::vector<Particle> particles(n);
+  for (Particle& p : particles) {
+    p.pose = {truth.x + noise(rng), truth.y + noise(rng),
+              truth.yaw + noise(rng)};
+    p.weight = 1.0 / n;
+  }
+  std::vector<double> ll;
+  for (auto _ : state) {
+    sensor->ComputeLogLikelihoods(scan, particles, false, &ll);
+    benchmark::DoNotOptimize(ll.data());
+  }
+  state.SetItemsProcessed(state.iterations() * n);
+}
+BENCHMARK_CAPTURE(BM_SensorModel, likelihood_field,
+                  std::string("likelihood_field"))
+    ->Arg(500)->Arg(2000)->Arg(10000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SensorModel, beam, std::string("beam"))
+    ->Arg(500)->Arg(2000)->Arg(10000)->Unit(benchmark::kMillisecond);
+
+// Per-map precomputation (distance transform, free list) for the bench room
+// and a 100 m x 100 m map at 5 cm (4 M cells).
+void BM_MapPrecompute(benchmark::State& state) {
+  const double side = static_cast<double>(state.range(0));
+  const OccupancyGrid grid =
+      side <= 10.0 ? BenchRoom() : BenchRoom(side, side, 0.05);
+  for (auto _ : state) {
+    MapModel map(grid, 2.0);
+    benchmark::DoNotOptimize(map.Distance(1, 1));
+  }
+  state.counters["cells"] = static_cast<double>(grid.data.size());
+}
+BENCHMARK(BM_MapPrecompute)->Arg(10)->Arg(100)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace amcl
+}  // namespace minibot3d_navigation
+
+BENCHMARK_MAIN();
