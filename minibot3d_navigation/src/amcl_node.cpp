@@ -1,0 +1,448 @@
+// amcl: ROS 1 node wrapping the ROS-free AMCL core (minibot3d_amcl_core), a
+// drop-in for the navigation stack's amcl: same parameters (private
+// namespace), topics (scan, map, initialpose -> amcl_pose, particlecloud, tf
+// map -> odom) and services (global_localization, request_nomotion_update,
+// uses static_map).  All estimation logic lives in the core; this file only
+// converts messages and transforms.
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include <geometry_msgs/PoseArray.h>
+#include <geometry_msgs/PoseWithCovarianceStamped.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <message_filters/subscriber.h>
+#include <nav_msgs/GetMap.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <ros/ros.h>
+#include <sensor_msgs/LaserScan.h>
+#include <std_srvs/Empty.h>
+#include <tf2/LinearMath/Matrix3x3.h>
+#include <tf2/LinearMath/Quaternion.h>
+#include <tf2/LinearMath/Transform.h>
+#include <tf2/utils.h>
+#include <tf2_geometry_msgs/tf2_geometry_msgs.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/message_filter.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+
+#include "minibot3d_navigation/amcl/amcl_filter.h"
+#include "minibot3d_navigation/amcl/amcl_options.h"
+
+namespace amcl = minibot3d_navigation::amcl;
+
+namespace {
+
+// XmlRpc parameter value -> the text SetAmclOption parses.
+bool XmlToText(const XmlRpc::XmlRpcValue& v, std::string* out) {
+  std::ostringstream s;
+  s.precision(17);
+  switch (v.getType()) {
+    case XmlRpc::XmlRpcValue::TypeBoolean:
+      *out = static_cast<bool>(const_cast<XmlRpc::XmlRpcValue&>(v)) ? "true" : "false";
+      return true;
+    case XmlRpc::XmlRpcValue::TypeInt:
+      s << static_cast<int>(const_cast<XmlRpc::XmlRpcValue&>(v));
+      break;
+    case XmlRpc::XmlRpcValue::TypeDouble:
+      s << static_cast<double>(const_cast<XmlRpc::XmlRpcValue&>(v));
+      break;
+    case XmlRpc::XmlRpcValue::TypeString:
+      s << static_cast<std::string>(const_cast<XmlRpc::XmlRpcValue&>(v));
+      break;
+    default:
+      return false;
+  }
+  *out = s.str();
+  return true;
+}
+
+amcl::Pose2D PoseFromTf(const tf2::Transform& t) {
+  return {t.getOrigin().x(), t.getOrigin().y(), tf2::getYaw(t.getRotation())};
+}
+
+tf2::Transform TfFromPose(const amcl::Pose2D& p) {
+  tf2::Quaternion q;
+  q.setRPY(0, 0, p.yaw);
+  return tf2::Transform(q, tf2::Vector3(p.x, p.y, 0.0));
+}
+
+amcl::OccupancyGrid GridFromMsg(const nav_msgs::OccupancyGrid& m) {
+  amcl::OccupancyGrid g;
+  g.resolution = m.info.resolution;
+  g.origin_x = m.info.origin.position.x;
+  g.origin_y = m.info.origin.position.y;
+  g.origin_yaw = tf2::getYaw(m.info.origin.orientation);
+  g.width = static_cast<int>(m.info.width);
+  g.height = static_cast<int>(m.info.height);
+  g.data.assign(m.data.begin(), m.data.end());
+  return g;
+}
+
+class AmclNode {
+ public:
+  AmclNode() : pnh_("~"), tf_listener_(tf_buffer_) {}
+
+  // Reads and validates the parameters; false (after ROS_FATAL) on error.
+  bool Configure() {
+    for (const std::string& name : amcl::AmclOptionNames()) {
+      if (!pnh_.hasParam(name)) continue;
+      XmlRpc::XmlRpcValue v;
+      pnh_.getParam(name, v);
+      std::string text;
+      try {
+        if (!XmlToText(v, &text)) throw std::invalid_argument("unsupported type");
+        amcl::SetAmclOption(name, text, &options_);
+      } catch (const std::invalid_argument& e) {
+        ROS_FATAL("amcl: bad parameter ~%s: %s", name.c_str(), e.what());
+        return false;
+      }
+    }
+    try {
+      amcl::ValidateAmclOptions(options_);
+    } catch (const std::invalid_argument& e) {
+      ROS_FATAL("amcl: %s", e.what());
+      return false;
+    }
+    pnh_.param<std::string>("base_frame_id", base_frame_, "base_link");
+    pnh_.param<std::string>("odom_frame_id", odom_frame_, "odom");
+    pnh_.param<std::string>("global_frame_id", global_frame_, "map");
+    pnh_.param("use_map_topic", use_map_topic_, false);
+    pnh_.param("first_map_only", first_map_only_, false);
+    pnh_.param("tf_broadcast", tf_broadcast_, true);
+    double tol = 0.1;
+    pnh_.param("transform_tolerance", tol, tol);
+    if (!(tol >= 0.0) || !std::isfinite(tol)) {
+      ROS_FATAL("amcl: transform_tolerance=%g must be a finite value >= 0", tol);
+      return false;
+    }
+    transform_tolerance_ = ros::Duration(tol);
+    pnh_.param("save_pose_rate", save_pose_rate_, 0.5);
+    pnh_.param("gui_publish_rate", gui_publish_rate_, -1.0);
+    return true;
+  }
+
+  void Start() {
+    pose_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("amcl_pose", 2, true);
+    cloud_pub_ = nh_.advertise<geometry_msgs::PoseArray>("particlecloud", 2, true);
+    global_srv_ = nh_.advertiseService("global_localization", &AmclNode::OnGlobal, this);
+    nomotion_srv_ =
+        nh_.advertiseService("request_nomotion_update", &AmclNode::OnNoMotion, this);
+    initial_sub_ = nh_.subscribe("initialpose", 2, &AmclNode::OnInitialPose, this);
+    scan_sub_.subscribe(nh_, "scan", 100);
+    scan_filter_.reset(new tf2_ros::MessageFilter<sensor_msgs::LaserScan>(
+        scan_sub_, tf_buffer_, odom_frame_, 100, nh_));
+    scan_filter_->registerCallback(&AmclNode::OnScan, this);
+    scan_filter_->registerFailureCallback(
+        [](const sensor_msgs::LaserScan::ConstPtr& s,
+           tf2_ros::filter_failure_reasons::FilterFailureReason) {
+          ROS_WARN_THROTTLE(5.0, "amcl: no transform yet from scan frame '%s' at %.3f",
+                            s->header.frame_id.c_str(), s->header.stamp.toSec());
+        });
+    if (save_pose_rate_ > 0.0) {
+      save_timer_ = nh_.createWallTimer(ros::WallDuration(1.0 / save_pose_rate_),
+                                        &AmclNode::SavePose, this);
+    }
+    if (use_map_topic_) {
+      map_sub_ = nh_.subscribe("map", 1, &AmclNode::OnMap, this);
+      ROS_INFO("amcl: waiting for a map on %s", map_sub_.getTopic().c_str());
+    } else {
+      RequestMap();
+    }
+  }
+
+ private:
+  void RequestMap() {
+    nav_msgs::GetMap srv;
+    while (ros::ok()) {
+      if (ros::service::waitForService("static_map", ros::Duration(1.0)) &&
+          ros::service::call("static_map", srv)) {
+        break;
+      }
+      ROS_WARN_THROTTLE(5.0, "amcl: request for map failed; trying again (static_map service)");
+    }
+    if (!ros::ok()) return;
+    HandleMap(srv.response.map);
+  }
+
+  void OnMap(const nav_msgs::OccupancyGrid::ConstPtr& msg) {
+    if (first_map_only_ && filter_) return;
+    HandleMap(*msg);
+  }
+
+  void HandleMap(const nav_msgs::OccupancyGrid& msg) {
+    if (!msg.header.frame_id.empty() && msg.header.frame_id != global_frame_) {
+      ROS_WARN("amcl: map frame '%s' differs from global_frame_id '%s'",
+               msg.header.frame_id.c_str(), global_frame_.c_str());
+    }
+    const amcl::OccupancyGrid grid = GridFromMsg(msg);
+    try {
+      if (!filter_) {
+        filter_.reset(new amcl::AmclFilter(options_, grid,
+                                           amcl::AmclFilter::Initialization::kFromOptions));
+      } else {
+        filter_->SetMap(grid);
+      }
+    } catch (const std::invalid_argument& e) {
+      if (!filter_) {
+        ROS_FATAL("amcl: cannot initialise on the map: %s", e.what());
+        ros::shutdown();
+        std::exit(1);
+      }
+      ROS_ERROR("amcl: new map rejected, keeping the old one: %s", e.what());
+      return;
+    }
+    ROS_INFO("amcl: map %dx%d @ %.3f m; %zu particles", grid.width, grid.height,
+             grid.resolution, filter_->particles().size());
+    have_odom_tf_ = false;
+    filter_->RequestNoMotionUpdate();
+  }
+
+  // Laser pose in the base frame, cached per frame id.  Handles lasers mounted
+  // upside down (z axis pointing down): the bearings are then mirrored.
+  bool LaserPose(const std::string& frame, amcl::Pose2D* pose, bool* flipped) {
+    auto it = laser_poses_.find(frame);
+    if (it == laser_poses_.end()) {
+      geometry_msgs::TransformStamped t;
+      try {
+        t = tf_buffer_.lookupTransform(base_frame_, frame, ros::Time(0));
+      } catch (const tf2::TransformException& e) {
+        ROS_WARN_THROTTLE(5.0, "amcl: no transform from base frame '%s' to scan frame '%s': %s",
+                          base_frame_.c_str(), frame.c_str(), e.what());
+        return false;
+      }
+      tf2::Transform tr;
+      tf2::fromMsg(t.transform, tr);
+      const tf2::Matrix3x3& r = tr.getBasis();
+      LaserMount m;
+      m.flipped = r[2][2] < 0.0;
+      // Yaw of the laser's x axis projected onto the base plane.
+      m.pose = {tr.getOrigin().x(), tr.getOrigin().y(), std::atan2(r[1][0], r[0][0])};
+      it = laser_poses_.emplace(frame, m).first;
+    }
+    *pose = it->second.pose;
+    *flipped = it->second.flipped;
+    return true;
+  }
+
+  void OnScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
+    if (!filter_) return;
+    amcl::LaserScan scan;
+    bool flipped = false;
+    if (!LaserPose(msg->header.frame_id, &scan.laser_pose, &flipped)) return;
+    geometry_msgs::TransformStamped odom_base;
+    try {
+      odom_base = tf_buffer_.lookupTransform(odom_frame_, base_frame_, msg->header.stamp);
+    } catch (const tf2::TransformException& e) {
+      ROS_WARN_THROTTLE(5.0, "amcl: no odometry (%s <- %s) at the scan time: %s",
+                        odom_frame_.c_str(), base_frame_.c_str(), e.what());
+      return;
+    }
+    tf2::Transform ob;
+    tf2::fromMsg(odom_base.transform, ob);
+    const amcl::Pose2D odom_pose = PoseFromTf(ob);
+    scan.ranges = msg->ranges;
+    scan.angles = amcl::MakeBeamAngles(msg->angle_min, msg->angle_increment,
+                                       static_cast<int>(msg->ranges.size()));
+    if (flipped) {
+      for (double& a : scan.angles) a = -a;
+    }
+    scan.range_min = msg->range_min;
+    scan.range_max = msg->range_max;
+
+    const amcl::UpdateResult r = filter_->Update(odom_pose, scan);
+    switch (r.status) {
+      case amcl::UpdateStatus::kUpdated:
+      case amcl::UpdateStatus::kMotionOnly:
+        if (r.status == amcl::UpdateStatus::kMotionOnly) {
+          ROS_WARN_THROTTLE(5.0, "amcl: motion-only update: %s", r.message.c_str());
+        }
+        PublishPose(msg->header.stamp);
+        PublishCloud(msg->header.stamp, r.resampled);
+        break;
+      case amcl::UpdateStatus::kSkippedNoMotion:
+        break;
+      default:
+        ROS_WARN_THROTTLE(5.0, "amcl: %s: %s", amcl::UpdateStatusName(r.status),
+                          r.message.c_str());
+        break;
+    }
+    if (filter_->has_odom_reference()) {
+      // map <- odom = (map <- base) * (odom <- base)^-1, base at the last update.
+      map_odom_ = TfFromPose(filter_->estimate().mean) *
+                  TfFromPose(filter_->odom_reference()).inverse();
+      have_odom_tf_ = true;
+    }
+    if (have_odom_tf_ && tf_broadcast_) {
+      geometry_msgs::TransformStamped t;
+      t.header.stamp = msg->header.stamp + transform_tolerance_;
+      t.header.frame_id = global_frame_;
+      t.child_frame_id = odom_frame_;
+      t.transform = tf2::toMsg(map_odom_);
+      tf_broadcaster_.sendTransform(t);
+    }
+  }
+
+  void PublishPose(const ros::Time& stamp) {
+    const amcl::PoseEstimate& e = filter_->estimate();
+    geometry_msgs::PoseWithCovarianceStamped p;
+    p.header.stamp = stamp;
+    p.header.frame_id = global_frame_;
+    p.pose.pose.position.x = e.mean.x;
+    p.pose.pose.position.y = e.mean.y;
+    tf2::Quaternion q;
+    q.setRPY(0, 0, e.mean.yaw);
+    p.pose.pose.orientation = tf2::toMsg(q);
+    const int idx[3] = {0, 1, 5};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) p.pose.covariance[idx[i] * 6 + idx[j]] = e.covariance(i, j);
+    pose_pub_.publish(p);
+    last_pose_ = p;
+    have_last_pose_ = true;
+  }
+
+  void PublishCloud(const ros::Time& stamp, bool force) {
+    const ros::WallTime now = ros::WallTime::now();
+    if (!force && gui_publish_rate_ > 0.0 &&
+        (now - last_cloud_).toSec() < 1.0 / gui_publish_rate_) {
+      return;
+    }
+    last_cloud_ = now;
+    geometry_msgs::PoseArray a;
+    a.header.stamp = stamp;
+    a.header.frame_id = global_frame_;
+    a.poses.resize(filter_->particles().size());
+    for (size_t k = 0; k < a.poses.size(); ++k) {
+      const amcl::Pose2D& p = filter_->particles()[k].pose;
+      a.poses[k].position.x = p.x;
+      a.poses[k].position.y = p.y;
+      tf2::Quaternion q;
+      q.setRPY(0, 0, p.yaw);
+      a.poses[k].orientation = tf2::toMsg(q);
+    }
+    cloud_pub_.publish(a);
+  }
+
+  void OnInitialPose(const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& msg) {
+    if (!filter_) {
+      ROS_WARN("amcl: initial pose received before the map: ignored");
+      return;
+    }
+    tf2::Transform pose;
+    tf2::fromMsg(msg->pose.pose, pose);
+    const std::string frame = msg->header.frame_id.empty() ? global_frame_ : msg->header.frame_id;
+    double rot = 0.0;
+    if (frame != global_frame_) {
+      try {
+        geometry_msgs::TransformStamped t =
+            tf_buffer_.lookupTransform(global_frame_, frame, msg->header.stamp,
+                                       ros::Duration(0.5));
+        tf2::Transform tr;
+        tf2::fromMsg(t.transform, tr);
+        pose = tr * pose;
+        rot = tf2::getYaw(tr.getRotation());
+      } catch (const tf2::TransformException& e) {
+        ROS_WARN("amcl: initial pose in frame '%s' cannot be transformed into '%s': %s",
+                 frame.c_str(), global_frame_.c_str(), e.what());
+        return;
+      }
+    }
+    const amcl::Pose2D mean = PoseFromTf(pose);
+    Eigen::Matrix3d cov;
+    const int idx[3] = {0, 1, 5};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) cov(i, j) = msg->pose.covariance[idx[i] * 6 + idx[j]];
+    if (rot != 0.0) {  // rotate the x/y block into the global frame
+      Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+      R(0, 0) = std::cos(rot); R(0, 1) = -std::sin(rot);
+      R(1, 0) = std::sin(rot); R(1, 1) = std::cos(rot);
+      cov = R * cov * R.transpose();
+    }
+    cov = 0.5 * (cov + cov.transpose());
+    try {
+      filter_->SetPose(mean, cov);
+    } catch (const std::invalid_argument& e) {
+      ROS_WARN("amcl: initial pose (%.3f, %.3f, %.3f) rejected, filter unchanged: %s", mean.x,
+               mean.y, mean.yaw, e.what());
+      return;
+    }
+    ROS_INFO("amcl: initial pose set to (%.3f, %.3f, %.3f)", mean.x, mean.y, mean.yaw);
+    filter_->RequestNoMotionUpdate();
+    PublishPose(msg->header.stamp.isZero() ? ros::Time::now() : msg->header.stamp);
+  }
+
+  bool OnGlobal(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+    if (!filter_) return false;
+    filter_->GlobalLocalization();
+    filter_->RequestNoMotionUpdate();
+    ROS_INFO("amcl: global localization: %zu particles over free space",
+             filter_->particles().size());
+    return true;
+  }
+
+  bool OnNoMotion(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+    if (filter_) filter_->RequestNoMotionUpdate();
+    return true;
+  }
+
+  // amcl's save_pose_rate: the last estimate goes to ~initial_pose_* and
+  // ~initial_cov_* so a restart resumes from it.
+  void SavePose(const ros::WallTimerEvent&) {
+    if (!filter_ || !have_last_pose_) return;
+    const amcl::PoseEstimate& e = filter_->estimate();
+    pnh_.setParam("initial_pose_x", e.mean.x);
+    pnh_.setParam("initial_pose_y", e.mean.y);
+    pnh_.setParam("initial_pose_a", e.mean.yaw);
+    pnh_.setParam("initial_cov_xx", e.covariance(0, 0));
+    pnh_.setParam("initial_cov_yy", e.covariance(1, 1));
+    pnh_.setParam("initial_cov_aa", e.covariance(2, 2));
+  }
+
+  struct LaserMount {
+    amcl::Pose2D pose;
+    bool flipped = false;
+  };
+
+  ros::NodeHandle nh_;
+  ros::NodeHandle pnh_;
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener tf_listener_;
+  tf2_ros::TransformBroadcaster tf_broadcaster_;
+
+  amcl::AmclOptions options_;
+  std::string base_frame_, odom_frame_, global_frame_;
+  bool use_map_topic_ = false, first_map_only_ = false, tf_broadcast_ = true;
+  ros::Duration transform_tolerance_;
+  double save_pose_rate_ = 0.5, gui_publish_rate_ = -1.0;
+
+  std::unique_ptr<amcl::AmclFilter> filter_;
+  std::map<std::string, LaserMount> laser_poses_;
+  tf2::Transform map_odom_;
+  bool have_odom_tf_ = false;
+  geometry_msgs::PoseWithCovarianceStamped last_pose_;
+  bool have_last_pose_ = false;
+  ros::WallTime last_cloud_;
+
+  ros::Publisher pose_pub_, cloud_pub_;
+  ros::Subscriber initial_sub_, map_sub_;
+  ros::ServiceServer global_srv_, nomotion_srv_;
+  ros::WallTimer save_timer_;
+  message_filters::Subscriber<sensor_msgs::LaserScan> scan_sub_;
+  std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::LaserScan>> scan_filter_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "amcl");
+  AmclNode node;
+  if (!node.Configure()) return 1;
+  node.Start();
+  ros::spin();
+  return 0;
+}

@@ -1,0 +1,184 @@
+#!/usr/bin/env python3
+"""rostest: amcl in the simulator (amcl_sim.test). With amcl started at the true spawn pose in the
+ground-truth map (map frame = world frame):
+ 1. tracking: the robot drives a route through the default world's rooms (route_driver.py, which
+    follows /ground_truth/odom); every amcl_pose is compared with the /ground_truth/odom message
+    nearest in stamp: mean position error <= 0.1 m, final error <= 0.15 m;
+ 2. relocation: an initialpose 1 m off the truth makes amcl_pose jump there; after a short drive
+    amcl re-converges to the truth;
+ 3. global localization: after the global_localization service and a drive, amcl_pose is within
+    0.3 m of the truth.
+Every wait is on a condition (a message, a process) with a timeout, never a fixed sleep."""
+import bisect
+import importlib.util
+import math
+import os
+import subprocess
+import threading
+import time
+import unittest
+
+import rospkg
+import rospy
+import rostest
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from nav_msgs.msg import Odometry
+from std_srvs.srv import Empty
+
+ROUTE = '-2.1,0.6 -0.3,2.0 0.45,0.6 2.5,-1.0 0.8,-2.15 -3,-1.5'
+RELOCATION_ROUTE = '-2.1,0.6 -3,-1.5'
+GLOBAL_ROUTE = '-2.1,0.6 -0.3,2.0 0.45,0.6 2.5,-1.0'
+
+
+def yaw_of(q):
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+
+
+def load_route_driver():
+    path = os.path.join(rospkg.RosPack().get_path('minibot3d_sim'), 'scripts', 'route_driver.py')
+    spec = importlib.util.spec_from_file_location('route_driver', path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+class Recorder(object):
+    """Keeps /ground_truth/odom (by stamp) and amcl_pose messages."""
+
+    def __init__(self):
+        self.cond = threading.Condition()
+        self.truth_t, self.truth = [], []
+        self.poses = []  # (stamp, x, y, yaw)
+        rospy.Subscriber('/ground_truth/odom', Odometry, self.on_truth, queue_size=200)
+        rospy.Subscriber('/amcl_pose', PoseWithCovarianceStamped, self.on_pose, queue_size=50)
+
+    def on_truth(self, m):
+        p = m.pose.pose
+        with self.cond:
+            self.truth_t.append(m.header.stamp.to_sec())
+            self.truth.append((p.position.x, p.position.y, yaw_of(p.orientation)))
+
+    def on_pose(self, m):
+        p = m.pose.pose
+        with self.cond:
+            self.poses.append((m.header.stamp.to_sec(), p.position.x, p.position.y,
+                               yaw_of(p.orientation)))
+            self.cond.notify_all()
+
+    def truth_at(self, t):
+        with self.cond:
+            i = bisect.bisect_left(self.truth_t, t)
+            cands = [k for k in (i - 1, i) if 0 <= k < len(self.truth_t)]
+            if not cands:
+                return None
+            k = min(cands, key=lambda k: abs(self.truth_t[k] - t))
+            return self.truth[k]
+
+    def latest_truth(self):
+        with self.cond:
+            return self.truth[-1] if self.truth else None
+
+    def error(self, pose):
+        tr = self.truth_at(pose[0])
+        return math.hypot(pose[1] - tr[0], pose[2] - tr[1])
+
+    def count(self):
+        with self.cond:
+            return len(self.poses)
+
+    def wait_for(self, predicate, timeout):
+        """Waits (wall time) until predicate(list of poses) holds; returns it."""
+        end = time.time() + timeout
+        with self.cond:
+            while not rospy.is_shutdown():
+                if predicate(self.poses):
+                    return True
+                left = end - time.time()
+                if left <= 0:
+                    return False
+                self.cond.wait(min(left, 0.5))
+        return False
+
+
+class AmclSim(unittest.TestCase):
+    def drive(self, waypoints, timeout=400):
+        out = subprocess.run(
+            ['rosrun', 'minibot3d_sim', 'route_driver.py', '--map', self.map_yaml,
+             '--waypoints', waypoints, '--speed', '0.3', '--timeout', str(timeout)],
+            capture_output=True, text=True)
+        self.assertEqual(out.returncode, 0, out.stdout + out.stderr)
+
+    def settle(self, rec, updates=5):
+        """Forces `updates` filter updates while standing still; returns the last pose."""
+        nomotion = rospy.ServiceProxy('/request_nomotion_update', Empty)
+        for _ in range(updates):
+            n = rec.count()
+            nomotion()
+            self.assertTrue(rec.wait_for(lambda p: len(p) > n, 30.0),
+                            'no amcl_pose after request_nomotion_update')
+        return rec.poses[-1]
+
+    def test_amcl_in_sim(self):
+        rospy.init_node('amcl_sim_test')
+        self.map_yaml = rospy.get_param('~map_yaml')
+        rec = Recorder()
+        # amcl publishes its first pose once it has the map and a scan (forced first update).
+        self.assertTrue(rec.wait_for(lambda p: len(p) > 0, 120.0), 'no amcl_pose')
+        rospy.wait_for_message('/ground_truth/odom', Odometry, timeout=60.0)
+
+        # 1. tracking along the route
+        start = rec.count()
+        self.drive(ROUTE)
+        last = self.settle(rec, 1)
+        poses = rec.poses[start:]
+        errors = [rec.error(p) for p in poses]
+        mean_err, final_err = sum(errors) / len(errors), rec.error(last)
+        rospy.loginfo('tracking: %d poses, mean error %.3f m, max %.3f m, final %.3f m',
+                      len(errors), mean_err, max(errors), final_err)
+        self.assertLessEqual(mean_err, 0.1)
+        self.assertLessEqual(final_err, 0.15)
+
+        # 2. relocation: initialpose 1 m off the truth, in free space
+        rd = load_route_driver()
+        occ, res, origin = rd.load_map(self.map_yaml)
+        tx, ty, tyaw = rec.latest_truth()
+        target = None
+        for dx, dy in ((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0), (0.7071, 0.7071)):
+            i = int((tx + dx - origin[0]) / res)
+            j = int((ty + dy - origin[1]) / res)
+            if 0 <= j < occ.shape[0] and 0 <= i < occ.shape[1] and not occ[j, i]:
+                target = (tx + dx, ty + dy)
+                break
+        self.assertIsNotNone(target, 'no free pose 1 m from the truth')
+        msg = PoseWithCovarianceStamped()
+        msg.header.frame_id = 'map'
+        msg.header.stamp = rospy.Time.now()
+        msg.pose.pose.position.x, msg.pose.pose.position.y = target
+        msg.pose.pose.orientation.z = math.sin(tyaw / 2.0)
+        msg.pose.pose.orientation.w = math.cos(tyaw / 2.0)
+        msg.pose.covariance[0] = msg.pose.covariance[7] = 0.25
+        msg.pose.covariance[35] = 0.068
+        pub = rospy.Publisher('/initialpose', PoseWithCovarianceStamped, queue_size=1, latch=True)
+        n = rec.count()
+        pub.publish(msg)
+        jumped = rec.wait_for(lambda p: len(p) > n and math.hypot(
+            p[-1][1] - target[0], p[-1][2] - target[1]) < 0.3, 30.0)
+        self.assertTrue(jumped, 'amcl_pose did not jump to the initialpose %s' % (target,))
+        self.drive(RELOCATION_ROUTE)
+        last = self.settle(rec, 3)
+        reloc_err = rec.error(last)
+        rospy.loginfo('relocation: error after the drive %.3f m', reloc_err)
+        self.assertLess(reloc_err, 0.15)
+
+        # 3. global localization
+        rospy.wait_for_service('/global_localization', timeout=10.0)
+        rospy.ServiceProxy('/global_localization', Empty)()
+        self.drive(GLOBAL_ROUTE)
+        last = self.settle(rec, 3)
+        global_err = rec.error(last)
+        rospy.loginfo('global localization: error after the drive %.3f m', global_err)
+        self.assertLess(global_err, 0.3)
+
+
+if __name__ == '__main__':
+    rostest.rosrun('minibot3d_navigation', 'amcl_sim', AmclSim)
