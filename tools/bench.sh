@@ -43,6 +43,9 @@ done
 echo "== AMCL core: one filter update (motion + 60-beam correction + resampling + clustering)"
 devel/lib/minibot3d_navigation/amcl_bench --benchmark_min_time=0.2 2>/dev/null | grep -E "^(BM_|Benchmark)" || true
 
+echo "== AMCL in the simulator: tracking (3 laps of the rooms), global localization, kidnapping"
+tools/amcl_sim_bench.sh
+
 echo "== SLAM on a CARMEN log (slam_offline, gmapping defaults): 10, 30, 100 particles"
 if [ -n "$log" ] && [ -f "$log" ]; then
   for particles in 10 30 100; do
