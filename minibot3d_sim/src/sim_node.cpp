@@ -39,6 +39,21 @@ geometry_msgs::Quaternion YawToQuaternion(double yaw) {
   return q;
 }
 
+nav_msgs::Odometry MakeOdometry(const ros::Time& stamp, const std::string& frame,
+                                const std::string& child, const Pose2& pose, const Twist2& twist) {
+  nav_msgs::Odometry m;
+  m.header.stamp = stamp;
+  m.header.frame_id = frame;
+  m.child_frame_id = child;
+  m.pose.pose.position.x = pose.x;
+  m.pose.pose.position.y = pose.y;
+  m.pose.pose.orientation = YawToQuaternion(pose.yaw);
+  m.twist.twist.linear.x = twist.vx;
+  m.twist.twist.linear.y = twist.vy;
+  m.twist.twist.angular.z = twist.wz;
+  return m;
+}
+
 // Parameters of the node (the core's own options are in SimulatorOptions).
 struct NodeOptions {
   std::string world_path;
@@ -258,16 +273,8 @@ class SimNode {
     const RobotModel& robot = sim_->robot();
     const DriveSpec& d = robot.drive;
     const Pose2 o = sim_->odom_pose();
-    const Twist2 v = sim_->odom_twist();
-    nav_msgs::Odometry odom;
-    odom.header.stamp = stamp;
-    odom.header.frame_id = d.odometry_frame;
-    odom.child_frame_id = d.robot_base_frame;
-    odom.pose.pose.position.x = o.x;
-    odom.pose.pose.position.y = o.y;
-    odom.pose.pose.orientation = YawToQuaternion(o.yaw);
-    odom.twist.twist.linear.x = v.vx;
-    odom.twist.twist.angular.z = v.wz;
+    nav_msgs::Odometry odom =
+        MakeOdometry(stamp, d.odometry_frame, d.robot_base_frame, o, sim_->odom_twist());
     // Diagonal covariances from the plugin tags (x, y, yaw); the rest of the 6-DOF is fixed by
     // the floor, given a large variance as Gazebo's plugin does.
     for (auto* cov : {&odom.pose.covariance, &odom.twist.covariance}) {
@@ -297,19 +304,8 @@ class SimNode {
     }
     joint_pub_.publish(joint_state_);
     if (opts_.publish_ground_truth) {
-      const Pose2 p = sim_->true_pose();
-      const Twist2 tw = sim_->true_twist();
-      nav_msgs::Odometry truth;
-      truth.header.stamp = stamp;
-      truth.header.frame_id = opts_.world_frame;
-      truth.child_frame_id = d.robot_base_frame;
-      truth.pose.pose.position.x = p.x;
-      truth.pose.pose.position.y = p.y;
-      truth.pose.pose.orientation = YawToQuaternion(p.yaw);
-      truth.twist.twist.linear.x = tw.vx;
-      truth.twist.twist.linear.y = tw.vy;
-      truth.twist.twist.angular.z = tw.wz;
-      truth_pub_.publish(truth);
+      truth_pub_.publish(MakeOdometry(stamp, opts_.world_frame, d.robot_base_frame,
+                                      sim_->true_pose(), sim_->true_twist()));
     }
   }
 
