@@ -1,0 +1,216 @@
+#include "minibot3d_navigation/costmap/footprint.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cctype>
+#include <cstdlib>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace minibot3d_navigation {
+namespace nav {
+namespace {
+
+// Parses a number at text[*pos], skipping blanks; throws naming the position.
+double ParseNumber(const std::string& text, size_t* pos) {
+  while (*pos < text.size() && std::isspace(static_cast<unsigned char>(text[*pos]))) ++*pos;
+  const char* begin = text.c_str() + *pos;
+  char* end = nullptr;
+  const double v = std::strtod(begin, &end);
+  if (end == begin) {
+    throw std::invalid_argument("footprint \"" + text + "\": expected a number at character " +
+                                std::to_string(*pos));
+  }
+  *pos += static_cast<size_t>(end - begin);
+  return v;
+}
+
+void Expect(const std::string& text, size_t* pos, char c) {
+  while (*pos < text.size() && std::isspace(static_cast<unsigned char>(text[*pos]))) ++*pos;
+  if (*pos >= text.size() || text[*pos] != c) {
+    throw std::invalid_argument("footprint \"" + text + "\": expected '" + std::string(1, c) +
+                                "' at character " + std::to_string(*pos));
+  }
+  ++*pos;
+}
+
+bool Peek(const std::string& text, size_t* pos, char c) {
+  while (*pos < text.size() && std::isspace(static_cast<unsigned char>(text[*pos]))) ++*pos;
+  return *pos < text.size() && text[*pos] == c;
+}
+
+double PointSegmentDistance(const Point2D& p, const Point2D& a, const Point2D& b) {
+  const double dx = b.x - a.x, dy = b.y - a.y;
+  const double len2 = dx * dx + dy * dy;
+  double t = len2 > 0.0 ? ((p.x - a.x) * dx + (p.y - a.y) * dy) / len2 : 0.0;
+  t = std::clamp(t, 0.0, 1.0);
+  return std::hypot(a.x + t * dx - p.x, a.y + t * dy - p.y);
+}
+
+void LineCells(int x0, int y0, int x1, int y1, std::vector<std::pair<int, int>>* cells) {
+  const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0);
+  const int sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
+  int err = dx + dy;
+  while (true) {
+    cells->emplace_back(x0, y0);
+    if (x0 == x1 && y0 == y1) break;
+    const int e2 = 2 * err;
+    if (e2 >= dy) { err += dy; x0 += sx; }
+    if (e2 <= dx) { err += dx; y0 += sy; }
+  }
+}
+
+}  // namespace
+
+Footprint ParseFootprint(const std::string& text) {
+  Footprint fp;
+  size_t pos = 0;
+  Expect(text, &pos, '[');
+  while (true) {
+    Expect(text, &pos, '[');
+    Point2D p;
+    p.x = ParseNumber(text, &pos);
+    Expect(text, &pos, ',');
+    p.y = ParseNumber(text, &pos);
+    Expect(text, &pos, ']');
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
+      throw std::invalid_argument("footprint \"" + text + "\": point " +
+                                  std::to_string(fp.size()) + " is not finite");
+    }
+    fp.push_back(p);
+    if (Peek(text, &pos, ',')) { ++pos; continue; }
+    Expect(text, &pos, ']');
+    break;
+  }
+  while (pos < text.size() && std::isspace(static_cast<unsigned char>(text[pos]))) ++pos;
+  if (pos != text.size()) {
+    throw std::invalid_argument("footprint \"" + text + "\": unexpected text after the list");
+  }
+  if (fp.size() < 3) {
+    throw std::invalid_argument("footprint \"" + text + "\": needs at least 3 points, got " +
+                                std::to_string(fp.size()));
+  }
+  return fp;
+}
+
+std::string FootprintToString(const Footprint& footprint) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "[";
+  for (size_t i = 0; i < footprint.size(); ++i) {
+    out << (i ? ", " : "") << "[" << footprint[i].x << ", " << footprint[i].y << "]";
+  }
+  out << "]";
+  return out.str();
+}
+
+Footprint MakeCircleFootprint(double radius) {
+  if (!(radius > 0.0) || !std::isfinite(radius)) {
+    throw std::invalid_argument("robot_radius must be a positive number, got " +
+                                std::to_string(radius));
+  }
+  constexpr int kPoints = 16;
+  Footprint fp;
+  for (int i = 0; i < kPoints; ++i) {
+    const double a = 2.0 * kPi * i / kPoints;
+    fp.push_back({radius * std::cos(a), radius * std::sin(a)});
+  }
+  return fp;
+}
+
+Footprint PadFootprint(const Footprint& footprint, double padding) {
+  Footprint out = footprint;
+  for (Point2D& p : out) {
+    p.x += (p.x > 0.0 ? padding : (p.x < 0.0 ? -padding : 0.0));
+    p.y += (p.y > 0.0 ? padding : (p.y < 0.0 ? -padding : 0.0));
+  }
+  return out;
+}
+
+void FootprintRadii(const Footprint& footprint, double* inscribed, double* circumscribed) {
+  double min_d = std::numeric_limits<double>::infinity(), max_d = 0.0;
+  const Point2D origin;
+  for (size_t i = 0; i < footprint.size(); ++i) {
+    const Point2D& a = footprint[i];
+    const Point2D& b = footprint[(i + 1) % footprint.size()];
+    min_d = std::min(min_d, PointSegmentDistance(origin, a, b));
+    max_d = std::max(max_d, std::hypot(a.x, a.y));
+  }
+  if (footprint.empty()) min_d = 0.0;
+  *inscribed = min_d;
+  *circumscribed = max_d;
+}
+
+Footprint TransformFootprint(const Footprint& footprint, const Pose2D& pose) {
+  const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
+  Footprint out;
+  out.reserve(footprint.size());
+  for (const Point2D& p : footprint) {
+    out.push_back({pose.x + c * p.x - s * p.y, pose.y + s * p.x + c * p.y});
+  }
+  return out;
+}
+
+void PolygonOutlineCells(const Costmap2D& costmap, const Footprint& polygon,
+                         std::vector<std::pair<int, int>>* cells) {
+  cells->clear();
+  const size_t n = polygon.size();
+  for (size_t i = 0; i < n; ++i) {
+    int x0, y0, x1, y1;
+    costmap.WorldToMapNoBounds(polygon[i].x, polygon[i].y, &x0, &y0);
+    costmap.WorldToMapNoBounds(polygon[(i + 1) % n].x, polygon[(i + 1) % n].y, &x1, &y1);
+    LineCells(x0, y0, x1, y1, cells);
+  }
+}
+
+int FootprintCost(const Costmap2D& costmap, const Footprint& footprint, const Pose2D& pose) {
+  int cx, cy;
+  if (!costmap.WorldToMap(pose.x, pose.y, &cx, &cy)) return -1;
+  int worst = costmap.cost(cx, cy);
+  if (worst == kLethalObstacle) return worst;
+  // Walk the outline without allocating: Bresenham per transformed edge.
+  const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
+  const size_t n = footprint.size();
+  auto to_cell = [&](const Point2D& p, int* mx, int* my) {
+    costmap.WorldToMapNoBounds(pose.x + c * p.x - s * p.y, pose.y + s * p.x + c * p.y, mx, my);
+  };
+  int first_x = 0, first_y = 0;
+  int x0 = 0, y0 = 0;
+  if (n > 0) {
+    to_cell(footprint[0], &first_x, &first_y);
+    x0 = first_x;
+    y0 = first_y;
+  }
+  for (size_t i = 0; i < n; ++i) {
+    int x1, y1;
+    if (i + 1 < n) {
+      to_cell(footprint[i + 1], &x1, &y1);
+    } else {
+      x1 = first_x;
+      y1 = first_y;
+    }
+    int x = x0, y = y0;
+    const int dx = std::abs(x1 - x), dy = -std::abs(y1 - y);
+    const int sx = x < x1 ? 1 : -1, sy = y < y1 ? 1 : -1;
+    int err = dx + dy;
+    while (true) {
+      if (!costmap.InBounds(x, y)) return -1;
+      const int v = costmap.cost(x, y);
+      if (v == kLethalObstacle) return v;
+      // Unknown (255) ranks below lethal: it is returned only if nothing on
+      // the outline is lethal.
+      if (v > worst) worst = v;
+      if (x == x1 && y == y1) break;
+      const int e2 = 2 * err;
+      if (e2 >= dy) { err += dy; x += sx; }
+      if (e2 <= dx) { err += dx; y += sy; }
+    }
+    x0 = x1;
+    y0 = y1;
+  }
+  return worst;
+}
+
+}  // namespace nav
+}  // namespace minibot3d_navigation
