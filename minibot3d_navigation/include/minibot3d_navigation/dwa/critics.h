@@ -1,0 +1,146 @@
+// The cost terms of the dynamic-window local planner (trajectory_critic.h),
+// after base_local_planner's TrajectoryPlanner scoring:
+//   cost = path_distance_bias * path_dist + goal_distance_bias * goal_dist
+//          + occdist_scale * occ_cost
+// plus the legality checks that make a trajectory illegal outright.
+//
+//  PathDistCritic      path_dist: MapGrid distance (cells) from the rollout's
+//                      end cell to the nearest plan cell; illegal if any
+//                      rollout cell cannot reach the plan.
+//  GoalDistCritic      goal_dist: MapGrid distance from the rollout's end to
+//                      the local goal (MapGrid::FindLocalGoal); illegal if any
+//                      rollout cell cannot reach it.
+//  ObstacleCostCritic  occ_cost: the worst FootprintCost along the rollout.
+//                      Illegal if any pose after the start, on the rollout or
+//                      on its braking tail (trajectory.h), is off the map or
+//                      has cost >= 253 (the outline touches the inscribed
+//                      band, is on an obstacle or on unknown space).  The
+//                      escape trajectory only has to stay off lethal (254)
+//                      and unknown cells, so a robot already inside the
+//                      inscribed band can back out of it.
+//  OscillationCritic   TrajectoryPlanner's oscillation flags: after an
+//                      in-place rotation one way and then the other, the
+//                      first direction is forbidden; after switching between
+//                      forward and backward, the previous direction is
+//                      forbidden; both until the robot has moved
+//                      oscillation_reset_dist.  Scores 0 or illegal.
+#ifndef MINIBOT3D_NAVIGATION_DWA_CRITICS_H_
+#define MINIBOT3D_NAVIGATION_DWA_CRITICS_H_
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "minibot3d_navigation/costmap/footprint.h"
+#include "minibot3d_navigation/dwa/map_grid.h"
+#include "minibot3d_navigation/dwa/trajectory_critic.h"
+
+namespace minibot3d_navigation {
+namespace nav {
+namespace dwa {
+
+// Indices of the costmap cells covered by `footprint` at `pose` (interior,
+// outline and centre), for MapGrid's robot cells.
+void FootprintCells(const Costmap2D& costmap, const Footprint& footprint,
+                    const Pose2D& pose, std::vector<int>* cells);
+
+class PathDistCritic : public TrajectoryCritic {
+ public:
+  explicit PathDistCritic(const Footprint& footprint)
+      : footprint_(footprint) {}
+  std::string name() const override { return "PathDist"; }
+  bool Prepare(const Pose2D& pose, const Twist2D& velocity, const Path& plan,
+               const Costmap2D& costmap) override;
+  double Score(const Trajectory& traj) override;
+  const MapGrid& grid() const { return grid_; }
+
+ private:
+  Footprint footprint_;
+  MapGrid grid_;
+  std::vector<int> robot_cells_;
+  const Costmap2D* costmap_ = nullptr;
+};
+
+class GoalDistCritic : public TrajectoryCritic {
+ public:
+  explicit GoalDistCritic(const Footprint& footprint)
+      : footprint_(footprint) {}
+  std::string name() const override { return "GoalDist"; }
+  bool Prepare(const Pose2D& pose, const Twist2D& velocity, const Path& plan,
+               const Costmap2D& costmap) override;
+  double Score(const Trajectory& traj) override;
+  const MapGrid& grid() const { return grid_; }
+  // The local goal cell's centre (valid after a successful Prepare).
+  Point2D local_goal() const { return local_goal_; }
+  // Goal distance (cells) of the point `lookahead` metres in front of
+  // `pose`; impossible_distance() if off the map.
+  double DistanceAhead(const Pose2D& pose, double lookahead) const;
+
+ private:
+  Footprint footprint_;
+  MapGrid grid_;
+  std::vector<int> robot_cells_;
+  const Costmap2D* costmap_ = nullptr;
+  Point2D local_goal_;
+};
+
+class ObstacleCostCritic : public TrajectoryCritic {
+ public:
+  explicit ObstacleCostCritic(const Footprint& footprint)
+      : footprint_(footprint) {}
+  std::string name() const override { return "ObstacleCost"; }
+  bool Prepare(const Pose2D& pose, const Twist2D& velocity, const Path& plan,
+               const Costmap2D& costmap) override;
+  double Score(const Trajectory& traj) override;
+  // Prepare without a plan (for checking a single command).
+  void SetCostmap(const Costmap2D& costmap) {
+    costmap_ = &costmap;
+    nearest_collision_ = std::numeric_limits<double>::infinity();
+  }
+  // Smallest distance travelled before a collision over the trajectories
+  // rejected since Prepare (infinity if none).
+  double nearest_collision_distance() const { return nearest_collision_; }
+
+ private:
+  // Worst cost, or -1 with *collision_distance set (if non-null).
+  int Check(const Trajectory& traj, double* collision_distance) const;
+
+  Footprint footprint_;
+  const Costmap2D* costmap_ = nullptr;
+  double nearest_collision_ = 0.0;
+};
+
+class OscillationCritic : public TrajectoryCritic {
+ public:
+  explicit OscillationCritic(double oscillation_reset_dist)
+      : reset_dist_(oscillation_reset_dist) {}
+  std::string name() const override { return "Oscillation"; }
+  bool Prepare(const Pose2D& pose, const Twist2D& velocity, const Path& plan,
+               const Costmap2D& costmap) override;
+  double Score(const Trajectory& traj) override;
+  void Debrief(const Trajectory& chosen) override;
+  void Reset() override;
+
+  bool forbid_positive_rotation() const { return forbid_pos_rot_; }
+  bool forbid_negative_rotation() const { return forbid_neg_rot_; }
+  bool forbid_forward() const { return forbid_forward_; }
+  bool forbid_backward() const { return forbid_backward_; }
+
+ private:
+  double reset_dist_;
+  Pose2D pose_;
+  // In-place rotation memory (TrajectoryPlanner's rotating_*/stuck_*).
+  bool rotated_pos_ = false, rotated_neg_ = false;
+  bool forbid_pos_rot_ = false, forbid_neg_rot_ = false;
+  Pose2D rotation_anchor_;
+  // Direction memory: sign of the last non-zero vx commanded.
+  int last_direction_ = 0;
+  bool forbid_forward_ = false, forbid_backward_ = false;
+  Pose2D direction_anchor_;
+};
+
+}  // namespace dwa
+}  // namespace nav
+}  // namespace minibot3d_navigation
+
+#endif  // MINIBOT3D_NAVIGATION_DWA_CRITICS_H_

@@ -1,0 +1,134 @@
+// Parameters of the dynamic-window local planner (dwa_planner.h).
+//
+// Names and defaults are base_local_planner's TrajectoryPlannerROS ones, so a
+// move_base YAML written for TrajectoryPlannerROS loads parameter by parameter
+// through SetDwaOption().  The DWAPlannerROS spellings that mean the same thing
+// for a differential / skid-steer base are accepted as aliases (listed next to
+// each field).  Parameters of either planner that only matter for holonomic
+// robots or for ROS plumbing are accepted and ignored (DwaIgnoredOptionNames());
+// holonomic_robot itself must stay false: minibot3d is a skid-steer.
+#ifndef MINIBOT3D_NAVIGATION_DWA_DWA_OPTIONS_H_
+#define MINIBOT3D_NAVIGATION_DWA_DWA_OPTIONS_H_
+
+#include <string>
+#include <vector>
+
+#include "minibot3d_navigation/nav_types.h"
+
+namespace minibot3d_navigation {
+namespace nav {
+namespace dwa {
+
+struct DwaOptions {
+  // --- Robot configuration (TrajectoryPlannerROS) ---
+  double acc_lim_x = 2.5;      // m/s^2
+  double acc_lim_y = 2.5;      // m/s^2, accepted for YAML compatibility, unused
+  double acc_lim_theta = 3.2;  // rad/s^2 (alias acc_lim_th)
+  double max_vel_x = 0.5;      // m/s
+  // m/s; may be negative (sampled windows then include reversing).
+  double min_vel_x = 0.1;
+  // rad/s.  Aliases max_rot_vel / max_rotational_vel set max_vel_theta = v
+  // and min_vel_theta = -v (DWAPlannerROS bounds |vtheta| symmetrically).
+  double max_vel_theta = 1.0;
+  // rad/s, the most negative (clockwise) rotational velocity.  NOTE: in
+  // DWAPlannerROS (melodic+) `min_vel_theta` means the smallest |vtheta|;
+  // that is min_in_place_vel_theta here, and a positive min_vel_theta is
+  // rejected by ValidateDwaOptions with that hint.
+  double min_vel_theta = -1.0;
+  // rad/s, smallest |vtheta| of an in-place rotation (the base cannot turn
+  // slower on the spot).  Aliases min_rot_vel, min_in_place_rotational_vel.
+  double min_in_place_vel_theta = 0.4;
+  // m/s, the backing-up speed of the escape trajectory (<= 0; 0 disables
+  // escaping).  Alias backup_vel (deprecated in TrajectoryPlannerROS).
+  double escape_vel = -0.1;
+  // Must be false: the robot cannot move sideways.  (ROS defaults to true.)
+  bool holonomic_robot = false;
+
+  // --- Goal tolerance ---
+  double yaw_goal_tolerance = 0.05;  // rad
+  double xy_goal_tolerance = 0.10;   // m
+  // Once within xy_goal_tolerance, stay "in position" and only rotate, even
+  // if rotating drifts the robot back out of the tolerance.
+  bool latch_xy_goal_tolerance = false;
+  // Below these speeds the robot counts as stopped (goal reached, start of
+  // the final in-place rotation).  DWAPlannerROS names; alias
+  // theta_stopped_vel for rot_stopped_vel.
+  double trans_stopped_vel = 0.1;  // m/s
+  double rot_stopped_vel = 0.1;    // rad/s
+
+  // --- Forward simulation ---
+  double sim_time = 1.0;         // s, length of each rollout
+  double sim_granularity = 0.025;  // m between checked poses
+  // rad between checked poses; < 0 (default): same as sim_granularity.
+  double angular_sim_granularity = -1.0;
+  int vx_samples = 3;       // >= 1
+  int vtheta_samples = 20;  // >= 1 (alias vth_samples)
+  // Hz of the control loop (move_base's parameter).  1/controller_frequency
+  // is the period the dynamic window and the stopping check are built on.
+  double controller_frequency = 20.0;
+
+  // --- Trajectory scoring ---
+  // cost = path_distance_bias * path_dist + goal_distance_bias * goal_dist
+  //        + occdist_scale * max_footprint_cost
+  // path_dist / goal_dist in cells, or in metres when meter_scoring (then, as
+  // TrajectoryPlannerROS, occdist_scale is multiplied by the resolution too).
+  double path_distance_bias = 0.6;  // (TrajectoryPlannerROS alias pdist_scale)
+  double goal_distance_bias = 0.8;  // (alias gdist_scale)
+  double occdist_scale = 0.01;
+  // m: an in-place rotation is picked by the goal distance at this point in
+  // front of the rotated robot.
+  double heading_lookahead = 0.325;
+  bool dwa = true;  // sample the window reachable in one period (alias use_dwa)
+  bool meter_scoring = false;
+  // m the robot must travel before in-place rotation direction flips and
+  // forward/backward flips are allowed again.
+  double oscillation_reset_dist = 0.05;
+  // Escaping (backing up) ends after this much travel / rotation.
+  double escape_reset_dist = 0.10;
+  double escape_reset_theta = kPi / 4.0;
+  bool prune_plan = true;  // drop the part of the plan the robot has passed
+
+  // --- Not ROS parameters ---
+  // rad: if the plan ahead lies further than this off the robot's heading,
+  // stop and rotate in place towards it before following it (back to normal
+  // following below half this angle).  >= pi disables.
+  double rotate_to_path_angle = kPi / 2.0;
+};
+
+// Throws std::invalid_argument whose message lists every offending parameter
+// with its value, e.g. "invalid DWA local planner (TrajectoryPlannerROS)
+// parameters: min_vel_x=0.6 > max_vel_x=0.5; vx_samples=0 must be >= 1".
+void ValidateDwaOptions(const DwaOptions& options);
+
+// Sets the option called `name` (TrajectoryPlannerROS / DWAPlannerROS name or
+// alias) from its text form ("0.25", "20", "true").  Ignored names (see
+// DwaIgnoredOptionNames) are accepted and change nothing.  Throws
+// std::invalid_argument for an unknown name or text that does not parse as the
+// option's type.  Does not validate ranges: call ValidateDwaOptions() after
+// setting them all.
+void SetDwaOption(const std::string& name, const std::string& text,
+                  DwaOptions* options);
+
+// True if SetDwaOption() accepts `name` (option, alias or ignored name).
+bool IsDwaOptionName(const std::string& name);
+
+// True if `name` is accepted but has no effect (holonomic-only, ROS
+// plumbing, or a DWAPlannerROS cost term this planner does not have).
+bool IsIgnoredDwaOptionName(const std::string& name);
+
+// Canonical option names (no aliases), in declaration order.
+std::vector<std::string> DwaOptionNames();
+
+// Names accepted and ignored, e.g. y_vels, max_vel_y, vy_samples,
+// heading_scoring, publish_cost_grid_pc, forward_point_distance.
+std::vector<std::string> DwaIgnoredOptionNames();
+
+// angular_sim_granularity with the "< 0: same as sim_granularity" rule
+// applied.
+double EffectiveAngularSimGranularity(const DwaOptions& options);
+
+}  // namespace dwa
+}  // namespace nav
+}  // namespace minibot3d_navigation
+
+#endif  // MINIBOT3D_NAVIGATION_DWA_DWA_OPTIONS_H_

@@ -1,0 +1,178 @@
+// Dynamic Window Approach local planner (Fox, Burgard & Thrun, "The dynamic
+// window approach to collision avoidance", IEEE Robotics & Automation
+// Magazine 4(1):23-33, 1997), as base_local_planner's TrajectoryPlannerROS
+// runs it with dwa = true, for a non-holonomic (skid-steer) base.
+//
+// Each control cycle:
+//  1. Prune the plan to the pose closest to the robot (prune_plan).
+//  2. Goal: within xy_goal_tolerance (latched if latch_xy_goal_tolerance),
+//     brake to a stop, then rotate in place to the goal yaw at
+//     [min_in_place_vel_theta, max_vel_theta], slowing at acc_lim_theta so
+//     that it stops inside yaw_goal_tolerance; zero once within it.
+//  3. If the plan ahead (the first plan pose heading_lookahead or more from
+//     the robot) is more than rotate_to_path_angle off the heading, brake and
+//     rotate in place towards it first.
+//  4. Otherwise sample the dynamic window (trajectory.h): vx_samples x
+//     (vtheta_samples + the straight command) and vtheta_samples in-place
+//     rotations, roll each out for sim_time and score it with the critics
+//     (critics.h):
+//       path_distance_bias * path_dist + goal_distance_bias * goal_dist
+//       + occdist_scale * occ_cost      (x resolution when meter_scoring)
+//     The cheapest legal trajectory wins.  An in-place rotation replaces it
+//     when it costs no more (the one whose end pose looks closest to the
+//     goal, heading_lookahead ahead), but only if that is closer than from
+//     the current pose, its direction is not forbidden by the oscillation
+//     flags, it does not leave the robot more than rotate_to_path_angle off
+//     the plan (step 3 would turn it back), and the robot has not yet turned
+//     a full circle without moving oscillation_reset_dist.
+//     (TrajectoryPlanner takes any rotation when nothing else is legal, and
+//     can spin in front of an obstacle for ever.)
+//  5. Nothing legal: if moving, brake at the acceleration limits (always
+//     admissible after an admissible command).  If stopped with the
+//     footprint already in the inscribed band (stuck), back up at escape_vel
+//     (TrajectoryPlanner's escape; forward trajectories stay off until the
+//     robot has moved escape_reset_dist or turned escape_reset_theta),
+//     provided that keeps the footprint off lethal cells.  A robot that is
+//     clear but blocked (stopped in front of an obstacle on the plan) gets a
+//     ControlError instead: TrajectoryPlanner would back up and come forward
+//     again, or wander off along the obstacle; move_base's recovery and
+//     replanning are the better cure.
+//
+// Safety: a trajectory is legal only if neither its rollout nor its braking
+// tail (the command held for one control period, then braking at acc_lim_x
+// and acc_lim_theta) puts the footprint on a cell of cost >= 253 or off the
+// map, and speeds are capped so a rollout is at least as long as the
+// stopping distance: Fox et al.'s admissible velocities, v <= sqrt(2 *
+// dist(v, w) * acc_lim_x).  So the planner slows down for an obstacle it can
+// see whatever max_vel_x, sim_time and controller_frequency are.  When
+// ComputeVelocity throws, the caller must command zero (move_base does): the
+// previous command was chosen so that braking from here is collision-free.
+//
+// Inputs are in the local costmap's frame: robot pose, robot velocity (in the
+// robot frame, from odometry), the global plan transformed into that frame,
+// the local costmap (robot footprint already cleared, inflated).
+#ifndef MINIBOT3D_NAVIGATION_DWA_DWA_PLANNER_H_
+#define MINIBOT3D_NAVIGATION_DWA_DWA_PLANNER_H_
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "minibot3d_navigation/costmap/footprint.h"
+#include "minibot3d_navigation/dwa/critics.h"
+#include "minibot3d_navigation/dwa/dwa_options.h"
+#include "minibot3d_navigation/dwa/local_planner.h"
+#include "minibot3d_navigation/dwa/trajectory.h"
+
+namespace minibot3d_navigation {
+namespace nav {
+namespace dwa {
+
+class DwaPlanner : public LocalPlanner {
+ public:
+  // What the last ComputeVelocity did.
+  enum class Mode {
+    kNone,
+    kFollowPath,    // best sampled / in-place / braking trajectory
+    kEscape,        // backing up at escape_vel
+    kRotateToPath,  // plan far off the heading: braking / turning on the spot
+    kStopAtGoal,    // in xy tolerance, braking before the final rotation
+    kRotateToGoal,  // in xy tolerance, turning to the goal yaw
+    kAtGoal,        // in xy and yaw tolerance: zero command
+  };
+
+  struct CycleStats {
+    Mode mode = Mode::kNone;
+    int evaluated = 0;  // trajectories generated and scored
+    // Rejections per critic, in the order of critics(): Oscillation,
+    // PathDist, GoalDist, ObstacleCost.
+    std::array<int, 4> rejected{};
+    int pruned = 0;  // skipped once their partial cost exceeded the best
+    // Legal in-place rotations not taken: not turning towards the goal, the
+    // robot already turned a full circle on the spot, or they would leave it
+    // facing more than rotate_to_path_angle away from the plan.
+    int rotations_refused = 0;
+  };
+
+  // Throws std::invalid_argument if `options` fail ValidateDwaOptions or the
+  // footprint has fewer than 3 points.
+  DwaPlanner(const DwaOptions& options, const Footprint& footprint);
+
+  std::string name() const override { return "dwa_local_planner"; }
+  void Reset() override;
+  Twist2D ComputeVelocity(const Pose2D& pose, const Twist2D& velocity,
+                          const Path& plan, const Costmap2D& costmap) override;
+  bool IsGoalReached(const Pose2D& pose, const Twist2D& velocity,
+                     const Path& plan) override;
+
+  const DwaOptions& options() const { return options_; }
+  // The trajectory behind the last command (for the local_plan topic); empty
+  // poses when the command was not simulated (at goal).
+  const Trajectory& last_trajectory() const { return best_; }
+  const CycleStats& last_stats() const { return stats_; }
+  // The pruned plan of the last cycle.
+  const Path& pruned_plan() const { return pruned_; }
+  // Local goal of the last cycle's goal-distance grid.
+  Point2D local_goal() const { return goal_critic_.local_goal(); }
+  const TrajectoryGenerator& generator() const { return generator_; }
+
+ private:
+  void CheckInputs(const Pose2D& pose, const Twist2D& velocity,
+                   const Path& plan, const Costmap2D& costmap) const;
+  void PrunePlan(const Pose2D& pose, const Path& plan,
+                 const Costmap2D& costmap);
+  bool Stopped(const Twist2D& velocity) const;
+  // Braking command; its trajectory becomes last_trajectory().
+  Twist2D Brake(const Pose2D& pose, const Twist2D& velocity, Mode mode,
+                const Costmap2D& costmap);
+  // In-place rotation towards `target_yaw`, stopping within `tolerance`.
+  // Returns false if that rotation collides (best_ then holds it).
+  bool RotateTowards(const Pose2D& pose, const Twist2D& velocity,
+                     double target_yaw, double tolerance,
+                     const Costmap2D& costmap, Twist2D* command);
+  // Angle from the heading to the first plan pose heading_lookahead or more
+  // from the robot; NaN if that pose is off the costmap.
+  double PathHeadingError(const Pose2D& pose, const Costmap2D& costmap) const;
+  Twist2D FollowPath(const Pose2D& pose, const Twist2D& velocity,
+                     const Costmap2D& costmap);
+  // Scores `candidate_` into its cost: negative if illegal, or +infinity if
+  // pruned (partial cost above `bound`).
+  double Evaluate(double bound);
+  std::string Diagnose(const Pose2D& pose, const Costmap2D& costmap) const;
+  // "nearest obstacle 0.12 m ahead of the footprint (bearing 5 deg)".
+  std::string NearestObstacle(const Pose2D& pose,
+                              const Costmap2D& costmap) const;
+
+  const DwaOptions options_;
+  const Footprint footprint_;
+  TrajectoryGenerator generator_;
+  OscillationCritic oscillation_critic_;
+  PathDistCritic path_critic_;
+  GoalDistCritic goal_critic_;
+  ObstacleCostCritic obstacle_critic_;
+  std::array<TrajectoryCritic*, 4> critics_;
+
+  Trajectory best_;
+  Trajectory candidate_;
+  Path pruned_;
+  CycleStats stats_;
+
+  bool latched_ = false;
+  Pose2D latched_goal_;
+  bool rotating_to_goal_ = false;
+  bool rotating_to_path_ = false;
+  bool escaping_ = false;
+  Pose2D escape_pose_;
+  // Rotation on the spot since the robot last moved oscillation_reset_dist.
+  Pose2D spin_anchor_;
+  double last_yaw_ = 0.0;
+  double spun_in_place_ = 0.0;
+};
+
+const char* DwaModeName(DwaPlanner::Mode mode);
+
+}  // namespace dwa
+}  // namespace nav
+}  // namespace minibot3d_navigation
+
+#endif  // MINIBOT3D_NAVIGATION_DWA_DWA_PLANNER_H_

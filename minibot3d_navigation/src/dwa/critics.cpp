@@ -1,0 +1,318 @@
+#include "minibot3d_navigation/dwa/critics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace minibot3d_navigation {
+namespace nav {
+namespace dwa {
+namespace {
+
+std::string Xy(double x, double y) {
+  std::ostringstream os;
+  os.precision(3);
+  os << std::fixed << "(" << x << ", " << y << ")";
+  return os.str();
+}
+
+bool InsidePolygon(const Footprint& poly, double x, double y) {
+  bool inside = false;
+  const size_t n = poly.size();
+  for (size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Point2D& a = poly[i];
+    const Point2D& b = poly[j];
+    if ((a.y > y) != (b.y > y) &&
+        x < (b.x - a.x) * (y - a.y) / (b.y - a.y) + a.x) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+// Length of the polyline poses[0..index].
+double ArcLength(const std::vector<Pose2D>& poses, size_t index) {
+  double len = 0.0;
+  for (size_t i = 1; i <= index && i < poses.size(); ++i) {
+    len += std::hypot(poses[i].x - poses[i - 1].x, poses[i].y - poses[i - 1].y);
+  }
+  return len;
+}
+
+// Distance (cells) of the rollout's end, or -1 if a rollout cell is off the
+// map or cannot reach the grid's targets.
+double ScoreOnGrid(const MapGrid& grid, const Costmap2D& costmap,
+                   const Trajectory& traj) {
+  const float impossible = grid.impossible_distance();
+  float d = 0.0f;
+  for (const Pose2D& p : traj.poses) {
+    int mx, my;
+    if (!costmap.WorldToMap(p.x, p.y, &mx, &my)) return -1.0;
+    d = grid.distance(mx, my);
+    if (d >= impossible) return -1.0;
+  }
+  return d;
+}
+
+}  // namespace
+
+void FootprintCells(const Costmap2D& costmap, const Footprint& footprint,
+                    const Pose2D& pose, std::vector<int>* cells) {
+  cells->clear();
+  const Footprint poly = TransformFootprint(footprint, pose);
+  double x0 = pose.x, x1 = pose.x, y0 = pose.y, y1 = pose.y;
+  for (const Point2D& p : poly) {
+    x0 = std::min(x0, p.x);
+    x1 = std::max(x1, p.x);
+    y0 = std::min(y0, p.y);
+    y1 = std::max(y1, p.y);
+  }
+  int mx0, my0, mx1, my1;
+  costmap.WorldToMapNoBounds(x0, y0, &mx0, &my0);
+  costmap.WorldToMapNoBounds(x1, y1, &mx1, &my1);
+  mx0 = std::max(mx0, 0);
+  my0 = std::max(my0, 0);
+  mx1 = std::min(mx1, costmap.size_x() - 1);
+  my1 = std::min(my1, costmap.size_y() - 1);
+  for (int my = my0; my <= my1; ++my) {
+    for (int mx = mx0; mx <= mx1; ++mx) {
+      double wx, wy;
+      costmap.MapToWorld(mx, my, &wx, &wy);
+      if (InsidePolygon(poly, wx, wy)) cells->push_back(costmap.Index(mx, my));
+    }
+  }
+  std::vector<std::pair<int, int>> outline;
+  PolygonOutlineCells(costmap, poly, &outline);
+  for (const auto& c : outline) {
+    if (costmap.InBounds(c.first, c.second)) {
+      cells->push_back(costmap.Index(c.first, c.second));
+    }
+  }
+  int cx, cy;
+  if (costmap.WorldToMap(pose.x, pose.y, &cx, &cy)) {
+    cells->push_back(costmap.Index(cx, cy));
+  }
+}
+
+// --- PathDistCritic ---
+
+bool PathDistCritic::Prepare(const Pose2D& pose, const Twist2D& /*velocity*/,
+                             const Path& plan, const Costmap2D& costmap) {
+  costmap_ = &costmap;
+  failure_.clear();
+  FootprintCells(costmap, footprint_, pose, &robot_cells_);
+  if (grid_.SetTargetCells(costmap, plan, robot_cells_) == 0) {
+    failure_ = "none of the " + std::to_string(plan.size()) +
+               " plan poses is on the known part of the local costmap "
+               "(first pose " +
+               Xy(plan.front().x, plan.front().y) + ", robot at " +
+               Xy(pose.x, pose.y) + ")";
+    return false;
+  }
+  int mx, my;
+  if (costmap.WorldToMap(pose.x, pose.y, &mx, &my) && !grid_.Reachable(mx, my)) {
+    failure_ = "the plan cannot be reached from the robot at " +
+               Xy(pose.x, pose.y) +
+               " on the local costmap: lethal, inscribed or unknown cells "
+               "separate them";
+    return false;
+  }
+  return true;
+}
+
+double PathDistCritic::Score(const Trajectory& traj) {
+  return ScoreOnGrid(grid_, *costmap_, traj);
+}
+
+// --- GoalDistCritic ---
+
+bool GoalDistCritic::Prepare(const Pose2D& pose, const Twist2D& /*velocity*/,
+                             const Path& plan, const Costmap2D& costmap) {
+  costmap_ = &costmap;
+  failure_.clear();
+  int gx, gy, bx, by;
+  bool in_obstacle = false;
+  if (!MapGrid::FindLocalGoal(costmap, plan, &gx, &gy, &in_obstacle, &bx,
+                              &by)) {
+    failure_ = "none of the " + std::to_string(plan.size()) +
+               " plan poses is on the known part of the local costmap "
+               "(first pose " +
+               Xy(plan.front().x, plan.front().y) + ", robot at " +
+               Xy(pose.x, pose.y) + ")";
+    return false;
+  }
+  if (in_obstacle && bx >= 0) {
+    gx = bx;
+    gy = by;
+    in_obstacle = false;
+  }
+  costmap.MapToWorld(gx, gy, &local_goal_.x, &local_goal_.y);
+  if (in_obstacle) {
+    failure_ = "the local goal " + Xy(local_goal_.x, local_goal_.y) +
+               " is in an obstacle or its inscribed band (cost " +
+               std::to_string(costmap.cost(gx, gy)) +
+               ") and no free plan point comes before it";
+    return false;
+  }
+  FootprintCells(costmap, footprint_, pose, &robot_cells_);
+  grid_.SetTargetCell(costmap, gx, gy, robot_cells_);
+  int mx, my;
+  const bool on_map = costmap.WorldToMap(pose.x, pose.y, &mx, &my);
+  if (on_map && !grid_.Reachable(mx, my) && bx >= 0 && (bx != gx || by != gy)) {
+    // The goal lies beyond an obstacle that closes the way: head for the
+    // free side of the obstacle instead (and stop there).
+    gx = bx;
+    gy = by;
+    costmap.MapToWorld(gx, gy, &local_goal_.x, &local_goal_.y);
+    grid_.SetTargetCell(costmap, gx, gy, robot_cells_);
+  }
+  if (on_map && !grid_.Reachable(mx, my)) {
+    failure_ = "the local goal " + Xy(local_goal_.x, local_goal_.y) +
+               " cannot be reached from the robot at " + Xy(pose.x, pose.y) +
+               " on the local costmap: lethal, inscribed or unknown cells "
+               "separate them";
+    return false;
+  }
+  return true;
+}
+
+double GoalDistCritic::Score(const Trajectory& traj) {
+  return ScoreOnGrid(grid_, *costmap_, traj);
+}
+
+double GoalDistCritic::DistanceAhead(const Pose2D& pose,
+                                     double lookahead) const {
+  int mx, my;
+  if (!costmap_->WorldToMap(pose.x + lookahead * std::cos(pose.yaw),
+                            pose.y + lookahead * std::sin(pose.yaw), &mx,
+                            &my)) {
+    return grid_.impossible_distance();
+  }
+  return grid_.distance(mx, my);
+}
+
+// --- ObstacleCostCritic ---
+
+bool ObstacleCostCritic::Prepare(const Pose2D& /*pose*/,
+                                 const Twist2D& /*velocity*/,
+                                 const Path& /*plan*/,
+                                 const Costmap2D& costmap) {
+  costmap_ = &costmap;
+  nearest_collision_ = std::numeric_limits<double>::infinity();
+  return true;
+}
+
+int ObstacleCostCritic::Check(const Trajectory& traj,
+                              double* collision_distance) const {
+  // The footprint's outline must stay out of the inscribed band (cost 253:
+  // within the inscribed radius of an obstacle), which keeps a margin of one
+  // inscribed radius between the robot and what it can see, whatever the cell
+  // quantisation.  Base_local_planner only rejects lethal outline cells,
+  // which lets a robot scrape walls; an escape (backing out of the band) only
+  // has to avoid lethal cells.
+  const int limit = traj.kind == TrajectoryKind::kEscape
+                        ? kLethalObstacle
+                        : kInscribedInflatedObstacle;
+  int worst = 0;
+  // The start pose is where the robot already is: not checked.
+  for (size_t i = 1; i < traj.poses.size(); ++i) {
+    const int c = FootprintCost(*costmap_, footprint_, traj.poses[i]);
+    if (c < 0 || c >= limit) {
+      if (collision_distance != nullptr) {
+        *collision_distance = ArcLength(traj.poses, i);
+      }
+      return -1;
+    }
+    worst = std::max(worst, c);
+  }
+  for (size_t i = 0; i < traj.braking_poses.size(); ++i) {
+    const int c = FootprintCost(*costmap_, footprint_, traj.braking_poses[i]);
+    if (c < 0 || c >= limit) {
+      if (collision_distance != nullptr) {
+        *collision_distance = traj.braking_start_distance +
+                              ArcLength(traj.braking_poses, i);
+      }
+      return -1;
+    }
+  }
+  return worst;
+}
+
+double ObstacleCostCritic::Score(const Trajectory& traj) {
+  double distance = 0.0;
+  const int worst = Check(traj, &distance);
+  if (worst < 0) {
+    nearest_collision_ = std::min(nearest_collision_, distance);
+    return -1.0;
+  }
+  return worst;
+}
+
+// --- OscillationCritic ---
+
+bool OscillationCritic::Prepare(const Pose2D& pose, const Twist2D& /*velocity*/,
+                                const Path& /*plan*/,
+                                const Costmap2D& /*costmap*/) {
+  pose_ = pose;
+  if (std::hypot(pose.x - rotation_anchor_.x, pose.y - rotation_anchor_.y) >
+      reset_dist_) {
+    rotated_pos_ = rotated_neg_ = false;
+    forbid_pos_rot_ = forbid_neg_rot_ = false;
+  }
+  if (std::hypot(pose.x - direction_anchor_.x, pose.y - direction_anchor_.y) >
+      reset_dist_) {
+    forbid_forward_ = forbid_backward_ = false;
+  }
+  return true;
+}
+
+double OscillationCritic::Score(const Trajectory& traj) {
+  if (traj.kind == TrajectoryKind::kStop) return 0.0;
+  const Twist2D& c = traj.command;
+  if (c.vx == 0.0) {
+    if (c.vtheta > 0.0 && forbid_pos_rot_) return -1.0;
+    if (c.vtheta < 0.0 && forbid_neg_rot_) return -1.0;
+  }
+  if (c.vx > 0.0 && forbid_forward_) return -1.0;
+  if (c.vx < 0.0 && forbid_backward_) return -1.0;
+  return 0.0;
+}
+
+void OscillationCritic::Debrief(const Trajectory& chosen) {
+  if (chosen.kind == TrajectoryKind::kStop) return;
+  const Twist2D& c = chosen.command;
+  if (!(c.vx > 0.0)) {
+    if (c.vtheta < 0.0) {
+      if (rotated_pos_) forbid_pos_rot_ = true;
+      rotated_neg_ = true;
+    } else if (c.vtheta > 0.0) {
+      if (rotated_neg_) forbid_neg_rot_ = true;
+      rotated_pos_ = true;
+    }
+    rotation_anchor_ = pose_;
+  }
+  const int dir = c.vx > 0.0 ? 1 : (c.vx < 0.0 ? -1 : 0);
+  if (dir != 0) {
+    // Backing out (escape) and then driving forward again is progress, not
+    // oscillation: only forbid backing up again until the robot has moved
+    // oscillation_reset_dist forwards.  Forbidding forward after an escape
+    // could leave no legal command at all once the robot is clear.
+    if (last_direction_ < 0 && dir > 0) {
+      forbid_backward_ = true;
+      direction_anchor_ = pose_;
+    }
+    last_direction_ = dir;
+  }
+}
+
+void OscillationCritic::Reset() {
+  rotated_pos_ = rotated_neg_ = false;
+  forbid_pos_rot_ = forbid_neg_rot_ = false;
+  last_direction_ = 0;
+  forbid_forward_ = forbid_backward_ = false;
+}
+
+}  // namespace dwa
+}  // namespace nav
+}  // namespace minibot3d_navigation

@@ -1,0 +1,647 @@
+#include "minibot3d_navigation/dwa/dwa_planner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+namespace minibot3d_navigation {
+namespace nav {
+namespace dwa {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Radius searched for the nearest obstacle named in error messages.
+constexpr double kDiagnoseRadius = 2.0;
+
+std::string Fixed(double v, int digits = 2) {
+  std::ostringstream os;
+  os.precision(digits);
+  os << std::fixed << v;
+  return os.str();
+}
+
+std::string Xy(double x, double y) {
+  return "(" + Fixed(x, 3) + ", " + Fixed(y, 3) + ")";
+}
+
+bool SameGoal(const Pose2D& a, const Pose2D& b) {
+  return std::fabs(a.x - b.x) < 1e-6 && std::fabs(a.y - b.y) < 1e-6 &&
+         std::fabs(AngleDiff(a.yaw, b.yaw)) < 1e-6;
+}
+
+double SegmentDistance(double px, double py, const Point2D& a,
+                       const Point2D& b) {
+  const double dx = b.x - a.x, dy = b.y - a.y;
+  const double len2 = dx * dx + dy * dy;
+  double t = len2 > 0.0 ? ((px - a.x) * dx + (py - a.y) * dy) / len2 : 0.0;
+  t = std::clamp(t, 0.0, 1.0);
+  return std::hypot(a.x + t * dx - px, a.y + t * dy - py);
+}
+
+// Distance from point (px, py) in the robot frame to the footprint polygon
+// (0 inside).
+double FootprintDistance(const Footprint& fp, double px, double py) {
+  bool inside = false;
+  double d = kInf;
+  for (size_t i = 0, j = fp.size() - 1; i < fp.size(); j = i++) {
+    const Point2D& a = fp[i];
+    const Point2D& b = fp[j];
+    if ((a.y > py) != (b.y > py) &&
+        px < (b.x - a.x) * (py - a.y) / (b.y - a.y) + a.x) {
+      inside = !inside;
+    }
+    d = std::min(d, SegmentDistance(px, py, a, b));
+  }
+  return inside ? 0.0 : d;
+}
+
+}  // namespace
+
+const char* DwaModeName(DwaPlanner::Mode mode) {
+  switch (mode) {
+    case DwaPlanner::Mode::kNone:
+      return "none";
+    case DwaPlanner::Mode::kFollowPath:
+      return "follow path";
+    case DwaPlanner::Mode::kEscape:
+      return "escape";
+    case DwaPlanner::Mode::kRotateToPath:
+      return "rotate to path";
+    case DwaPlanner::Mode::kStopAtGoal:
+      return "stop at goal";
+    case DwaPlanner::Mode::kRotateToGoal:
+      return "rotate to goal";
+    case DwaPlanner::Mode::kAtGoal:
+      return "at goal";
+  }
+  return "?";
+}
+
+namespace {
+const DwaOptions& Validated(const DwaOptions& options) {
+  ValidateDwaOptions(options);
+  return options;
+}
+const Footprint& CheckedFootprint(const Footprint& footprint) {
+  if (footprint.size() < 3) {
+    throw std::invalid_argument(
+        "DWA local planner: the footprint needs at least 3 points, got " +
+        std::to_string(footprint.size()));
+  }
+  for (const Point2D& p : footprint) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
+      throw std::invalid_argument(
+          "DWA local planner: footprint point is not finite");
+    }
+  }
+  return footprint;
+}
+}  // namespace
+
+DwaPlanner::DwaPlanner(const DwaOptions& options, const Footprint& footprint)
+    : options_(Validated(options)),
+      footprint_(CheckedFootprint(footprint)),
+      generator_(options_),
+      oscillation_critic_(options_.oscillation_reset_dist),
+      path_critic_(footprint_),
+      goal_critic_(footprint_),
+      obstacle_critic_(footprint_),
+      critics_{&oscillation_critic_, &path_critic_, &goal_critic_,
+               &obstacle_critic_} {
+  oscillation_critic_.set_scale(0.0);
+}
+
+void DwaPlanner::Reset() {
+  latched_ = false;
+  rotating_to_goal_ = false;
+  rotating_to_path_ = false;
+  escaping_ = false;
+  spun_in_place_ = 0.0;
+  for (TrajectoryCritic* c : critics_) c->Reset();
+  best_.Clear();
+  stats_ = CycleStats();
+}
+
+bool DwaPlanner::Stopped(const Twist2D& v) const {
+  return std::fabs(v.vx) <= options_.trans_stopped_vel &&
+         std::fabs(v.vtheta) <= options_.rot_stopped_vel;
+}
+
+void DwaPlanner::CheckInputs(const Pose2D& pose, const Twist2D& velocity,
+                             const Path& plan,
+                             const Costmap2D& costmap) const {
+  if (plan.empty()) {
+    throw ControlError("DWA local planner: the plan is empty, nothing to follow");
+  }
+  if (!std::isfinite(pose.x) || !std::isfinite(pose.y) ||
+      !std::isfinite(pose.yaw)) {
+    throw ControlError("DWA local planner: the robot pose is not finite (" +
+                       Fixed(pose.x, 3) + ", " + Fixed(pose.y, 3) + ", " +
+                       Fixed(pose.yaw, 3) + ")");
+  }
+  if (!std::isfinite(velocity.vx) || !std::isfinite(velocity.vtheta)) {
+    throw ControlError("DWA local planner: the robot velocity is not finite");
+  }
+  if (costmap.size_x() <= 0 || costmap.size_y() <= 0) {
+    throw ControlError("DWA local planner: the local costmap is empty");
+  }
+  int mx, my;
+  if (!costmap.WorldToMap(pose.x, pose.y, &mx, &my)) {
+    throw ControlError(
+        "DWA local planner: the robot pose " + Xy(pose.x, pose.y) +
+        " is off the local costmap [" + Fixed(costmap.origin_x(), 3) + ", " +
+        Fixed(costmap.origin_x() + costmap.size_x_m(), 3) + "] x [" +
+        Fixed(costmap.origin_y(), 3) + ", " +
+        Fixed(costmap.origin_y() + costmap.size_y_m(), 3) +
+        "]; is the local costmap a rolling window in the pose's frame?");
+  }
+}
+
+void DwaPlanner::PrunePlan(const Pose2D& pose, const Path& plan,
+                           const Costmap2D& costmap) {
+  size_t first = 0;
+  if (options_.prune_plan) {
+    // Closest pose on the first stretch of the plan that lies on the local
+    // costmap; everything before it has been passed.
+    double best = kInf;
+    bool started = false;
+    for (size_t i = 0; i < plan.size(); ++i) {
+      int mx, my;
+      if (costmap.WorldToMap(plan[i].x, plan[i].y, &mx, &my)) {
+        started = true;
+        const double dx = plan[i].x - pose.x, dy = plan[i].y - pose.y;
+        const double d = dx * dx + dy * dy;
+        if (d < best) {
+          best = d;
+          first = i;
+        }
+      } else if (started) {
+        break;
+      }
+    }
+  }
+  pruned_.assign(plan.begin() + static_cast<std::ptrdiff_t>(first), plan.end());
+}
+
+Twist2D DwaPlanner::Brake(const Pose2D& pose, const Twist2D& velocity,
+                          Mode mode, const Costmap2D& costmap) {
+  generator_.Generate(pose, velocity, Twist2D(), TrajectoryKind::kStop, &best_);
+  best_.command = generator_.BrakingCommand(velocity);
+  obstacle_critic_.SetCostmap(costmap);
+  // Braking is the safest thing available whether or not it is clear, so
+  // the cost is informative only.
+  best_.cost = obstacle_critic_.Score(best_);
+  stats_.mode = mode;
+  return best_.command;
+}
+
+bool DwaPlanner::RotateTowards(const Pose2D& pose, const Twist2D& velocity,
+                               double target_yaw, double tolerance,
+                               const Costmap2D& costmap, Twist2D* command) {
+  const double diff = AngleDiff(target_yaw, pose.yaw);
+  const double sign = diff >= 0.0 ? 1.0 : -1.0;
+  const double adiff = std::fabs(diff);
+  const double max_rot =
+      diff >= 0.0 ? options_.max_vel_theta : -options_.min_vel_theta;
+  const double acc = options_.acc_lim_theta;
+  const double period = generator_.sim_period();
+  // TrajectoryPlannerROS::rotateToGoal: proportional, at least the in-place
+  // minimum, acceleration-limited, slow enough to stop at the target.
+  double mag = std::clamp(adiff, options_.min_in_place_vel_theta, max_rot);
+  const double current = std::max(0.0, sign * velocity.vtheta);
+  mag = std::clamp(mag, current - acc * period, current + acc * period);
+  mag = std::min(mag, std::sqrt(2.0 * acc * adiff));
+  mag = std::clamp(mag, options_.min_in_place_vel_theta, max_rot);
+  // Ours: holding `mag` for one period and then braking must not overshoot
+  // the target by more than half the tolerance:
+  //   mag * T + mag^2 / (2 acc) <= adiff + tolerance / 2.
+  const double budget = adiff + 0.5 * tolerance;
+  const double no_overshoot =
+      acc * (-period + std::sqrt(period * period + 2.0 * budget / acc));
+  mag = std::min(mag, no_overshoot);
+  *command = Twist2D();
+  command->vtheta = sign * mag;
+
+  generator_.Generate(pose, velocity, *command, TrajectoryKind::kInPlace,
+                      &candidate_);
+  // Only the part of the rollout up to the target angle matters (the robot
+  // stops there); the braking tail covers the next control period.
+  double turned = 0.0;
+  size_t keep = 1;
+  for (; keep < candidate_.poses.size(); ++keep) {
+    turned += std::fabs(
+        AngleDiff(candidate_.poses[keep].yaw, candidate_.poses[keep - 1].yaw));
+    if (turned > budget) break;
+  }
+  candidate_.poses.resize(std::min(keep + 1, candidate_.poses.size()));
+  obstacle_critic_.SetCostmap(costmap);
+  candidate_.cost = obstacle_critic_.Score(candidate_);
+  std::swap(best_, candidate_);
+  ++stats_.evaluated;
+  if (best_.cost < 0.0) ++stats_.rejected[3];
+  return best_.cost >= 0.0;
+}
+
+double DwaPlanner::PathHeadingError(const Pose2D& pose,
+                                    const Costmap2D& costmap) const {
+  // Bearing of the first plan pose at least heading_lookahead from the robot
+  // (the plan's end if none is).  Measured from the robot, so a robot that
+  // has strayed beside the plan is also turned back towards it.
+  const double lookahead =
+      std::max(options_.heading_lookahead, 2.0 * costmap.resolution());
+  const Pose2D* target = &pruned_.back();
+  for (const Pose2D& p : pruned_) {
+    if (std::hypot(p.x - pose.x, p.y - pose.y) >= lookahead) {
+      target = &p;
+      break;
+    }
+  }
+  int mx, my;
+  if (!costmap.WorldToMap(target->x, target->y, &mx, &my)) {
+    return std::numeric_limits<double>::quiet_NaN();  // FollowPath reports it
+  }
+  const double dx = target->x - pose.x, dy = target->y - pose.y;
+  if (std::hypot(dx, dy) < 1e-6) return 0.0;
+  return AngleDiff(std::atan2(dy, dx), pose.yaw);
+}
+
+double DwaPlanner::Evaluate(double bound) {
+  ++stats_.evaluated;
+  double cost = 0.0;
+  for (size_t k = 0; k < critics_.size(); ++k) {
+    const double s = critics_[k]->Score(candidate_);
+    if (s < 0.0) {
+      ++stats_.rejected[k];
+      candidate_.cost = -1.0;
+      return -1.0;
+    }
+    cost += critics_[k]->scale() * s;
+    // Later critics only add (scores >= 0): stop once this cannot win.
+    if (cost > bound && k + 1 < critics_.size()) {
+      ++stats_.pruned;
+      candidate_.cost = kInf;
+      return kInf;
+    }
+  }
+  candidate_.cost = cost;
+  return cost;
+}
+
+Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
+                               const Costmap2D& costmap) {
+  const double res = options_.meter_scoring ? costmap.resolution() : 1.0;
+  path_critic_.set_scale(options_.path_distance_bias * res);
+  goal_critic_.set_scale(options_.goal_distance_bias * res);
+  obstacle_critic_.set_scale(options_.occdist_scale * res);
+  for (TrajectoryCritic* c : critics_) {
+    if (!c->Prepare(pose, velocity, pruned_, costmap)) {
+      throw ControlError("DWA local planner: " + c->failure());
+    }
+  }
+  if (escaping_ &&
+      (std::hypot(pose.x - escape_pose_.x, pose.y - escape_pose_.y) >
+           options_.escape_reset_dist ||
+       std::fabs(AngleDiff(pose.yaw, escape_pose_.yaw)) >
+           options_.escape_reset_theta)) {
+    escaping_ = false;
+  }
+
+  const VelocityWindow win = generator_.Window(velocity);
+  const int nvx = options_.vx_samples;
+  const int nth = options_.vtheta_samples;
+  auto vx_sample = [&](int i) {
+    return nvx == 1 ? win.max_vx
+                    : win.min_vx + (win.max_vx - win.min_vx) * i / (nvx - 1);
+  };
+  auto vth_sample = [&](int j) {
+    return nth == 1 ? 0.5 * (win.min_vth + win.max_vth)
+                    : win.min_vth + (win.max_vth - win.min_vth) * j / (nth - 1);
+  };
+
+  bool have_best = false;
+  double best_cost = kInf;
+  auto take_if_better = [&]() {
+    if (candidate_.cost >= 0.0 && candidate_.cost < best_cost) {
+      std::swap(best_, candidate_);
+      best_cost = best_.cost;
+      have_best = true;
+    }
+  };
+
+  if (!escaping_) {
+    for (int i = 0; i < nvx; ++i) {
+      Twist2D cmd;
+      cmd.vx = vx_sample(i);
+      // The straight command first, then the theta samples.
+      for (int j = -1; j < nth; ++j) {
+        cmd.vtheta = j < 0 ? 0.0 : vth_sample(j);
+        if (j >= 0 && cmd.vtheta == 0.0) continue;
+        generator_.Generate(pose, velocity, cmd, TrajectoryKind::kSampled,
+                            &candidate_);
+        Evaluate(best_cost);
+        take_if_better();
+      }
+    }
+  }
+
+  // In-place rotations (TrajectoryPlanner): taken if no worse than the best
+  // so far, preferring the one pointing the robot closest to the goal (goal
+  // distance heading_lookahead ahead of its end pose).  Unlike
+  // TrajectoryPlanner, a rotation must also point the robot closer to the
+  // goal than it is now, so a blocked robot does not turn just because it
+  // may; and never past a full circle on the spot.
+  const double dvth = nth > 1 ? (win.max_vth - win.min_vth) / (nth - 1) : 0.0;
+  const double ahead_now =
+      goal_critic_.DistanceAhead(pose, options_.heading_lookahead);
+  double heading_dist = kInf;
+  const bool spun_out = spun_in_place_ > 2.0 * kPi;
+  double last_limited = 0.0;
+  for (int j = 0; j < nth; ++j) {
+    const double samp = vth_sample(j);
+    if (!(samp > dvth || samp < -dvth)) continue;
+    const double limited =
+        samp > 0.0 ? std::max(samp, options_.min_in_place_vel_theta)
+                   : std::min(samp, -options_.min_in_place_vel_theta);
+    if (limited == last_limited) continue;  // same rollout as the last one
+    last_limited = limited;
+    if (spun_out) {
+      ++stats_.rotations_refused;
+      continue;
+    }
+    Twist2D cmd;
+    cmd.vtheta = limited;
+    generator_.Generate(pose, velocity, cmd, TrajectoryKind::kInPlace,
+                        &candidate_);
+    const double cost = Evaluate(have_best ? best_cost : kInf);
+    if (cost >= 0.0 && cost < kInf && (!have_best || cost <= best_cost)) {
+      // Never turn so far off the plan that the next cycle would turn back
+      // (rotate-to-path), or the two would take turns.
+      const double off_path = PathHeadingError(candidate_.end(), costmap);
+      if (options_.rotate_to_path_angle < kPi && std::isfinite(off_path) &&
+          std::fabs(off_path) > options_.rotate_to_path_angle) {
+        if (!have_best) ++stats_.rotations_refused;
+        continue;
+      }
+      const double ahead =
+          goal_critic_.DistanceAhead(candidate_.end(), options_.heading_lookahead);
+      if (!(ahead < ahead_now)) {
+        if (!have_best) ++stats_.rotations_refused;
+      } else if (ahead < heading_dist) {
+        std::swap(best_, candidate_);
+        best_cost = cost;
+        heading_dist = ahead;
+        have_best = true;
+      }
+    }
+  }
+
+  // Braking to a standstill: the command every admissible trajectory leaves
+  // open (the dynamic window alone may not reach vx = 0), taken only when
+  // nothing else is legal; as a competitor it would win against slow
+  // rotations (lower obstacle cost) and make the robot stop-start.  Not while
+  // escaping: there the escape trajectory itself is the fallback.
+  if (!have_best && !escaping_ &&
+      (std::fabs(velocity.vx) > 1e-3 || std::fabs(velocity.vtheta) > 1e-3)) {
+    generator_.Generate(pose, velocity, Twist2D(), TrajectoryKind::kStop,
+                        &candidate_);
+    candidate_.command = generator_.BrakingCommand(velocity);
+    Evaluate(kInf);
+    take_if_better();
+  }
+
+  if (have_best) {
+    for (TrajectoryCritic* c : critics_) c->Debrief(best_);
+    stats_.mode = Mode::kFollowPath;
+    return best_.command;
+  }
+
+  // Nothing legal.  A robot whose footprint already touches the inscribed
+  // band (or is escaping) backs up slowly, TrajectoryPlanner's escape, if
+  // that keeps it off lethal cells.  A robot that is clear but cannot go on
+  // is blocked, not stuck: backing up would only make it dither in front of
+  // the obstacle (or wander off along it), so the caller gets a ControlError
+  // (recovery, replanning).
+  const int here = FootprintCost(costmap, footprint_, pose);
+  const bool stuck = here < 0 || here >= kInscribedInflatedObstacle;
+  std::string escape_note;
+  if (options_.escape_vel >= 0.0) {
+    escape_note = "escaping is disabled (escape_vel = 0)";
+  } else if (!stuck && !escaping_) {
+    escape_note = "the footprint is clear of the inscribed band (cost " +
+                  std::to_string(here) +
+                  "), so the way ahead is blocked rather than the robot stuck: "
+                  "not backing up";
+  } else {
+    Twist2D cmd;
+    cmd.vx = options_.escape_vel;
+    generator_.Generate(pose, velocity, cmd, TrajectoryKind::kEscape,
+                        &candidate_);
+    ++stats_.evaluated;
+    candidate_.cost = obstacle_critic_.Score(candidate_);
+    if (candidate_.cost >= 0.0) {
+      std::swap(best_, candidate_);
+      if (!escaping_) {
+        escaping_ = true;
+        escape_pose_ = pose;
+      }
+      for (TrajectoryCritic* c : critics_) c->Debrief(best_);
+      stats_.mode = Mode::kEscape;
+      return best_.command;
+    }
+    ++stats_.rejected[3];
+    escape_note = "backing up at escape_vel " + Fixed(options_.escape_vel) +
+                  " m/s collides too";
+  }
+  throw ControlError(Diagnose(pose, costmap) + "; " + escape_note);
+}
+
+std::string DwaPlanner::NearestObstacle(const Pose2D& pose,
+                                        const Costmap2D& costmap) const {
+  std::ostringstream os;
+  // Nearest lethal cell to the footprint, and where it is.
+  const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
+  int mx0, my0, mx1, my1;
+  costmap.WorldToMapNoBounds(pose.x - kDiagnoseRadius, pose.y - kDiagnoseRadius,
+                             &mx0, &my0);
+  costmap.WorldToMapNoBounds(pose.x + kDiagnoseRadius, pose.y + kDiagnoseRadius,
+                             &mx1, &my1);
+  mx0 = std::max(mx0, 0);
+  my0 = std::max(my0, 0);
+  mx1 = std::min(mx1, costmap.size_x() - 1);
+  my1 = std::min(my1, costmap.size_y() - 1);
+  double nearest = kInf, bx = 0.0, by = 0.0;
+  for (int my = my0; my <= my1; ++my) {
+    for (int mx = mx0; mx <= mx1; ++mx) {
+      if (costmap.cost(mx, my) != kLethalObstacle) continue;
+      double wx, wy;
+      costmap.MapToWorld(mx, my, &wx, &wy);
+      const double dx = wx - pose.x, dy = wy - pose.y;
+      const double rx = c * dx + s * dy, ry = -s * dx + c * dy;
+      const double d = FootprintDistance(footprint_, rx, ry);
+      if (d < nearest) {
+        nearest = d;
+        bx = rx;
+        by = ry;
+      }
+    }
+  }
+  if (std::isfinite(nearest)) {
+    // Cell centre to cell edge.
+    nearest = std::max(0.0, nearest - 0.5 * costmap.resolution());
+    const double bearing = std::atan2(by, bx) * 180.0 / kPi;
+    const char* where = std::fabs(bearing) <= 45.0    ? "ahead"
+                        : std::fabs(bearing) >= 135.0 ? "behind"
+                        : bearing > 0.0               ? "to the left"
+                                                      : "to the right";
+    os << "nearest obstacle " << Fixed(nearest) << " m " << where
+       << " of the footprint (bearing " << Fixed(bearing, 0) << " deg)";
+  } else {
+    os << "no obstacle within " << Fixed(kDiagnoseRadius, 1)
+       << " m (unknown space or the costmap edge blocks the rollouts?)";
+  }
+  return os.str();
+}
+
+std::string DwaPlanner::Diagnose(const Pose2D& pose,
+                                 const Costmap2D& costmap) const {
+  std::ostringstream os;
+  const int total = stats_.evaluated;
+  const int collide = stats_.rejected[3];
+  const int unhelpful = stats_.rotations_refused;
+  os << "DWA local planner: no admissible command, all " << total
+     << " trajectories rejected";
+  if (collide == total) {
+    os << " because they collide or cannot stop in time";
+  } else if (collide + unhelpful == total) {
+    os << " because they collide or cannot stop in time, except " << unhelpful
+       << " in-place rotations that would not turn it towards the local goal "
+          "(or turn it off the plan, or past a full circle on the spot)";
+  } else {
+    os << " (" << collide << " collide or cannot stop in time";
+    if (unhelpful > 0) {
+      os << ", " << unhelpful
+         << " in-place rotations would not turn it towards the local goal";
+    }
+    if (stats_.rejected[1] > 0) {
+      os << ", " << stats_.rejected[1]
+         << " enter cells with no way to the plan";
+    }
+    if (stats_.rejected[2] > 0) {
+      os << ", " << stats_.rejected[2]
+         << " enter cells with no way to the local goal";
+    }
+    if (stats_.rejected[0] > 0) {
+      os << ", " << stats_.rejected[0]
+         << " would flip direction again before moving "
+         << Fixed(options_.oscillation_reset_dist) << " m (oscillation)";
+    }
+    os << ")";
+  }
+  if (std::isfinite(obstacle_critic_.nearest_collision_distance())) {
+    os << "; first collision after "
+       << Fixed(obstacle_critic_.nearest_collision_distance()) << " m of travel";
+  }
+  os << "; " << NearestObstacle(pose, costmap);
+  return os.str();
+}
+
+Twist2D DwaPlanner::ComputeVelocity(const Pose2D& pose, const Twist2D& velocity,
+                                    const Path& plan,
+                                    const Costmap2D& costmap) {
+  stats_ = CycleStats();
+  best_.Clear();
+  CheckInputs(pose, velocity, plan, costmap);
+  // Rotation accumulated since the robot last moved oscillation_reset_dist.
+  if (std::hypot(pose.x - spin_anchor_.x, pose.y - spin_anchor_.y) >
+      options_.oscillation_reset_dist) {
+    spin_anchor_ = pose;
+    spun_in_place_ = 0.0;
+  } else {
+    spun_in_place_ += std::fabs(AngleDiff(pose.yaw, last_yaw_));
+  }
+  last_yaw_ = pose.yaw;
+  PrunePlan(pose, plan, costmap);
+
+  const Pose2D& goal = plan.back();
+  if (latched_ && !SameGoal(goal, latched_goal_)) latched_ = false;
+  if (latched_ ||
+      std::hypot(goal.x - pose.x, goal.y - pose.y) <= options_.xy_goal_tolerance) {
+    if (options_.latch_xy_goal_tolerance) {
+      latched_ = true;
+      latched_goal_ = goal;
+    }
+    rotating_to_path_ = false;
+    const double yaw_error = AngleDiff(goal.yaw, pose.yaw);
+    if (std::fabs(yaw_error) <= options_.yaw_goal_tolerance) {
+      rotating_to_goal_ = false;
+      stats_.mode = Mode::kAtGoal;
+      return Twist2D();
+    }
+    if (!rotating_to_goal_ && !Stopped(velocity)) {
+      return Brake(pose, velocity, Mode::kStopAtGoal, costmap);
+    }
+    rotating_to_goal_ = true;
+    stats_.mode = Mode::kRotateToGoal;
+    Twist2D cmd;
+    if (!RotateTowards(pose, velocity, goal.yaw, options_.yaw_goal_tolerance,
+                       costmap, &cmd)) {
+      throw ControlError(
+          "DWA local planner: cannot rotate in place to the goal yaw " +
+          Fixed(goal.yaw * 180.0 / kPi, 1) + " deg (now " +
+          Fixed(pose.yaw * 180.0 / kPi, 1) +
+          " deg): turning, the footprint would enter the inscribed band or "
+          "an obstacle (" +
+          NearestObstacle(pose, costmap) +
+          "); the goal is too close to obstacles to turn there");
+    }
+    return cmd;
+  }
+  rotating_to_goal_ = false;
+
+  if (options_.rotate_to_path_angle < kPi) {
+    const double error = PathHeadingError(pose, costmap);
+    const double threshold = rotating_to_path_
+                                 ? 0.5 * options_.rotate_to_path_angle
+                                 : options_.rotate_to_path_angle;
+    if (std::isfinite(error) && std::fabs(error) > threshold) {
+      rotating_to_path_ = true;
+      if (std::fabs(velocity.vx) > options_.trans_stopped_vel) {
+        return Brake(pose, velocity, Mode::kRotateToPath, costmap);
+      }
+      Twist2D cmd;
+      if (RotateTowards(pose, velocity, pose.yaw + error,
+                        0.5 * options_.rotate_to_path_angle, costmap, &cmd)) {
+        stats_.mode = Mode::kRotateToPath;
+        return cmd;
+      }
+      // Turning on the spot collides here: let the sampled trajectories
+      // find a way.
+      stats_ = CycleStats();
+    } else {
+      rotating_to_path_ = false;
+    }
+  }
+  return FollowPath(pose, velocity, costmap);
+}
+
+bool DwaPlanner::IsGoalReached(const Pose2D& pose, const Twist2D& velocity,
+                               const Path& plan) {
+  if (plan.empty()) return false;
+  const Pose2D& goal = plan.back();
+  const bool xy_ok =
+      std::hypot(goal.x - pose.x, goal.y - pose.y) <=
+          options_.xy_goal_tolerance ||
+      (latched_ && options_.latch_xy_goal_tolerance &&
+       SameGoal(goal, latched_goal_));
+  return xy_ok &&
+         std::fabs(AngleDiff(goal.yaw, pose.yaw)) <=
+             options_.yaw_goal_tolerance &&
+         Stopped(velocity);
+}
+
+}  // namespace dwa
+}  // namespace nav
+}  // namespace minibot3d_navigation

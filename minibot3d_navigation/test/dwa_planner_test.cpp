@@ -1,0 +1,637 @@
+// DWA local planner on small synthetic scenes.  Costmaps are built inline
+// (boxes of lethal cells, inflated here with costmap_2d's formula), and the
+// closed-loop tests drive a unicycle that follows each command within the
+// acceleration limits, integrated at 1 ms, with the planner at
+// controller_frequency.  The real footprint cost is checked at every
+// integration step.
+#include "minibot3d_navigation/dwa/dwa_planner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "minibot3d_navigation/dwa/critics.h"
+#include "minibot3d_navigation/dwa/map_grid.h"
+#include "minibot3d_navigation/dwa/trajectory.h"
+
+namespace minibot3d_navigation {
+namespace nav {
+namespace dwa {
+namespace {
+
+const Footprint kFootprint = {
+    {-0.13, -0.125}, {-0.13, 0.125}, {0.13, 0.125}, {0.13, -0.125}};
+constexpr double kInscribed = 0.125;
+constexpr double kInflation = 0.55;
+constexpr double kCostScaling = 10.0;
+
+// --- scene helpers ---
+
+Costmap2D EmptyMap(double width, double height, double res = 0.05) {
+  return Costmap2D(static_cast<int>(std::lround(width / res)),
+                   static_cast<int>(std::lround(height / res)), res, 0.0, 0.0);
+}
+
+void AddBox(Costmap2D* map, double x0, double y0, double x1, double y1) {
+  for (int my = 0; my < map->size_y(); ++my) {
+    for (int mx = 0; mx < map->size_x(); ++mx) {
+      double wx, wy;
+      map->MapToWorld(mx, my, &wx, &wy);
+      if (wx >= x0 && wx <= x1 && wy >= y0 && wy <= y1) {
+        map->set_cost(mx, my, kLethalObstacle);
+      }
+    }
+  }
+}
+
+// costmap_2d's InflationLayer, brute force: 253 within the inscribed radius
+// of a lethal cell, 252 * exp(-k (d - r_inscribed)) out to the inflation
+// radius.
+void Inflate(Costmap2D* map) {
+  const double res = map->resolution();
+  const int r = static_cast<int>(std::ceil(kInflation / res));
+  std::vector<double> dist(map->cells().size(), 1e9);
+  for (int my = 0; my < map->size_y(); ++my) {
+    for (int mx = 0; mx < map->size_x(); ++mx) {
+      if (map->cost(mx, my) != kLethalObstacle) continue;
+      for (int dy = -r; dy <= r; ++dy) {
+        for (int dx = -r; dx <= r; ++dx) {
+          if (!map->InBounds(mx + dx, my + dy)) continue;
+          double& d = dist[map->Index(mx + dx, my + dy)];
+          d = std::min(d, std::hypot(dx, dy) * res);
+        }
+      }
+    }
+  }
+  for (int my = 0; my < map->size_y(); ++my) {
+    for (int mx = 0; mx < map->size_x(); ++mx) {
+      const double d = dist[map->Index(mx, my)];
+      if (map->cost(mx, my) == kLethalObstacle) continue;
+      uint8_t c = 0;
+      if (d <= kInscribed) {
+        c = kInscribedInflatedObstacle;
+      } else if (d <= kInflation) {
+        c = static_cast<uint8_t>(252.0 * std::exp(-kCostScaling * (d - kInscribed)));
+      }
+      map->set_cost(mx, my, c);
+    }
+  }
+}
+
+// Straight segments through the waypoints, a pose every 5 cm, yaw along
+// the path; the last pose gets `goal_yaw`.
+Path PolylinePlan(const std::vector<Point2D>& pts, double goal_yaw) {
+  Path plan;
+  for (size_t i = 0; i + 1 < pts.size(); ++i) {
+    const double dx = pts[i + 1].x - pts[i].x, dy = pts[i + 1].y - pts[i].y;
+    const int n = std::max(1, static_cast<int>(std::ceil(std::hypot(dx, dy) / 0.05)));
+    const double yaw = std::atan2(dy, dx);
+    for (int k = 0; k < n; ++k) {
+      plan.push_back({pts[i].x + dx * k / n, pts[i].y + dy * k / n, yaw});
+    }
+  }
+  plan.push_back({pts.back().x, pts.back().y, goal_yaw});
+  return plan;
+}
+
+// --- closed loop ---
+
+struct SimResult {
+  bool reached = false;
+  bool control_error = false;
+  std::string error;
+  int max_cost = 0;        // worst real footprint cost seen (-1 -> 255)
+  double max_speed = 0.0;  // |vx|
+  double time = 0.0;
+  Pose2D pose;
+  Twist2D velocity;
+  std::vector<Pose2D> track;
+  std::vector<Twist2D> commands;
+};
+
+double Approach(double v, double target, double dv) {
+  return target > v ? std::min(target, v + dv) : std::max(target, v - dv);
+}
+
+// Runs the planner at options.controller_frequency for up to `duration`
+// seconds.  On ControlError the robot is commanded to stop and, after one
+// more second of braking, the run ends.
+SimResult Simulate(DwaPlanner* planner, const Costmap2D& map, Pose2D pose,
+                   const Path& plan, double duration) {
+  const DwaOptions& o = planner->options();
+  const double period = 1.0 / o.controller_frequency;
+  const int substeps = static_cast<int>(std::lround(period / 0.001));
+  const double dt = period / substeps;
+  SimResult r;
+  Twist2D vel;
+  double stop_at = duration;
+  for (double t = 0.0; t < stop_at; t += period) {
+    Twist2D cmd;
+    if (!r.control_error) {
+      if (planner->IsGoalReached(pose, vel, plan)) {
+        r.reached = true;
+        break;
+      }
+      try {
+        cmd = planner->ComputeVelocity(pose, vel, plan, map);
+      } catch (const ControlError& e) {
+        r.control_error = true;
+        r.error = e.what();
+        cmd = Twist2D();
+        stop_at = std::min(duration, t + 1.0);
+      }
+    }
+    r.commands.push_back(cmd);
+    for (int i = 0; i < substeps; ++i) {
+      const double v1 = Approach(vel.vx, cmd.vx, o.acc_lim_x * dt);
+      const double w1 = Approach(vel.vtheta, cmd.vtheta, o.acc_lim_theta * dt);
+      pose = TrajectoryGenerator::Step(pose, 0.5 * (vel.vx + v1),
+                                       0.5 * (vel.vtheta + w1), dt);
+      vel.vx = v1;
+      vel.vtheta = w1;
+      int c = FootprintCost(map, kFootprint, pose);
+      if (c < 0) c = 255;
+      r.max_cost = std::max(r.max_cost, c);
+      r.max_speed = std::max(r.max_speed, std::fabs(vel.vx));
+    }
+    r.track.push_back(pose);
+    r.time = t + period;
+  }
+  r.pose = pose;
+  r.velocity = vel;
+  return r;
+}
+
+DwaOptions FastOptions() {
+  DwaOptions o;
+  o.max_vel_x = 1.0;
+  o.min_vel_x = 0.1;
+  o.acc_lim_x = 2.5;
+  o.acc_lim_theta = 3.2;
+  o.vx_samples = 10;
+  o.vtheta_samples = 20;
+  o.sim_time = 1.0;
+  return o;
+}
+
+// --- trajectory generation ---
+
+TEST(TrajectoryGeneratorTest, WindowIsReachableInOnePeriod) {
+  DwaOptions o = FastOptions();
+  const TrajectoryGenerator gen(o);
+  Twist2D v0;
+  v0.vx = 0.5;
+  v0.vtheta = 0.2;
+  const VelocityWindow w = gen.Window(v0);
+  EXPECT_NEAR(w.min_vx, 0.5 - 2.5 * 0.05, 1e-12);
+  EXPECT_NEAR(w.max_vx, 0.5 + 2.5 * 0.05, 1e-12);
+  EXPECT_NEAR(w.min_vth, 0.2 - 3.2 * 0.05, 1e-12);
+  EXPECT_NEAR(w.max_vth, 0.2 + 3.2 * 0.05, 1e-12);
+  // Clamped to the limits; min_vel_x floors the window.
+  const VelocityWindow still = gen.Window(Twist2D());
+  EXPECT_NEAR(still.min_vx, 0.1, 1e-12);
+  EXPECT_NEAR(still.max_vx, 0.125, 1e-12);
+  // Rollout length must cover the stopping distance: v <= 2 a sim_time.
+  o.sim_time = 0.1;
+  o.max_vel_x = 2.0;
+  o.controller_frequency = 20.0;
+  Twist2D fast;
+  fast.vx = 2.0;
+  const VelocityWindow capped = TrajectoryGenerator(o).Window(fast);
+  EXPECT_NEAR(capped.max_vx, 2.0 * 2.5 * 0.1, 1e-12);
+}
+
+TEST(TrajectoryGeneratorTest, RolloutRampsThenHoldsAndTailBrakes) {
+  const DwaOptions o = FastOptions();
+  const TrajectoryGenerator gen(o);
+  Twist2D v0;
+  v0.vx = 1.0;
+  Twist2D cmd;
+  cmd.vx = 1.0;
+  Trajectory t;
+  gen.Generate({0, 0, 0}, v0, cmd, TrajectoryKind::kSampled, &t);
+  EXPECT_NEAR(t.end().x, 1.0, 1e-9);  // 1 m/s for sim_time 1 s
+  EXPECT_NEAR(t.end().y, 0.0, 1e-12);
+  // Poses at most sim_granularity apart.
+  for (size_t i = 1; i < t.poses.size(); ++i) {
+    EXPECT_LE(t.poses[i].x - t.poses[i - 1].x, o.sim_granularity + 1e-9);
+  }
+  // Tail: 0.05 m in the first period, then v^2 / 2a = 0.2 m of braking.
+  EXPECT_NEAR(t.braking_poses.front().x, 0.05, 1e-9);
+  EXPECT_NEAR(t.braking_poses.back().x, 0.25, 1e-9);
+  EXPECT_NEAR(t.braking_start_distance, 0.05, 1e-9);
+
+  // A turn: exact-ish arc (radius v/w).
+  cmd.vtheta = 0.5;
+  v0.vtheta = 0.5;
+  gen.Generate({0, 0, 0}, v0, cmd, TrajectoryKind::kSampled, &t);
+  EXPECT_NEAR(t.end().x, 2.0 * std::sin(0.5), 1e-3);
+  EXPECT_NEAR(t.end().y, 2.0 * (1.0 - std::cos(0.5)), 1e-3);
+  EXPECT_NEAR(t.end().yaw, 0.5, 1e-9);
+}
+
+TEST(TrajectoryGeneratorTest, BrakingTailRejectsCommandsThatCannotStop) {
+  // 5 Hz, 0.25 s rollouts, robot at 1 m/s: a rollout covers 0.25 m, but the
+  // robot travels 0.2 m before the next cycle and needs 0.2 m more to stop.
+  DwaOptions o = FastOptions();
+  o.controller_frequency = 5.0;
+  o.sim_time = 0.25;
+  Costmap2D map = EmptyMap(4.0, 2.0);
+  // Robot front at 1.13; wall face 0.45 m ahead of it: clear of the rollouts
+  // (0.25 m + 0.125 m inscribed band) but not of the braking tail.
+  AddBox(&map, 1.58, 0.0, 2.0, 2.0);
+  Inflate(&map);
+  Twist2D v0;
+  v0.vx = 1.0;
+  const TrajectoryGenerator gen(o);
+  Trajectory t;
+  Twist2D hold;
+  hold.vx = 1.0;
+  gen.Generate({1.0, 1.0, 0.0}, v0, hold, TrajectoryKind::kSampled, &t);
+  ObstacleCostCritic critic(kFootprint);
+  critic.SetCostmap(map);
+  Trajectory rollout_only = t;
+  rollout_only.braking_poses.clear();
+  EXPECT_GE(critic.Score(rollout_only), 0.0) << "the rollout alone looks fine";
+  EXPECT_LT(critic.Score(t), 0.0) << "but the robot could not stop";
+  // The collision is beyond the rollout, on the way to a standstill.
+  EXPECT_GT(critic.nearest_collision_distance(), 0.25);
+  EXPECT_LT(critic.nearest_collision_distance(), 0.2 + 0.2 + 1e-9);
+  // So the planner slows down to a speed it can still stop from.
+  DwaPlanner planner(o, kFootprint);
+  const Path plan = PolylinePlan({{1.0, 1.0}, {3.5, 1.0}}, 0.0);
+  const Twist2D cmd = planner.ComputeVelocity({1.0, 1.0, 0.0}, v0, plan, map);
+  EXPECT_LT(cmd.vx, 0.9);
+  critic.SetCostmap(map);
+  EXPECT_GE(critic.Score(planner.last_trajectory()), 0.0);
+  EXPECT_FALSE(planner.last_trajectory().braking_poses.empty());
+}
+
+// --- map grid ---
+
+TEST(MapGridTest, BreadthFirstDistancesAvoidObstacles) {
+  Costmap2D map = EmptyMap(1.0, 1.0, 0.1);  // 10 x 10
+  for (int my = 0; my < 8; ++my) map.set_cost(5, my, kLethalObstacle);
+  MapGrid grid;
+  ASSERT_TRUE(grid.SetTargetCell(map, 2, 0, {}));
+  EXPECT_EQ(grid.distance(2, 0), 0.0f);
+  EXPECT_EQ(grid.distance(2, 3), 3.0f);
+  EXPECT_EQ(grid.distance(5, 0), grid.obstacle_distance());
+  // Around the wall through row 8: 2->... (2,0) to (7,0) = 8 up + 5 + 8 down.
+  EXPECT_EQ(grid.distance(7, 0), 21.0f);
+  // Enclose a cell: unreachable.
+  map.set_cost(5, 8, kLethalObstacle);
+  map.set_cost(5, 9, kLethalObstacle);
+  grid.SetTargetCell(map, 2, 0, {});
+  EXPECT_EQ(grid.distance(7, 0), grid.unreachable_distance());
+  EXPECT_FALSE(grid.Reachable(7, 0));
+  // The robot's own cells may be crossed.
+  grid.SetTargetCell(map, 2, 0, {map.Index(5, 4)});
+  EXPECT_TRUE(grid.Reachable(7, 0));
+}
+
+TEST(MapGridTest, LocalGoalStopsBeforeABlockingObstacle) {
+  Costmap2D map = EmptyMap(4.0, 1.0, 0.05);
+  AddBox(&map, 2.5, 0.0, 2.6, 1.0);
+  const Path plan = PolylinePlan({{0.2, 0.5}, {3.8, 0.5}}, 0.0);
+  int gx, gy;
+  bool in_obstacle = true;
+  ASSERT_TRUE(MapGrid::FindLocalGoal(map, plan, &gx, &gy, &in_obstacle));
+  EXPECT_FALSE(in_obstacle);
+  double wx, wy;
+  map.MapToWorld(gx, gy, &wx, &wy);
+  EXPECT_LT(wx, 2.5);
+  EXPECT_GT(wx, 2.3);
+}
+
+// --- planner, open loop ---
+
+TEST(DwaPlannerTest, ConstructorValidatesOptionsAndFootprint) {
+  DwaOptions o;
+  o.holonomic_robot = true;
+  try {
+    DwaPlanner p(o, kFootprint);
+    FAIL() << "holonomic_robot accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("holonomic_robot"), std::string::npos);
+  }
+  EXPECT_THROW(DwaPlanner(DwaOptions(), Footprint{{0, 0}, {1, 0}}),
+               std::invalid_argument);
+}
+
+TEST(DwaPlannerTest, ErrorsSayWhy) {
+  DwaPlanner planner(DwaOptions(), kFootprint);
+  Costmap2D map = EmptyMap(4.0, 4.0);
+  try {
+    planner.ComputeVelocity({1, 1, 0}, Twist2D(), Path(), map);
+    FAIL();
+  } catch (const ControlError& e) {
+    EXPECT_NE(std::string(e.what()).find("plan is empty"), std::string::npos);
+  }
+  const Path plan = PolylinePlan({{1, 1}, {3, 1}}, 0.0);
+  try {
+    planner.ComputeVelocity({9, 1, 0}, Twist2D(), plan, map);
+    FAIL();
+  } catch (const ControlError& e) {
+    EXPECT_NE(std::string(e.what()).find("off the local costmap"),
+              std::string::npos)
+        << e.what();
+  }
+  // Wedged: a slot so narrow that the footprint's sides already touch the
+  // inscribed band, a wall right behind.  Every pose after the start is
+  // illegal, backing up hits the wall.
+  Costmap2D slot = EmptyMap(4.0, 4.0);
+  AddBox(&slot, 0.0, 0.0, 4.0, 1.8);
+  AddBox(&slot, 0.0, 2.2, 4.0, 4.0);
+  AddBox(&slot, 0.0, 0.0, 1.8, 4.0);
+  Inflate(&slot);
+  const Path plan2 = PolylinePlan({{2.0, 2.0}, {3.5, 2.0}}, 0.0);
+  try {
+    planner.ComputeVelocity({2.0, 2.0, 0.0}, Twist2D(), plan2, slot);
+    FAIL() << "wedged robot got a command";
+  } catch (const ControlError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("trajectories rejected because they collide"),
+              std::string::npos)
+        << msg;
+    EXPECT_NE(msg.find("nearest obstacle"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("escape_vel -0.10 m/s collides too"), std::string::npos)
+        << msg;
+  }
+  // At the goal in a slot too narrow to turn in.
+  Costmap2D narrow = EmptyMap(4.0, 2.0);
+  AddBox(&narrow, 0.0, 0.0, 4.0, 0.74);
+  AddBox(&narrow, 0.0, 1.26, 4.0, 2.0);
+  Inflate(&narrow);
+  const Path plan3 = PolylinePlan({{1.0, 1.0}, {2.0, 1.0}}, kPi / 2);
+  try {
+    planner.ComputeVelocity({2.0, 1.0, 0.0}, Twist2D(), plan3, narrow);
+    FAIL() << "turned in a slot";
+  } catch (const ControlError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("cannot rotate in place to the goal yaw 90.0 deg"),
+              std::string::npos)
+        << msg;
+    EXPECT_NE(msg.find("nearest obstacle"), std::string::npos) << msg;
+  }
+}
+
+TEST(DwaPlannerTest, RotatesInPlaceWhenFacingAwayFromThePath) {
+  DwaPlanner planner(DwaOptions(), kFootprint);
+  Costmap2D map = EmptyMap(4.0, 4.0);
+  const Path plan = PolylinePlan({{1, 2}, {3.5, 2}}, 0.0);
+  const Twist2D cmd = planner.ComputeVelocity({1, 2, kPi}, Twist2D(), plan, map);
+  EXPECT_EQ(cmd.vx, 0.0);
+  EXPECT_GE(std::fabs(cmd.vtheta), planner.options().min_in_place_vel_theta);
+  EXPECT_EQ(planner.last_stats().mode, DwaPlanner::Mode::kRotateToPath);
+}
+
+TEST(DwaPlannerTest, GoalReachedNeedsPositionYawAndStandstill) {
+  DwaPlanner planner(DwaOptions(), kFootprint);
+  Costmap2D map = EmptyMap(4.0, 4.0);
+  const Path plan = PolylinePlan({{1, 2}, {2, 2}}, 0.0);
+  Twist2D moving;
+  moving.vx = 0.3;
+  EXPECT_FALSE(planner.IsGoalReached({2.05, 2, 0.02}, moving, plan));
+  EXPECT_TRUE(planner.IsGoalReached({2.05, 2, 0.02}, Twist2D(), plan));
+  EXPECT_FALSE(planner.IsGoalReached({2.2, 2, 0.0}, Twist2D(), plan));
+  EXPECT_FALSE(planner.IsGoalReached({2.0, 2, 0.2}, Twist2D(), plan));
+  // At the goal: zero command.
+  const Twist2D cmd = planner.ComputeVelocity({2.0, 2.0, 0.01}, Twist2D(), plan, map);
+  EXPECT_EQ(cmd.vx, 0.0);
+  EXPECT_EQ(cmd.vtheta, 0.0);
+  EXPECT_EQ(planner.last_stats().mode, DwaPlanner::Mode::kAtGoal);
+}
+
+TEST(DwaPlannerTest, LatchedGoalToleranceKeepsRotating) {
+  DwaOptions o;
+  o.latch_xy_goal_tolerance = true;
+  DwaPlanner planner(o, kFootprint);
+  Costmap2D map = EmptyMap(4.0, 4.0);
+  const Path plan = PolylinePlan({{1, 2}, {2, 2}}, kPi / 2);
+  planner.ComputeVelocity({2.0, 2.0, 0.0}, Twist2D(), plan, map);
+  EXPECT_EQ(planner.last_stats().mode, DwaPlanner::Mode::kRotateToGoal);
+  // Drifted out of the xy tolerance: still only rotating.
+  const Twist2D cmd = planner.ComputeVelocity({2.2, 2.0, 0.5}, Twist2D(), plan, map);
+  EXPECT_EQ(planner.last_stats().mode, DwaPlanner::Mode::kRotateToGoal);
+  EXPECT_EQ(cmd.vx, 0.0);
+  EXPECT_TRUE(planner.IsGoalReached({2.2, 2.0, kPi / 2}, Twist2D(), plan));
+  // A new goal clears the latch.
+  planner.Reset();
+  EXPECT_FALSE(planner.IsGoalReached({2.2, 2.0, kPi / 2}, Twist2D(), plan));
+}
+
+TEST(DwaPlannerTest, EscapesBackwardsWhenNothingForwardIsLegal) {
+  // Dead-end slot just wider than the robot, the robot off-centre so that
+  // its side is already in the inscribed band: every forward or turning
+  // pose is illegal; backing up only has to stay off lethal cells.
+  Costmap2D map = EmptyMap(4.0, 2.0);
+  AddBox(&map, 0.0, 0.0, 4.0, 0.74);
+  AddBox(&map, 0.0, 1.26, 4.0, 2.0);
+  AddBox(&map, 2.5, 0.0, 4.0, 2.0);
+  Inflate(&map);
+  DwaPlanner planner(DwaOptions(), kFootprint);
+  const Path plan = PolylinePlan({{2.2, 1.0}, {2.35, 1.0}}, 0.0);
+  ASSERT_EQ(FootprintCost(map, kFootprint, {2.2, 0.96, 0.0}),
+            kInscribedInflatedObstacle);
+  // Centred, the robot is clear: blocked, not stuck, so no escape.
+  try {
+    planner.ComputeVelocity({2.2, 1.0, 0.0}, Twist2D(), plan, map);
+    FAIL() << "blocked robot got a command";
+  } catch (const ControlError& e) {
+    EXPECT_NE(std::string(e.what()).find("not backing up"), std::string::npos)
+        << e.what();
+  }
+  const Twist2D cmd = planner.ComputeVelocity({2.2, 0.96, 0.0}, Twist2D(), plan, map);
+  EXPECT_EQ(planner.last_stats().mode, DwaPlanner::Mode::kEscape)
+      << DwaModeName(planner.last_stats().mode);
+  EXPECT_DOUBLE_EQ(cmd.vx, -0.1);
+  EXPECT_EQ(cmd.vtheta, 0.0);
+  // Escaping: no forward trajectories until it has backed off
+  // escape_reset_dist.
+  planner.ComputeVelocity({2.15, 0.96, 0.0}, cmd, plan, map);
+  EXPECT_EQ(planner.last_stats().mode, DwaPlanner::Mode::kEscape);
+}
+
+TEST(OscillationCriticTest, ForbidsFlippingBackUntilMoved) {
+  OscillationCritic critic(0.05);
+  Costmap2D map = EmptyMap(1.0, 1.0);
+  Trajectory left, right, forward, backward;
+  left.command.vtheta = 0.5;
+  right.command.vtheta = -0.5;
+  forward.command.vx = 0.2;
+  backward.command.vx = -0.1;
+  critic.Prepare({0.5, 0.5, 0}, Twist2D(), Path(), map);
+  EXPECT_EQ(critic.Score(left), 0.0);
+  critic.Debrief(left);
+  critic.Prepare({0.5, 0.5, 0.1}, Twist2D(), Path(), map);
+  EXPECT_EQ(critic.Score(right), 0.0);
+  critic.Debrief(right);  // flipped: turning left is now forbidden
+  critic.Prepare({0.5, 0.5, 0.0}, Twist2D(), Path(), map);
+  EXPECT_LT(critic.Score(left), 0.0);
+  EXPECT_EQ(critic.Score(right), 0.0);
+  EXPECT_EQ(critic.Score(forward), 0.0);
+  // Forward then backward (an escape) keeps forward allowed: driving on
+  // after backing out is progress.  Backward then forward forbids backing up
+  // again.
+  critic.Debrief(forward);
+  critic.Debrief(backward);
+  EXPECT_EQ(critic.Score(forward), 0.0);
+  critic.Debrief(forward);
+  EXPECT_LT(critic.Score(backward), 0.0);
+  // Moving oscillation_reset_dist clears everything.
+  critic.Prepare({0.58, 0.5, 0.0}, Twist2D(), Path(), map);
+  EXPECT_EQ(critic.Score(left), 0.0);
+  EXPECT_EQ(critic.Score(backward), 0.0);
+}
+
+TEST(DwaPlannerTest, MeterScoringScalesTheCostsByTheResolution) {
+  Costmap2D map = EmptyMap(4.0, 3.0);
+  AddBox(&map, 2.0, 0.0, 2.4, 1.0);
+  Inflate(&map);
+  const Path plan = PolylinePlan({{0.5, 1.5}, {3.5, 1.5}}, 0.0);
+  DwaOptions o;
+  DwaPlanner cells(o, kFootprint);
+  o.meter_scoring = true;
+  DwaPlanner metres(o, kFootprint);
+  Twist2D v0;
+  v0.vx = 0.3;
+  const Twist2D a = cells.ComputeVelocity({0.8, 1.5, 0.0}, v0, plan, map);
+  const Twist2D b = metres.ComputeVelocity({0.8, 1.5, 0.0}, v0, plan, map);
+  EXPECT_DOUBLE_EQ(a.vx, b.vx);
+  EXPECT_DOUBLE_EQ(a.vtheta, b.vtheta);
+  EXPECT_NEAR(metres.last_trajectory().cost,
+              cells.last_trajectory().cost * map.resolution(), 1e-9);
+}
+
+// --- planner, closed loop ---
+
+TEST(DwaClosedLoopTest, FollowsAStraightCorridor) {
+  Costmap2D map = EmptyMap(8.0, 3.0);
+  AddBox(&map, 0.0, 0.0, 8.0, 0.5);
+  AddBox(&map, 0.0, 2.5, 8.0, 3.0);
+  Inflate(&map);
+  DwaOptions o;
+  o.vx_samples = 10;
+  DwaPlanner planner(o, kFootprint);
+  const Path plan = PolylinePlan({{0.5, 1.5}, {7.0, 1.5}}, 0.0);
+  const SimResult r = Simulate(&planner, map, {0.5, 1.5, 0.0}, plan, 40.0);
+  EXPECT_TRUE(r.reached) << r.error << " at (" << r.pose.x << ", " << r.pose.y << ")";
+  EXPECT_LT(r.max_cost, kInscribedInflatedObstacle);
+  double worst_offset = 0.0;
+  for (const Pose2D& p : r.track) worst_offset = std::max(worst_offset, std::fabs(p.y - 1.5));
+  EXPECT_LT(worst_offset, 0.05);
+  EXPECT_NEAR(r.max_speed, o.max_vel_x, 0.02);
+  EXPECT_LT(r.time, 20.0);  // 6.5 m at 0.5 m/s plus ramps
+}
+
+// The plan goes straight into a wall across the corridor; the robot is fast
+// (1 m/s) and the obstacle is only seen as it is: it must brake, never touch.
+void ExpectStopsInFrontOfWall(const DwaOptions& o, const char* label) {
+  Costmap2D map = EmptyMap(8.0, 3.0);
+  AddBox(&map, 0.0, 0.0, 8.0, 0.3);
+  AddBox(&map, 0.0, 2.7, 8.0, 3.0);
+  AddBox(&map, 5.0, 0.0, 5.2, 3.0);  // the wall; its face at x = 4.975
+  Inflate(&map);
+  DwaPlanner planner(o, kFootprint);
+  const Path plan = PolylinePlan({{0.5, 1.5}, {7.0, 1.5}}, 0.0);
+  const SimResult r = Simulate(&planner, map, {0.5, 1.5, 0.0}, plan, 15.0);
+  SCOPED_TRACE(label);
+  EXPECT_FALSE(r.reached);
+  EXPECT_LT(r.max_cost, kLethalObstacle) << "the footprint touched the wall";
+  EXPECT_GT(r.max_speed, 0.9) << "never got fast, the test proves nothing";
+  for (const Pose2D& p : r.track) EXPECT_LT(p.x + 0.13, 4.975);
+  // Ends stopped in front of the wall (not miles before it), having said why
+  // it cannot go on.
+  EXPECT_LT(std::fabs(r.velocity.vx), 1e-6) << "still driving at the end";
+  EXPECT_GT(r.pose.x + 0.13, 4.975 - 0.4);
+  EXPECT_TRUE(r.control_error);
+  EXPECT_NE(r.error.find("no admissible command"), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("nearest obstacle"), std::string::npos) << r.error;
+}
+
+TEST(DwaClosedLoopTest, WallAheadAtOneMetrePerSecondBrakesInTime) {
+  ExpectStopsInFrontOfWall(FastOptions(), "20 Hz, sim_time 1.0");
+}
+
+TEST(DwaClosedLoopTest, WallAheadWithSlowControllerAndShortRollouts) {
+  // Rollouts shorter than the stopping distance plus one period of travel:
+  // only the braking tail keeps the robot off the wall.
+  DwaOptions o = FastOptions();
+  o.controller_frequency = 5.0;
+  o.sim_time = 0.25;
+  ExpectStopsInFrontOfWall(o, "5 Hz, sim_time 0.25");
+  o.acc_lim_x = 1.2;  // stopping distance 0.42 m at 1 m/s
+  o.sim_time = 0.45;
+  ExpectStopsInFrontOfWall(o, "5 Hz, acc_lim_x 1.2");
+}
+
+TEST(DwaClosedLoopTest, TurnsThroughADoorway) {
+  // Room 6 x 6 m, a wall across y = 3 with a 0.8 m door at x in [2.6, 3.4].
+  Costmap2D map = EmptyMap(6.0, 6.0);
+  AddBox(&map, 0.0, 0.0, 6.0, 0.1);
+  AddBox(&map, 0.0, 5.9, 6.0, 6.0);
+  AddBox(&map, 0.0, 0.0, 0.1, 6.0);
+  AddBox(&map, 5.9, 0.0, 6.0, 6.0);
+  AddBox(&map, 0.0, 2.95, 2.6, 3.05);
+  AddBox(&map, 3.4, 2.95, 6.0, 3.05);
+  Inflate(&map);
+  DwaOptions o;
+  o.vx_samples = 10;
+  DwaPlanner planner(o, kFootprint);
+  const Path plan = PolylinePlan({{1.0, 1.5}, {3.0, 1.5}, {3.0, 4.8}}, kPi / 2);
+  const SimResult r = Simulate(&planner, map, {1.0, 1.5, 0.0}, plan, 60.0);
+  EXPECT_TRUE(r.reached) << r.error << " at (" << r.pose.x << ", " << r.pose.y
+                         << ", " << r.pose.yaw << ")";
+  EXPECT_LT(r.max_cost, kLethalObstacle);
+  bool passed_door = false;
+  for (const Pose2D& p : r.track) passed_door = passed_door || p.y > 3.5;
+  EXPECT_TRUE(passed_door);
+  EXPECT_NEAR(r.pose.x, 3.0, 0.1);
+  EXPECT_NEAR(r.pose.y, 4.8, 0.1);
+}
+
+void ExpectRotatesToGoalYaw(double controller_frequency) {
+  Costmap2D map = EmptyMap(4.0, 4.0);
+  DwaOptions o;
+  o.controller_frequency = controller_frequency;
+  DwaPlanner planner(o, kFootprint);
+  const Path plan = PolylinePlan({{1.0, 2.0}, {2.0, 2.0}}, kPi / 2);
+  const SimResult r = Simulate(&planner, map, {2.02, 2.0, 0.0}, plan, 10.0);
+  ASSERT_TRUE(r.reached) << r.error;
+  EXPECT_NEAR(AngleDiff(r.pose.yaw, kPi / 2), 0.0, o.yaw_goal_tolerance);
+  for (const Twist2D& c : r.commands) {
+    EXPECT_EQ(c.vx, 0.0);
+    EXPECT_GE(c.vtheta, 0.0) << "turned the long way or overshot";
+    EXPECT_LE(c.vtheta, o.max_vel_theta);
+  }
+  // Reached within a few seconds (pi/2 at <= 1 rad/s).
+  EXPECT_LT(r.time, 4.0);
+}
+
+TEST(DwaClosedLoopTest, RotatesToTheGoalYawAtTheGoal) {
+  ExpectRotatesToGoalYaw(20.0);
+  ExpectRotatesToGoalYaw(5.0);  // coarse control: must not overshoot
+}
+
+TEST(DwaClosedLoopTest, DrivesToGoalAndStops) {
+  Costmap2D map = EmptyMap(5.0, 5.0);
+  AddBox(&map, 2.2, 2.2, 2.8, 2.8);  // a pillar beside the straight line
+  Inflate(&map);
+  DwaOptions o = FastOptions();
+  DwaPlanner planner(o, kFootprint);
+  const Path plan = PolylinePlan({{0.5, 1.5}, {4.5, 1.5}}, 0.0);
+  const SimResult r = Simulate(&planner, map, {0.5, 1.5, 0.0}, plan, 30.0);
+  ASSERT_TRUE(r.reached) << r.error;
+  EXPECT_LT(r.max_cost, kLethalObstacle);
+  EXPECT_LE(std::hypot(r.pose.x - 4.5, r.pose.y - 1.5), o.xy_goal_tolerance);
+  EXPECT_TRUE(planner.IsGoalReached(r.pose, r.velocity, plan));
+}
+
+}  // namespace
+}  // namespace dwa
+}  // namespace nav
+}  // namespace minibot3d_navigation
