@@ -1,0 +1,104 @@
+// The move_base state machine, ROS-free: plan, control, recover, give up.
+//
+// Same states and rules as ROS move_base (move_base.cpp, executeCycle):
+//  PLANNING     make a global plan; on success go to CONTROLLING.  A failure
+//               is retried every cycle until planner_patience seconds pass
+//               without a valid plan (or max_planning_retries is exceeded),
+//               then CLEARING.
+//  CONTROLLING  replan at planner_frequency (if > 0); succeed when the local
+//               planner says the goal is reached; otherwise ask it for a
+//               command.  When it finds none the executive replans, and after
+//               controller_patience seconds without a valid command goes to
+//               CLEARING.  If the robot has not moved oscillation_distance in
+//               oscillation_timeout seconds it also goes to CLEARING.
+//  CLEARING     run the next recovery behaviour; when it finishes, PLANNING.
+//               With no behaviour left the goal is ABORTED, and the message
+//               says what kept failing (the planner's or controller's own
+//               error: which goal, which obstacle) — not just "failed".
+// Differences, on purpose: planning runs synchronously in the control cycle
+// (our planners take milliseconds, and a simulator at 10x real time would
+// otherwise see plans arrive at random points of sim time), and a goal off the
+// global costmap is aborted at once, since no recovery can change that.
+// Time is an input (simulator seconds), so the machine is tested without ROS.
+#ifndef MINIBOT3D_NAVIGATION_MOVE_BASE_NAVIGATION_EXECUTIVE_H_
+#define MINIBOT3D_NAVIGATION_MOVE_BASE_NAVIGATION_EXECUTIVE_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "minibot3d_navigation/dwa/local_planner.h"
+#include "minibot3d_navigation/move_base/move_base_options.h"
+#include "minibot3d_navigation/move_base/recovery_behavior.h"
+#include "minibot3d_navigation/planner/global_planner.h"
+
+namespace minibot3d_navigation {
+namespace nav {
+
+enum class NavState { kIdle, kPlanning, kControlling, kClearing };
+enum class GoalStatus { kNone, kActive, kSucceeded, kAborted };
+
+const char* NavStateName(NavState state);
+
+struct CycleResult {
+  Twist2D cmd;                         // send this to the base
+  GoalStatus status = GoalStatus::kNone;
+  std::string message;                 // why it was aborted (or succeeded)
+  bool new_plan = false;               // plan() changed this cycle
+};
+
+class NavigationExecutive {
+ public:
+  // The planners and recoveries are owned by the caller (the node keeps the
+  // costmaps they act on) and must outlive the executive.
+  NavigationExecutive(const MoveBaseOptions& options, GlobalPlanner* global_planner,
+                      LocalPlanner* local_planner, std::vector<RecoveryBehavior*> recoveries);
+
+  // A new goal in the global frame replaces any current one (preemption).
+  void SetGoal(const Pose2D& goal, double time);
+  // Drops the goal; the next Step returns a zero command and kNone.
+  void Cancel();
+
+  // One control cycle.  `global_to_local` is the pose of the global frame in
+  // the local one (map in odom), used to hand the plan to the local planner.
+  CycleResult Step(const RobotState& state, const Pose2D& global_to_local);
+
+  NavState state() const { return state_; }
+  bool active() const { return state_ != NavState::kIdle; }
+  const Pose2D& goal() const { return goal_; }
+  const Path& plan() const { return plan_; }        // global frame
+  const Path& local_plan() const { return local_plan_; }  // last plan handed down, local frame
+  const std::string& last_error() const { return last_error_; }
+
+ private:
+  enum class Trigger { kPlanning, kControlling, kOscillation };
+
+  bool TryPlan(const RobotState& state, double time);
+  CycleResult EnterClearing(Trigger trigger, const RobotState& state);
+  CycleResult Abort(const std::string& message);
+
+  const MoveBaseOptions options_;
+  GlobalPlanner* global_planner_;
+  LocalPlanner* local_planner_;
+  std::vector<RecoveryBehavior*> recoveries_;
+
+  NavState state_ = NavState::kIdle;
+  Pose2D goal_;
+  Path plan_;
+  Path local_plan_;
+  std::string last_error_;
+  double last_valid_plan_ = 0.0;
+  double last_valid_control_ = 0.0;
+  double last_oscillation_reset_ = 0.0;
+  double next_plan_time_ = 0.0;
+  Pose2D oscillation_pose_;
+  int planning_retries_ = 0;
+  size_t recovery_index_ = 0;
+  bool recovery_running_ = false;
+  Trigger trigger_ = Trigger::kPlanning;
+};
+
+}  // namespace nav
+}  // namespace minibot3d_navigation
+
+#endif  // MINIBOT3D_NAVIGATION_MOVE_BASE_NAVIGATION_EXECUTIVE_H_

@@ -1,0 +1,73 @@
+#include "minibot3d_navigation/move_base/move_base_options.h"
+
+#include <cmath>
+
+#include "minibot3d_navigation/option_table.h"
+
+namespace minibot3d_navigation {
+namespace nav {
+namespace {
+
+using options::Field;
+using options::Num;
+using O = MoveBaseOptions;
+
+const options::OptionTable<O>& Table() {
+  static const options::OptionTable<O> table(
+      "move_base",
+      {Field("base_global_planner", &O::base_global_planner),
+       Field("base_local_planner", &O::base_local_planner),
+       Field("planner_frequency", &O::planner_frequency),
+       Field("controller_frequency", &O::controller_frequency),
+       Field("planner_patience", &O::planner_patience),
+       Field("controller_patience", &O::controller_patience),
+       Field("max_planning_retries", &O::max_planning_retries),
+       Field("oscillation_timeout", &O::oscillation_timeout),
+       Field("oscillation_distance", &O::oscillation_distance),
+       Field("recovery_behavior_enabled", &O::recovery_behavior_enabled),
+       Field("clearing_rotation_allowed", &O::clearing_rotation_allowed),
+       Field("conservative_reset_dist", &O::conservative_reset_dist),
+       Field("shutdown_costmaps", &O::shutdown_costmaps),
+       Field("recovery_behaviors", &O::recovery_behaviors)});
+  return table;
+}
+
+bool Finite(double v) { return std::isfinite(v); }
+
+}  // namespace
+
+void ValidateMoveBaseOptions(const MoveBaseOptions& o) {
+  options::Problems p("move_base");
+  p.Require(Finite(o.planner_frequency) && o.planner_frequency >= 0.0,
+            "planner_frequency=" + Num(o.planner_frequency) + " must be >= 0");
+  p.Require(Finite(o.controller_frequency) && o.controller_frequency > 0.0,
+            "controller_frequency=" + Num(o.controller_frequency) + " must be > 0");
+  p.Require(Finite(o.planner_patience) && o.planner_patience >= 0.0,
+            "planner_patience=" + Num(o.planner_patience) + " must be >= 0");
+  p.Require(Finite(o.controller_patience) && o.controller_patience >= 0.0,
+            "controller_patience=" + Num(o.controller_patience) + " must be >= 0");
+  p.Require(o.max_planning_retries >= -1,
+            "max_planning_retries=" + std::to_string(o.max_planning_retries) +
+                " must be -1 (unlimited) or >= 0");
+  p.Require(Finite(o.oscillation_timeout) && o.oscillation_timeout >= 0.0,
+            "oscillation_timeout=" + Num(o.oscillation_timeout) + " must be >= 0 (0 = off)");
+  p.Require(Finite(o.oscillation_distance) && o.oscillation_distance > 0.0,
+            "oscillation_distance=" + Num(o.oscillation_distance) + " must be > 0");
+  p.Require(Finite(o.conservative_reset_dist) && o.conservative_reset_dist >= 0.0,
+            "conservative_reset_dist=" + Num(o.conservative_reset_dist) + " must be >= 0");
+  for (const std::string& r : o.recovery_behaviors) {
+    p.Require(r == "conservative_reset" || r == "rotate_recovery" || r == "aggressive_reset",
+              "recovery_behaviors entry '" + r +
+                  "' is not one of conservative_reset, rotate_recovery, aggressive_reset");
+  }
+  p.ThrowIfAny();
+}
+
+void SetMoveBaseOption(const std::string& name, const std::string& text, MoveBaseOptions* o) {
+  Table().Set(name, text, o);
+}
+bool IsMoveBaseOptionName(const std::string& name) { return Table().Has(name); }
+std::vector<std::string> MoveBaseOptionNames() { return Table().Names(); }
+
+}  // namespace nav
+}  // namespace minibot3d_navigation
