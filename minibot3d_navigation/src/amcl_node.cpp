@@ -33,56 +33,16 @@
 
 #include "minibot3d_navigation/amcl/amcl_filter.h"
 #include "minibot3d_navigation/amcl/amcl_options.h"
+#include "ros_util.h"
 
 namespace amcl = minibot3d_navigation::amcl;
 
 namespace {
 
-// XmlRpc parameter value -> the text SetAmclOption parses.
-bool XmlToText(const XmlRpc::XmlRpcValue& v, std::string* out) {
-  std::ostringstream s;
-  s.precision(17);
-  switch (v.getType()) {
-    case XmlRpc::XmlRpcValue::TypeBoolean:
-      *out = static_cast<bool>(const_cast<XmlRpc::XmlRpcValue&>(v)) ? "true" : "false";
-      return true;
-    case XmlRpc::XmlRpcValue::TypeInt:
-      s << static_cast<int>(const_cast<XmlRpc::XmlRpcValue&>(v));
-      break;
-    case XmlRpc::XmlRpcValue::TypeDouble:
-      s << static_cast<double>(const_cast<XmlRpc::XmlRpcValue&>(v));
-      break;
-    case XmlRpc::XmlRpcValue::TypeString:
-      s << static_cast<std::string>(const_cast<XmlRpc::XmlRpcValue&>(v));
-      break;
-    default:
-      return false;
-  }
-  *out = s.str();
-  return true;
-}
-
-amcl::Pose2D PoseFromTf(const tf2::Transform& t) {
-  return {t.getOrigin().x(), t.getOrigin().y(), tf2::getYaw(t.getRotation())};
-}
-
-tf2::Transform TfFromPose(const amcl::Pose2D& p) {
-  tf2::Quaternion q;
-  q.setRPY(0, 0, p.yaw);
-  return tf2::Transform(q, tf2::Vector3(p.x, p.y, 0.0));
-}
-
-amcl::OccupancyGrid GridFromMsg(const nav_msgs::OccupancyGrid& m) {
-  amcl::OccupancyGrid g;
-  g.resolution = m.info.resolution;
-  g.origin_x = m.info.origin.position.x;
-  g.origin_y = m.info.origin.position.y;
-  g.origin_yaw = tf2::getYaw(m.info.origin.orientation);
-  g.width = static_cast<int>(m.info.width);
-  g.height = static_cast<int>(m.info.height);
-  g.data.assign(m.data.begin(), m.data.end());
-  return g;
-}
+using minibot3d_navigation::ros_util::GridFromMsg;
+using minibot3d_navigation::ros_util::PoseFromTf;
+using minibot3d_navigation::ros_util::TfFromPose;
+using minibot3d_navigation::ros_util::XmlToText;
 
 class AmclNode {
  public:

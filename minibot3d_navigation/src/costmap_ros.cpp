@@ -1,0 +1,246 @@
+#include "costmap_ros.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include <geometry_msgs/PolygonStamped.h>
+#include <tf2/utils.h>
+#include <tf2_geometry_msgs/tf2_geometry_msgs.h>
+
+#include "ros_util.h"
+
+namespace minibot3d_navigation {
+namespace {
+
+// costmap_2d's cost -> OccupancyGrid value table (Costmap2DPublisher).
+int8_t Translate(uint8_t cost) {
+  if (cost == nav::kFreeSpace) return 0;
+  if (cost == nav::kNoInformation) return -1;
+  if (cost == nav::kLethalObstacle) return 100;
+  if (cost == nav::kInscribedInflatedObstacle) return 99;
+  return static_cast<int8_t>(1 + (97 * (cost - 1)) / 251);
+}
+
+std::string Text(const ros::NodeHandle& nh, const std::string& key, const std::string& def) {
+  std::string v;
+  return nh.getParam(key, v) ? v : def;
+}
+
+}  // namespace
+
+CostmapRos::CostmapRos(const std::string& name, tf2_ros::Buffer* tf)
+    : name_(name), tf_(tf), nh_("~" + name) {}
+
+void CostmapRos::Configure() {
+  std::vector<std::string> problems = ros_util::LoadParams(
+      nh_, nav::IsCostmapOptionName,
+      [this](const std::string& n, const std::string& t) { nav::SetCostmapOption(n, t, &options_); });
+  // Sources: "observation_sources: a b", then ~name/a: {...}.
+  std::string source_list = Text(nh_, "observation_sources", "");
+  std::istringstream names(source_list);
+  std::string src;
+  while (names >> src) {
+    auto s = std::make_unique<Source>();
+    s->name = src;
+    ros::NodeHandle snh(nh_, src);
+    const std::string type = Text(snh, "data_type", "LaserScan");
+    if (type != "LaserScan") {
+      problems.push_back(nh_.getNamespace() + "/" + src + "/data_type: '" + type +
+                         "' is not supported (only LaserScan)");
+      continue;
+    }
+    s->topic = Text(snh, "topic", src);
+    s->sensor_frame = Text(snh, "sensor_frame", "");
+    snh.param("marking", s->marking, true);
+    snh.param("clearing", s->clearing, true);
+    snh.param("obstacle_range", s->obstacle_range, options_.obstacle_range);
+    snh.param("raytrace_range", s->raytrace_range, options_.raytrace_range);
+    snh.param("inf_is_valid", s->inf_is_valid, options_.inf_is_valid);
+    if (!(s->obstacle_range >= 0.0) || !(s->raytrace_range >= 0.0)) {
+      problems.push_back(nh_.getNamespace() + "/" + src + ": obstacle_range and raytrace_range "
+                         "must be >= 0");
+    }
+    sources_.push_back(std::move(s));
+  }
+  for (const std::string& unknown : ros_util::UnknownParams(nh_, [](const std::string& n) {
+         return nav::IsCostmapOptionName(n) || n == "observation_sources" || n == "plugins";
+       })) {
+    // A source's own namespace shows up as a struct key; anything else is a
+    // probable misspelling.
+    bool is_source = false;
+    for (const auto& s : sources_) is_source |= unknown == nh_.getNamespace() + "/" + s->name;
+    if (!is_source) ROS_WARN("move_base: unknown parameter %s (ignored)", unknown.c_str());
+  }
+  try {
+    nav::ValidateCostmapOptions(options_);
+  } catch (const std::invalid_argument& e) {
+    problems.push_back(nh_.getNamespace() + ": " + e.what());
+  }
+  if (!problems.empty()) {
+    std::string msg;
+    for (const auto& p : problems) msg += (msg.empty() ? "" : "\n  ") + p;
+    throw std::invalid_argument(msg);
+  }
+  for (const std::string& w : nav::CostmapOptionWarnings(options_)) {
+    ROS_WARN("move_base: %s: %s", nh_.getNamespace().c_str(), w.c_str());
+  }
+  if (sources_.empty()) {
+    ROS_WARN("move_base: %s has no observation_sources: it will not see obstacles that are "
+             "not in the map", nh_.getNamespace().c_str());
+  }
+  layered_ = std::make_unique<nav::LayeredCostmap>(nav::BuildLayeredCostmap(options_));
+  footprint_ = layered_->footprint();
+}
+
+void CostmapRos::Start() {
+  costmap_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("costmap", 1, true);
+  footprint_pub_ = nh_.advertise<geometry_msgs::PolygonStamped>("footprint", 1);
+  if (options_.static_map) {
+    map_sub_ = gnh_.subscribe("map", 1, &CostmapRos::OnMap, this);
+  }
+  for (auto& s : sources_) {
+    const std::string& frame = options_.global_frame;
+    s->sub = std::make_unique<message_filters::Subscriber<sensor_msgs::LaserScan>>(gnh_, s->topic,
+                                                                                    50);
+    s->filter = std::make_unique<tf2_ros::MessageFilter<sensor_msgs::LaserScan>>(*s->sub, *tf_,
+                                                                                 frame, 50, gnh_);
+    Source* raw = s.get();
+    s->filter->registerCallback(
+        [this, raw](const sensor_msgs::LaserScan::ConstPtr& scan) { OnScan(scan, raw); });
+    s->filter->registerFailureCallback(
+        [this, raw](const sensor_msgs::LaserScan::ConstPtr& scan,
+                    tf2_ros::filter_failure_reasons::FilterFailureReason) {
+          ROS_WARN_THROTTLE(5.0, "move_base: %s: scan on %s in frame '%s' cannot be transformed "
+                            "into '%s': check the tf tree (is the localizer running?)",
+                            name_.c_str(), raw->topic.c_str(), scan->header.frame_id.c_str(),
+                            options_.global_frame.c_str());
+        });
+  }
+}
+
+void CostmapRos::OnMap(const nav_msgs::OccupancyGrid::ConstPtr& map) {
+  if (!map->header.frame_id.empty() && map->header.frame_id != options_.global_frame &&
+      !options_.rolling_window) {
+    ROS_WARN("move_base: %s: map frame '%s' differs from global_frame '%s'; using it as is",
+             name_.c_str(), map->header.frame_id.c_str(), options_.global_frame.c_str());
+  }
+  try {
+    layered_->SetStaticMap(ros_util::GridFromMsg(*map));
+    have_map_ = true;
+    next_update_ = ros::Time(0);
+    ROS_INFO("move_base: %s: static map %ux%u at %.3f m", name_.c_str(), map->info.width,
+             map->info.height, map->info.resolution);
+  } catch (const std::invalid_argument& e) {
+    ROS_ERROR("move_base: %s: map rejected: %s", name_.c_str(), e.what());
+  }
+}
+
+void CostmapRos::OnScan(const sensor_msgs::LaserScan::ConstPtr& scan, Source* source) {
+  const std::string frame = source->sensor_frame.empty() ? scan->header.frame_id
+                                                         : source->sensor_frame;
+  geometry_msgs::TransformStamped t;
+  try {
+    t = tf_->lookupTransform(options_.global_frame, frame, scan->header.stamp);
+  } catch (const tf2::TransformException& e) {
+    ROS_WARN_THROTTLE(5.0, "move_base: %s: no transform %s <- %s: %s", name_.c_str(),
+                      options_.global_frame.c_str(), frame.c_str(), e.what());
+    return;
+  }
+  amcl::LaserScan s;
+  s.ranges = scan->ranges;
+  s.angles = amcl::MakeBeamAngles(scan->angle_min, scan->angle_increment,
+                                  static_cast<int>(scan->ranges.size()));
+  s.range_min = scan->range_min;
+  s.range_max = scan->range_max;
+  tf2::Transform tt;
+  tf2::fromMsg(t.transform, tt);
+  const nav::Pose2D sensor = ros_util::PoseFromTf(tt);
+  try {
+    nav::Observation obs = nav::ObservationFromScan(
+        s, sensor, source->marking ? source->obstacle_range : 0.0,
+        source->clearing ? source->raytrace_range : 0.0, source->inf_is_valid);
+    layered_->obstacle_layer()->AddObservation(obs);
+  } catch (const std::invalid_argument& e) {
+    ROS_WARN_THROTTLE(5.0, "move_base: %s: scan from %s dropped: %s", name_.c_str(),
+                      source->topic.c_str(), e.what());
+  }
+}
+
+bool CostmapRos::RobotPose(nav::Pose2D* pose, std::string* why) const {
+  try {
+    const auto t = tf_->lookupTransform(options_.global_frame, options_.robot_base_frame,
+                                        ros::Time(0));
+    tf2::Transform tt;
+    tf2::fromMsg(t.transform, tt);
+    *pose = ros_util::PoseFromTf(tt);
+    const double age = (ros::Time::now() - t.header.stamp).toSec();
+    if (age > options_.transform_tolerance && t.header.stamp != ros::Time(0)) {
+      *why = "transform " + options_.global_frame + " <- " + options_.robot_base_frame + " is " +
+             std::to_string(age) + " s old (transform_tolerance " +
+             std::to_string(options_.transform_tolerance) + " s)";
+      return false;
+    }
+    return true;
+  } catch (const tf2::TransformException& e) {
+    *why = "no transform " + options_.global_frame + " <- " + options_.robot_base_frame + ": " +
+           e.what();
+    return false;
+  }
+}
+
+void CostmapRos::Update(const ros::Time& now, const nav::Pose2D& robot, bool force) {
+  if (!ready()) return;
+  if (force || now >= next_update_ || options_.update_frequency <= 0.0) {
+    layered_->UpdateMap(robot);
+    if (options_.update_frequency > 0.0) {
+      next_update_ = now + ros::Duration(1.0 / options_.update_frequency);
+    }
+  }
+  if (options_.publish_frequency > 0.0 && now >= next_publish_) {
+    Publish(now);
+    next_publish_ = now + ros::Duration(1.0 / options_.publish_frequency);
+  }
+}
+
+void CostmapRos::Publish(const ros::Time& now) {
+  const nav::Costmap2D& c = layered_->costmap();
+  if (costmap_pub_.getNumSubscribers() > 0) {
+    nav_msgs::OccupancyGrid g;
+    g.header.stamp = now;
+    g.header.frame_id = options_.global_frame;
+    g.info.map_load_time = now;
+    g.info.resolution = c.resolution();
+    g.info.width = c.size_x();
+    g.info.height = c.size_y();
+    g.info.origin.position.x = c.origin_x();
+    g.info.origin.position.y = c.origin_y();
+    g.info.origin.orientation.w = 1.0;
+    g.data.resize(c.cells().size());
+    for (size_t i = 0; i < g.data.size(); ++i) g.data[i] = Translate(c.cells()[i]);
+    costmap_pub_.publish(g);
+  }
+  if (footprint_pub_.getNumSubscribers() > 0) {
+    geometry_msgs::PolygonStamped p;
+    p.header.stamp = now;
+    p.header.frame_id = options_.robot_base_frame;
+    for (const auto& v : footprint_) {
+      geometry_msgs::Point32 q;
+      q.x = v.x;
+      q.y = v.y;
+      p.polygon.points.push_back(q);
+    }
+    footprint_pub_.publish(p);
+  }
+}
+
+void CostmapRos::Reset() {
+  layered_->ResetLayers();
+  next_update_ = ros::Time(0);
+}
+
+void CostmapRos::ClearExceptAround(const nav::Pose2D& robot, double reset_distance) {
+  layered_->ClearExceptAround(robot, reset_distance);
+}
+
+}  // namespace minibot3d_navigation

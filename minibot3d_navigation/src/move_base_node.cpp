@@ -1,0 +1,438 @@
+// move_base: ROS 1 node wrapping the ROS-free navigation core, a drop-in for
+// the navigation stack's move_base.  Same action (move_base_msgs/MoveBase),
+// topics (move_base_simple/goal, cmd_vel, odom, scan, map), parameters (its
+// own, ~global_costmap/, ~local_costmap/, ~TrajectoryPlannerROS/ or
+// ~DWAPlannerROS/, ~NavfnROS/ or ~GlobalPlanner/) and services (~make_plan,
+// ~clear_costmaps).  The state machine, planners, controller and costmaps are
+// in the core; this file converts goals, poses, scans and maps and runs the
+// control loop on the ROS (simulator) clock.
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <actionlib/server/simple_action_server.h>
+#include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/Twist.h>
+#include <move_base_msgs/MoveBaseAction.h>
+#include <nav_msgs/GetPlan.h>
+#include <nav_msgs/Odometry.h>
+#include <nav_msgs/Path.h>
+#include <ros/ros.h>
+#include <std_srvs/Empty.h>
+#include <tf2/utils.h>
+#include <tf2_geometry_msgs/tf2_geometry_msgs.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include "costmap_ros.h"
+#include "minibot3d_navigation/dwa/dwa_options.h"
+#include "minibot3d_navigation/dwa/dwa_planner.h"
+#include "minibot3d_navigation/move_base/move_base_options.h"
+#include "minibot3d_navigation/move_base/navigation_executive.h"
+#include "minibot3d_navigation/move_base/recovery_behavior.h"
+#include "minibot3d_navigation/planner/planner_factory.h"
+#include "minibot3d_navigation/planner/planner_options.h"
+#include "ros_util.h"
+
+namespace minibot3d_navigation {
+namespace {
+
+using MoveBaseServer = actionlib::SimpleActionServer<move_base_msgs::MoveBaseAction>;
+
+std::string JoinLines(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& p : v) s += "\n  " + p;
+  return s;
+}
+
+class MoveBaseNode {
+ public:
+  MoveBaseNode()
+      : pnh_("~"),
+        tf_listener_(tf_),
+        global_costmap_("global_costmap", &tf_),
+        local_costmap_("local_costmap", &tf_) {}
+
+  // Reads every parameter; throws std::invalid_argument naming each problem.
+  void Configure() {
+    std::vector<std::string> problems = ros_util::LoadParams(
+        pnh_, nav::IsMoveBaseOptionName,
+        [this](const std::string& n, const std::string& t) { nav::SetMoveBaseOption(n, t, &mb_); });
+    try {
+      nav::ValidateMoveBaseOptions(mb_);
+    } catch (const std::invalid_argument& e) {
+      problems.push_back(e.what());
+    }
+
+    // Local planner parameters: the namespace named by base_local_planner.
+    const bool dwa_ns = mb_.base_local_planner.find("DWAPlannerROS") != std::string::npos;
+    if (mb_.base_local_planner != "base_local_planner/TrajectoryPlannerROS" &&
+        mb_.base_local_planner != "dwa_local_planner/DWAPlannerROS") {
+      problems.push_back("~base_local_planner: '" + mb_.base_local_planner +
+                         "' is not one of base_local_planner/TrajectoryPlannerROS, "
+                         "dwa_local_planner/DWAPlannerROS (both run minibot3d's DWA)");
+    }
+    local_ns_ = dwa_ns ? "DWAPlannerROS" : "TrajectoryPlannerROS";
+    ros::NodeHandle lnh(pnh_, local_ns_);
+    for (const auto& p : ros_util::LoadParams(lnh, nav::dwa::IsDwaOptionName,
+                                              [this](const std::string& n, const std::string& t) {
+                                                nav::dwa::SetDwaOption(n, t, &dwa_);
+                                              })) {
+      problems.push_back(p);
+    }
+    for (const auto& u : ros_util::UnknownParams(lnh, nav::dwa::IsDwaOptionName)) {
+      ROS_WARN("move_base: unknown parameter %s (ignored)", u.c_str());
+    }
+    dwa_.controller_frequency = mb_.controller_frequency;
+
+    // Global planner parameters: ~NavfnROS, ~GlobalPlanner, ~OmplPlanner.
+    planner_.base_global_planner = mb_.base_global_planner;
+    for (const char* ns : {"NavfnROS", "GlobalPlanner", "OmplPlanner"}) {
+      ros::NodeHandle gnh(pnh_, ns);
+      for (const auto& p : ros_util::LoadParams(
+               gnh, nav::IsGlobalPlannerOptionName,
+               [this](const std::string& n, const std::string& t) {
+                 nav::SetGlobalPlannerOption(n, t, &planner_);
+               })) {
+        problems.push_back(p);
+      }
+    }
+
+    for (CostmapRos* c : {&global_costmap_, &local_costmap_}) {
+      try {
+        c->Configure();
+      } catch (const std::invalid_argument& e) {
+        problems.push_back(e.what());
+      }
+    }
+    if (!problems.empty()) throw std::invalid_argument(JoinLines(problems));
+
+    // The planners (validate their options on construction).
+    try {
+      global_planner_ = nav::MakeGlobalPlanner(planner_, global_costmap_.footprint());
+      local_planner_ = std::make_unique<nav::dwa::DwaPlanner>(dwa_, local_costmap_.footprint());
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("\n  ") + e.what());
+    }
+    BuildRecoveries();
+    executive_ = std::make_unique<nav::NavigationExecutive>(
+        mb_, global_planner_.get(), local_planner_.get(), recovery_ptrs_);
+    ROS_INFO("move_base: global planner %s, local planner %s (~%s), %zu recovery behaviours",
+             global_planner_->name().c_str(), local_planner_->name().c_str(), local_ns_.c_str(),
+             recovery_ptrs_.size());
+  }
+
+  void Start() {
+    global_costmap_.Start();
+    local_costmap_.Start();
+    cmd_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel", 1);
+    goal_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("current_goal", 1, true);
+    plan_pub_ = pnh_.advertise<nav_msgs::Path>(
+        (mb_.base_global_planner == "ompl" ? "OmplPlanner" : "NavfnROS") + std::string("/plan"), 1);
+    local_global_plan_pub_ = pnh_.advertise<nav_msgs::Path>(local_ns_ + "/global_plan", 1);
+    local_plan_pub_ = pnh_.advertise<nav_msgs::Path>(local_ns_ + "/local_plan", 1);
+    odom_sub_ = nh_.subscribe("odom", 1, &MoveBaseNode::OnOdom, this);
+    simple_goal_sub_ = nh_.subscribe("move_base_simple/goal", 1, &MoveBaseNode::OnSimpleGoal, this);
+    make_plan_srv_ = pnh_.advertiseService("make_plan", &MoveBaseNode::OnMakePlan, this);
+    clear_srv_ = pnh_.advertiseService("clear_costmaps", &MoveBaseNode::OnClearCostmaps, this);
+    server_ = std::make_unique<MoveBaseServer>(nh_, "move_base", false);
+    server_->registerGoalCallback([this] { OnGoal(); });
+    server_->registerPreemptCallback([this] { OnPreempt(); });
+    server_->start();
+    timer_ = nh_.createTimer(ros::Duration(1.0 / mb_.controller_frequency),
+                             &MoveBaseNode::OnControl, this);
+  }
+
+ private:
+  void BuildRecoveries() {
+    std::vector<std::string> names = mb_.recovery_behaviors;
+    if (names.empty()) {
+      names = {"conservative_reset"};
+      if (mb_.clearing_rotation_allowed) names.push_back("rotate_recovery");
+      names.push_back("aggressive_reset");
+      if (mb_.clearing_rotation_allowed) names.push_back("rotate_recovery");
+    }
+    nav::RotateRecoveryOptions rot;
+    rot.max_rotational_vel = dwa_.max_vel_theta;
+    rot.min_rotational_vel = dwa_.min_in_place_vel_theta;
+    rot.acc_lim_th = dwa_.acc_lim_theta;
+    rot.frequency = mb_.controller_frequency;
+    for (const std::string& n : names) {
+      if (n == "rotate_recovery") {
+        recoveries_.push_back(
+            std::make_unique<nav::RotateRecovery>(n, rot, local_costmap_.footprint()));
+      } else {
+        // aggressive_reset clears everything outside the robot's footprint
+        // (move_base: a square of side 4 x the circumscribed radius).
+        const double d = n == "conservative_reset"
+                             ? mb_.conservative_reset_dist
+                             : 4.0 * local_costmap_.layered().circumscribed_radius();
+        recoveries_.push_back(std::make_unique<nav::ClearCostmapRecovery>(
+            n, d, [this](double reset_distance) { ClearAround(reset_distance); }));
+      }
+      recovery_ptrs_.push_back(recoveries_.back().get());
+    }
+  }
+
+  void ClearAround(double reset_distance) {
+    nav::Pose2D p;
+    std::string why;
+    for (CostmapRos* c : {&global_costmap_, &local_costmap_}) {
+      if (c->RobotPose(&p, &why)) c->ClearExceptAround(p, reset_distance);
+    }
+  }
+
+  void OnOdom(const nav_msgs::Odometry::ConstPtr& odom) {
+    velocity_.vx = odom->twist.twist.linear.x;
+    velocity_.vy = odom->twist.twist.linear.y;
+    velocity_.vtheta = odom->twist.twist.angular.z;
+  }
+
+  // Goal pose -> global frame, once, at reception.  Empty string on success,
+  // else the reason to reject it.
+  std::string ToGlobal(const geometry_msgs::PoseStamped& in, nav::Pose2D* out) {
+    const auto& q = in.pose.orientation;
+    const double n = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+    if (!std::isfinite(n) || n < 1e-6 || !std::isfinite(in.pose.position.x) ||
+        !std::isfinite(in.pose.position.y)) {
+      return "goal has an invalid pose (position or quaternion not finite, or quaternion of "
+             "length 0)";
+    }
+    tf2::Quaternion tq(q.x / n, q.y / n, q.z / n, q.w / n);
+    // A goal must be planar: its z axis may not tip more than ~1 degree.
+    if (std::fabs(tf2::Matrix3x3(tq).getColumn(2).z() - 1.0) > 1e-3) {
+      return "goal quaternion is not a rotation about z (the goal must lie in the plane)";
+    }
+    geometry_msgs::PoseStamped normalized = in;
+    normalized.pose.orientation = tf2::toMsg(tq);
+    const std::string frame = in.header.frame_id.empty() ? global_costmap_.options().global_frame
+                                                         : in.header.frame_id;
+    normalized.header.frame_id = frame;
+    normalized.header.stamp = ros::Time(0);  // latest: "1 m ahead of where the robot is now"
+    try {
+      geometry_msgs::PoseStamped g;
+      tf_.transform(normalized, g, global_costmap_.options().global_frame, ros::Duration(0.5));
+      out->x = g.pose.position.x;
+      out->y = g.pose.position.y;
+      out->yaw = tf2::getYaw(g.pose.orientation);
+      return "";
+    } catch (const tf2::TransformException& e) {
+      return "cannot transform the goal from frame '" + frame + "' into '" +
+             global_costmap_.options().global_frame + "': " + e.what();
+    }
+  }
+
+  void OnGoal() {
+    const auto goal = server_->acceptNewGoal();
+    nav::Pose2D g;
+    const std::string error = ToGlobal(goal->target_pose, &g);
+    if (!error.empty()) {
+      ROS_ERROR("move_base: rejecting goal: %s", error.c_str());
+      executive_->Cancel();
+      PublishZero();
+      server_->setAborted(move_base_msgs::MoveBaseResult(), error);
+      return;
+    }
+    ROS_INFO("move_base: new goal (%.2f, %.2f, yaw %.2f) in %s", g.x, g.y, g.yaw,
+             global_costmap_.options().global_frame.c_str());
+    executive_->SetGoal(g, ros::Time::now().toSec());
+    geometry_msgs::PoseStamped cg;
+    cg.header.frame_id = global_costmap_.options().global_frame;
+    cg.header.stamp = ros::Time::now();
+    cg.pose.position.x = g.x;
+    cg.pose.position.y = g.y;
+    cg.pose.orientation = tf2::toMsg(ros_util::TfFromPose(g).getRotation());
+    goal_pub_.publish(cg);
+  }
+
+  void OnPreempt() {
+    executive_->Cancel();
+    PublishZero();
+    if (server_->isActive()) server_->setPreempted(move_base_msgs::MoveBaseResult(), "cancelled");
+  }
+
+  void OnSimpleGoal(const geometry_msgs::PoseStamped::ConstPtr& goal) {
+    // As move_base: wrap it into an action goal to ourselves.
+    if (!simple_client_pub_) {
+      simple_client_pub_ = nh_.advertise<move_base_msgs::MoveBaseActionGoal>("move_base/goal", 1);
+    }
+    move_base_msgs::MoveBaseActionGoal ag;
+    ag.header.stamp = ros::Time::now();
+    ag.goal_id.stamp = ag.header.stamp;
+    ag.goal.target_pose = *goal;
+    simple_client_pub_.publish(ag);
+  }
+
+  void PublishZero() { cmd_pub_.publish(geometry_msgs::Twist()); }
+
+  static nav_msgs::Path ToPath(const nav::Path& path, const std::string& frame,
+                               const ros::Time& stamp) {
+    nav_msgs::Path msg;
+    msg.header.frame_id = frame;
+    msg.header.stamp = stamp;
+    for (const nav::Pose2D& p : path) {
+      geometry_msgs::PoseStamped ps;
+      ps.header = msg.header;
+      ps.pose.position.x = p.x;
+      ps.pose.position.y = p.y;
+      ps.pose.orientation = tf2::toMsg(ros_util::TfFromPose(p).getRotation());
+      msg.poses.push_back(ps);
+    }
+    return msg;
+  }
+
+  void OnControl(const ros::TimerEvent&) {
+    const ros::Time now = ros::Time::now();
+    nav::RobotState state;
+    state.time = now.toSec();
+    state.velocity = velocity_;
+    std::string why;
+    const bool have_global = global_costmap_.RobotPose(&state.global_pose, &why);
+    const bool have_local = have_global && local_costmap_.RobotPose(&state.local_pose, &why);
+    if (!have_global || !have_local) {
+      ROS_WARN_THROTTLE(5.0, "move_base: robot pose unknown: %s. Is the localizer (amcl) "
+                        "publishing %s -> %s?", why.c_str(),
+                        global_costmap_.options().global_frame.c_str(),
+                        local_costmap_.options().global_frame.c_str());
+      if (executive_->active()) PublishZero();
+      return;
+    }
+    global_costmap_.Update(now, state.global_pose);
+    local_costmap_.Update(now, state.local_pose);
+    if (!executive_->active()) return;
+    if (!global_costmap_.ready()) {
+      ROS_WARN_THROTTLE(5.0, "move_base: waiting for the map on %s to plan",
+                        ros::names::resolve("map").c_str());
+      PublishZero();
+      return;
+    }
+    state.global_costmap = &global_costmap_.costmap();
+    state.local_costmap = &local_costmap_.costmap();
+    // The global frame's pose in the local one: local = global_to_local (+) global.
+    const nav::Pose2D global_to_local =
+        nav::Compose(state.local_pose, nav::Between(state.global_pose, nav::Pose2D()));
+    const nav::CycleResult r = executive_->Step(state, global_to_local);
+
+    geometry_msgs::Twist cmd;
+    cmd.linear.x = r.cmd.vx;
+    cmd.angular.z = r.cmd.vtheta;
+    cmd_pub_.publish(cmd);
+    if (r.new_plan) {
+      plan_pub_.publish(ToPath(executive_->plan(), global_costmap_.options().global_frame, now));
+    }
+    if (executive_->state() == nav::NavState::kControlling && r.status == nav::GoalStatus::kActive) {
+      local_global_plan_pub_.publish(
+          ToPath(local_planner_->pruned_plan(), local_costmap_.options().global_frame, now));
+      local_plan_pub_.publish(ToPath(local_planner_->last_trajectory().poses,
+                                     local_costmap_.options().global_frame, now));
+    }
+    if (!server_->isActive()) return;
+    switch (r.status) {
+      case nav::GoalStatus::kActive: {
+        move_base_msgs::MoveBaseFeedback fb;
+        fb.base_position.header.frame_id = global_costmap_.options().global_frame;
+        fb.base_position.header.stamp = now;
+        fb.base_position.pose.position.x = state.global_pose.x;
+        fb.base_position.pose.position.y = state.global_pose.y;
+        fb.base_position.pose.orientation =
+            tf2::toMsg(ros_util::TfFromPose(state.global_pose).getRotation());
+        server_->publishFeedback(fb);
+        if (!r.message.empty() && r.message != last_message_) {
+          ROS_WARN("move_base: %s", r.message.c_str());
+        }
+        last_message_ = r.message;
+        break;
+      }
+      case nav::GoalStatus::kSucceeded:
+        PublishZero();
+        ROS_INFO("move_base: goal reached");
+        server_->setSucceeded(move_base_msgs::MoveBaseResult(), r.message);
+        break;
+      case nav::GoalStatus::kAborted:
+        PublishZero();
+        ROS_ERROR("move_base: aborting goal: %s", r.message.c_str());
+        server_->setAborted(move_base_msgs::MoveBaseResult(), r.message);
+        break;
+      case nav::GoalStatus::kNone:
+        break;
+    }
+  }
+
+  bool OnMakePlan(nav_msgs::GetPlan::Request& req, nav_msgs::GetPlan::Response& res) {
+    if (!global_costmap_.ready()) {
+      ROS_ERROR("move_base: make_plan: no map yet");
+      return false;
+    }
+    nav::Pose2D start, goal;
+    std::string error;
+    if (req.start.header.frame_id.empty()) {
+      if (!global_costmap_.RobotPose(&start, &error)) {
+        ROS_ERROR("move_base: make_plan: %s", error.c_str());
+        return false;
+      }
+    } else if (!(error = ToGlobal(req.start, &start)).empty()) {
+      ROS_ERROR("move_base: make_plan: start: %s", error.c_str());
+      return false;
+    }
+    if (!(error = ToGlobal(req.goal, &goal)).empty()) {
+      ROS_ERROR("move_base: make_plan: goal: %s", error.c_str());
+      return false;
+    }
+    try {
+      const nav::Path p = global_planner_->MakePlan(global_costmap_.costmap(), start, goal);
+      res.plan = ToPath(p, global_costmap_.options().global_frame, ros::Time::now());
+    } catch (const nav::PlanningError& e) {
+      // An empty plan is make_plan's "no path" answer.
+      ROS_WARN("move_base: make_plan: %s", e.what());
+      res.plan.header.frame_id = global_costmap_.options().global_frame;
+    }
+    return true;
+  }
+
+  bool OnClearCostmaps(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+    global_costmap_.Reset();
+    local_costmap_.Reset();
+    ROS_INFO("move_base: costmaps cleared");
+    return true;
+  }
+
+  ros::NodeHandle nh_, pnh_;
+  tf2_ros::Buffer tf_;
+  tf2_ros::TransformListener tf_listener_;
+  CostmapRos global_costmap_, local_costmap_;
+  nav::MoveBaseOptions mb_;
+  nav::dwa::DwaOptions dwa_;
+  nav::GlobalPlannerOptions planner_;
+  std::string local_ns_;
+  std::unique_ptr<nav::GlobalPlanner> global_planner_;
+  std::unique_ptr<nav::dwa::DwaPlanner> local_planner_;
+  std::vector<std::unique_ptr<nav::RecoveryBehavior>> recoveries_;
+  std::vector<nav::RecoveryBehavior*> recovery_ptrs_;
+  std::unique_ptr<nav::NavigationExecutive> executive_;
+  std::unique_ptr<MoveBaseServer> server_;
+  ros::Publisher cmd_pub_, goal_pub_, plan_pub_, local_global_plan_pub_, local_plan_pub_,
+      simple_client_pub_;
+  ros::Subscriber odom_sub_, simple_goal_sub_;
+  ros::ServiceServer make_plan_srv_, clear_srv_;
+  ros::Timer timer_;
+  nav::Twist2D velocity_;
+  std::string last_message_;
+};
+
+}  // namespace
+}  // namespace minibot3d_navigation
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "move_base");
+  minibot3d_navigation::MoveBaseNode node;
+  try {
+    node.Configure();
+  } catch (const std::invalid_argument& e) {
+    ROS_FATAL("move_base: bad parameters:%s", e.what());
+    return 1;
+  }
+  node.Start();
+  ros::spin();
+  return 0;
+}

@@ -1,0 +1,1 @@
+../../minibot3d_navigation/scripts/simple_navi_goals.py
