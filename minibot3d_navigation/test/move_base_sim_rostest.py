@@ -119,7 +119,7 @@ class MoveBaseSim(unittest.TestCase):
         self.assertTrue(finished)
         self.assertEqual(state, GoalStatus.ABORTED, text)
         self.assertIn('valid plan', text)
-        self.assertIn('obstacle', text)
+        self.assertIn('lethal', text)
 
     def test_4_cancel_stops_the_robot(self):
         self.client.send_goal(make_goal(-3.0, -1.5, 0.0))

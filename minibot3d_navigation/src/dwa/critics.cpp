@@ -211,7 +211,7 @@ int ObstacleCostCritic::Check(const Trajectory& traj,
   // quantisation.  Base_local_planner only rejects lethal outline cells,
   // which lets a robot scrape walls; an escape (backing out of the band) only
   // has to avoid lethal cells.
-  const int limit = traj.kind == TrajectoryKind::kEscape
+  const int limit = traj.kind == TrajectoryKind::kEscape || lethal_only_
                         ? kLethalObstacle
                         : kInscribedInflatedObstacle;
   int worst = 0;

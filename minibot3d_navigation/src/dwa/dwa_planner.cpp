@@ -323,94 +323,104 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
 
   bool have_best = false;
   double best_cost = kInf;
-  auto take_if_better = [&]() {
-    if (candidate_.cost >= 0.0 && candidate_.cost < best_cost) {
-      std::swap(best_, candidate_);
-      best_cost = best_.cost;
-      have_best = true;
-    }
-  };
-
-  if (!escaping_) {
-    for (int i = 0; i < nvx; ++i) {
-      Twist2D cmd;
-      cmd.vx = vx_sample(i);
-      // The straight command first, then the theta samples.
-      for (int j = -1; j < nth; ++j) {
-        cmd.vtheta = j < 0 ? 0.0 : vth_sample(j);
-        if (j >= 0 && cmd.vtheta == 0.0) continue;
-        generator_.Generate(pose, velocity, cmd, TrajectoryKind::kSampled,
-                            &candidate_);
-        Evaluate(best_cost);
-        take_if_better();
-      }
-    }
-  }
-
-  // In-place rotations (TrajectoryPlanner): taken if no worse than the best
-  // so far, preferring the one pointing the robot closest to the goal (goal
-  // distance heading_lookahead ahead of its end pose).  Unlike
-  // TrajectoryPlanner, a rotation must also point the robot closer to the
-  // goal than it is now, so a blocked robot does not turn just because it
-  // may; and never past a full circle on the spot.
-  const double dvth = nth > 1 ? (win.max_vth - win.min_vth) / (nth - 1) : 0.0;
-  const double ahead_now =
-      goal_critic_.DistanceAhead(pose, options_.heading_lookahead);
-  double heading_dist = kInf;
-  const bool spun_out = spun_in_place_ > 2.0 * kPi;
-  double last_limited = 0.0;
-  for (int j = 0; j < nth; ++j) {
-    const double samp = vth_sample(j);
-    if (!(samp > dvth || samp < -dvth)) continue;
-    const double limited =
-        samp > 0.0 ? std::max(samp, options_.min_in_place_vel_theta)
-                   : std::min(samp, -options_.min_in_place_vel_theta);
-    if (limited == last_limited) continue;  // same rollout as the last one
-    last_limited = limited;
-    if (spun_out) {
-      ++stats_.rotations_refused;
-      continue;
-    }
-    Twist2D cmd;
-    cmd.vtheta = limited;
-    generator_.Generate(pose, velocity, cmd, TrajectoryKind::kInPlace,
-                        &candidate_);
-    const double cost = Evaluate(have_best ? best_cost : kInf);
-    if (cost >= 0.0 && cost < kInf && (!have_best || cost <= best_cost)) {
-      // Never turn so far off the plan that the next cycle would turn back
-      // (rotate-to-path), or the two would take turns.
-      const double off_path = PathHeadingError(candidate_.end(), costmap);
-      if (options_.rotate_to_path_angle < kPi && std::isfinite(off_path) &&
-          std::fabs(off_path) > options_.rotate_to_path_angle) {
-        if (!have_best) ++stats_.rotations_refused;
-        continue;
-      }
-      const double ahead =
-          goal_critic_.DistanceAhead(candidate_.end(), options_.heading_lookahead);
-      if (!(ahead < ahead_now)) {
-        if (!have_best) ++stats_.rotations_refused;
-      } else if (ahead < heading_dist) {
+  // Two passes: first keeping the footprint's outline out of the inscribed
+  // band (a margin of one inscribed radius); then, only if nothing passed,
+  // turning in place with just lethal cells as obstacles (base_local_planner's
+  // rule), so a robot that drifted to the edge of the band (localization, a
+  // recovery turn) can turn away instead of freezing.  Driving on is never
+  // allowed inside the band: that is how a robot creeps into a wall.
+  for (int pass = 0; pass < 2 && !have_best; ++pass) {
+    obstacle_critic_.set_lethal_only(pass == 1);
+    auto take_if_better = [&]() {
+      if (candidate_.cost >= 0.0 && candidate_.cost < best_cost) {
         std::swap(best_, candidate_);
-        best_cost = cost;
-        heading_dist = ahead;
+        best_cost = best_.cost;
         have_best = true;
       }
+    };
+
+    if (!escaping_ && pass == 0) {
+      for (int i = 0; i < nvx; ++i) {
+        Twist2D cmd;
+        cmd.vx = vx_sample(i);
+        // The straight command first, then the theta samples.
+        for (int j = -1; j < nth; ++j) {
+          cmd.vtheta = j < 0 ? 0.0 : vth_sample(j);
+          if (j >= 0 && cmd.vtheta == 0.0) continue;
+          generator_.Generate(pose, velocity, cmd, TrajectoryKind::kSampled,
+                              &candidate_);
+          Evaluate(best_cost);
+          take_if_better();
+        }
+      }
+    }
+
+    // In-place rotations (TrajectoryPlanner): taken if no worse than the best
+    // so far, preferring the one pointing the robot closest to the goal (goal
+    // distance heading_lookahead ahead of its end pose).  Unlike
+    // TrajectoryPlanner, a rotation must also point the robot closer to the
+    // goal than it is now, so a blocked robot does not turn just because it
+    // may; and never past a full circle on the spot.
+    const double dvth = nth > 1 ? (win.max_vth - win.min_vth) / (nth - 1) : 0.0;
+    const double ahead_now =
+        goal_critic_.DistanceAhead(pose, options_.heading_lookahead);
+    double heading_dist = kInf;
+    const bool spun_out = spun_in_place_ > 2.0 * kPi;
+    double last_limited = 0.0;
+    for (int j = 0; j < nth; ++j) {
+      const double samp = vth_sample(j);
+      if (!(samp > dvth || samp < -dvth)) continue;
+      const double limited =
+          samp > 0.0 ? std::max(samp, options_.min_in_place_vel_theta)
+                     : std::min(samp, -options_.min_in_place_vel_theta);
+      if (limited == last_limited) continue;  // same rollout as the last one
+      last_limited = limited;
+      if (spun_out) {
+        ++stats_.rotations_refused;
+        continue;
+      }
+      Twist2D cmd;
+      cmd.vtheta = limited;
+      generator_.Generate(pose, velocity, cmd, TrajectoryKind::kInPlace,
+                          &candidate_);
+      const double cost = Evaluate(have_best ? best_cost : kInf);
+      if (cost >= 0.0 && cost < kInf && (!have_best || cost <= best_cost)) {
+        // Never turn so far off the plan that the next cycle would turn back
+        // (rotate-to-path), or the two would take turns.
+        const double off_path = PathHeadingError(candidate_.end(), costmap);
+        if (options_.rotate_to_path_angle < kPi && std::isfinite(off_path) &&
+            std::fabs(off_path) > options_.rotate_to_path_angle) {
+          if (!have_best) ++stats_.rotations_refused;
+          continue;
+        }
+        const double ahead =
+            goal_critic_.DistanceAhead(candidate_.end(), options_.heading_lookahead);
+        if (!(ahead < ahead_now)) {
+          if (!have_best) ++stats_.rotations_refused;
+        } else if (ahead < heading_dist) {
+          std::swap(best_, candidate_);
+          best_cost = cost;
+          heading_dist = ahead;
+          have_best = true;
+        }
+      }
+    }
+
+    // Braking to a standstill: the command every admissible trajectory leaves
+    // open (the dynamic window alone may not reach vx = 0), taken only when
+    // nothing else is legal; as a competitor it would win against slow
+    // rotations (lower obstacle cost) and make the robot stop-start.  Not while
+    // escaping: there the escape trajectory itself is the fallback.
+    if (!have_best && !escaping_ &&
+        (std::fabs(velocity.vx) > 1e-3 || std::fabs(velocity.vtheta) > 1e-3)) {
+      generator_.Generate(pose, velocity, Twist2D(), TrajectoryKind::kStop,
+                          &candidate_);
+      candidate_.command = generator_.BrakingCommand(velocity);
+      Evaluate(kInf);
+      take_if_better();
     }
   }
-
-  // Braking to a standstill: the command every admissible trajectory leaves
-  // open (the dynamic window alone may not reach vx = 0), taken only when
-  // nothing else is legal; as a competitor it would win against slow
-  // rotations (lower obstacle cost) and make the robot stop-start.  Not while
-  // escaping: there the escape trajectory itself is the fallback.
-  if (!have_best && !escaping_ &&
-      (std::fabs(velocity.vx) > 1e-3 || std::fabs(velocity.vtheta) > 1e-3)) {
-    generator_.Generate(pose, velocity, Twist2D(), TrajectoryKind::kStop,
-                        &candidate_);
-    candidate_.command = generator_.BrakingCommand(velocity);
-    Evaluate(kInf);
-    take_if_better();
-  }
+  obstacle_critic_.set_lethal_only(false);
 
   if (have_best) {
     for (TrajectoryCritic* c : critics_) c->Debrief(best_);
@@ -425,7 +435,10 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
   // the obstacle (or wander off along it), so the caller gets a ControlError
   // (recovery, replanning).
   const int here = FootprintCost(costmap, footprint_, pose);
-  const bool stuck = here < 0 || here >= kInscribedInflatedObstacle;
+  // Stuck: the footprint is in the band already, or at its edge so that
+  // every trajectory enters it at once (a collision after ~0 m of travel).
+  const bool stuck = here < 0 || here >= kInscribedInflatedObstacle ||
+                     obstacle_critic_.nearest_collision_distance() < 0.01;
   std::string escape_note;
   if (options_.escape_vel >= 0.0) {
     escape_note = "escaping is disabled (escape_vel = 0)";

@@ -100,6 +100,9 @@ class ObstacleCostCritic : public TrajectoryCritic {
   // Smallest distance travelled before a collision over the trajectories
   // rejected since Prepare (infinity if none).
   double nearest_collision_distance() const { return nearest_collision_; }
+  // false (default): the outline must stay below the inscribed band (253);
+  // true: only lethal cells (254) collide.
+  void set_lethal_only(bool lethal_only) { lethal_only_ = lethal_only; }
 
  private:
   // Worst cost, or -1 with *collision_distance set (if non-null).
@@ -108,6 +111,7 @@ class ObstacleCostCritic : public TrajectoryCritic {
   Footprint footprint_;
   const Costmap2D* costmap_ = nullptr;
   double nearest_collision_ = 0.0;
+  bool lethal_only_ = false;
 };
 
 class OscillationCritic : public TrajectoryCritic {
