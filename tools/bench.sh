@@ -46,6 +46,15 @@ devel/lib/minibot3d_navigation/amcl_bench --benchmark_min_time=0.2 2>/dev/null |
 echo "== AMCL in the simulator: tracking (3 laps of the rooms), global localization, kidnapping"
 tools/amcl_sim_bench.sh
 
+echo "== Navigation core: costmap inflation/updates, global planners (A* 2000x2000, OMPL), DWA cycle"
+for b in costmap_bench planner_bench dwa_bench; do
+  devel/lib/minibot3d_navigation/$b --benchmark_min_time=0.2 --benchmark_counters_tabular=true \
+    2>/dev/null | grep -E "^(BM_|Benchmark|-)" || true
+done
+
+echo "== move_base in the simulator: 20 random reachable goals in the default world (seed 1)"
+tools/nav_sim_bench.sh
+
 echo "== SLAM on a CARMEN log (slam_offline, gmapping defaults): 10, 30, 100 particles"
 if [ -n "$log" ] && [ -f "$log" ]; then
   for particles in 10 30 100; do
