@@ -77,6 +77,8 @@ class SimNode {
     pnh_.param("cmd_timeout", sim.cmd_timeout, sim.cmd_timeout);
     pnh_.param("odom_wheel_separation_multiplier", sim.odom_wheel_separation_multiplier,
                sim.odom_wheel_separation_multiplier);
+    pnh_.param("cmd_wheel_separation_multiplier", sim.cmd_wheel_separation_multiplier,
+               sim.cmd_wheel_separation_multiplier);
     pnh_.param("x", sim.spawn.x, 0.0);
     pnh_.param("y", sim.spawn.y, 0.0);
     pnh_.param("yaw", sim.spawn.yaw, 0.0);

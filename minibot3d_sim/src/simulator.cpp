@@ -16,6 +16,10 @@ void ValidateOptions(const SimulatorOptions& o) {
     bad("odom_wheel_separation_multiplier must be > 0, got " +
         std::to_string(o.odom_wheel_separation_multiplier));
   }
+  if (!(o.cmd_wheel_separation_multiplier > 0.0)) {
+    bad("cmd_wheel_separation_multiplier must be > 0, got " +
+        std::to_string(o.cmd_wheel_separation_multiplier));
+  }
   if (!(o.cmd_timeout > 0.0)) bad("cmd_timeout must be > 0 s, got " + std::to_string(o.cmd_timeout));
   if (!std::isfinite(o.spawn.x) || !std::isfinite(o.spawn.y) || !std::isfinite(o.spawn.yaw)) {
     bad("spawn pose (x, y, yaw) must be finite");
@@ -29,6 +33,7 @@ Simulator::Simulator(const RobotModel& robot, World world, const SimulatorOption
   geometry_.wheel_radius = robot_.drive.wheel_diameter / 2.0;
   odom_geometry_ = geometry_;
   odom_geometry_.wheel_separation *= options_.odom_wheel_separation_multiplier;
+  geometry_.wheel_separation *= options_.cmd_wheel_separation_multiplier;
   backend_ = MakePhysicsBackend(options_.physics, robot_, world_);
   lidar_slice_ = std::make_unique<WorldSlice>(world_, robot_.lidar.pose_in_root.translation().z());
   body_slice_ = std::make_unique<WorldSlice>(world_, robot_.body_pose.translation().z());

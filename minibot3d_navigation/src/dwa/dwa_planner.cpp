@@ -324,22 +324,29 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
   bool have_best = false;
   double best_cost = kInf;
   // Two passes: first keeping the footprint's outline out of the inscribed
-  // band (a margin of one inscribed radius); then, only if nothing passed,
-  // turning in place with just lethal cells as obstacles (base_local_planner's
-  // rule), so a robot that drifted to the edge of the band (localization, a
-  // recovery turn) can turn away instead of freezing.  Driving on is never
-  // allowed inside the band: that is how a robot creeps into a wall.
+  // band (a margin of one inscribed radius); then, only if nothing passed, a
+  // way out: any trajectory (arc or turn on the spot) that touches no lethal
+  // cell, brakes in time, and ends with the outline back out of the band.  A
+  // robot that drifted to the edge of the band (slip, localization, a
+  // recovery turn) can so leave it instead of freezing, but never creeps
+  // along inside it towards a wall.
   for (int pass = 0; pass < 2 && !have_best; ++pass) {
     obstacle_critic_.set_lethal_only(pass == 1);
+    // In the second pass a trajectory must end outside the band.
+    auto exits_band = [&]() {
+      if (pass == 0) return true;
+      const int c = FootprintCost(costmap, footprint_, candidate_.end());
+      return c >= 0 && c < kInscribedInflatedObstacle;
+    };
     auto take_if_better = [&]() {
-      if (candidate_.cost >= 0.0 && candidate_.cost < best_cost) {
+      if (candidate_.cost >= 0.0 && candidate_.cost < best_cost && exits_band()) {
         std::swap(best_, candidate_);
         best_cost = best_.cost;
         have_best = true;
       }
     };
 
-    if (!escaping_ && pass == 0) {
+    if (!escaping_) {
       for (int i = 0; i < nvx; ++i) {
         Twist2D cmd;
         cmd.vx = vx_sample(i);
@@ -384,18 +391,20 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
       generator_.Generate(pose, velocity, cmd, TrajectoryKind::kInPlace,
                           &candidate_);
       const double cost = Evaluate(have_best ? best_cost : kInf);
-      if (cost >= 0.0 && cost < kInf && (!have_best || cost <= best_cost)) {
+      if (cost >= 0.0 && cost < kInf && (!have_best || cost <= best_cost) && exits_band()) {
         // Never turn so far off the plan that the next cycle would turn back
         // (rotate-to-path), or the two would take turns.
         const double off_path = PathHeadingError(candidate_.end(), costmap);
-        if (options_.rotate_to_path_angle < kPi && std::isfinite(off_path) &&
+        if (pass == 0 && options_.rotate_to_path_angle < kPi && std::isfinite(off_path) &&
             std::fabs(off_path) > options_.rotate_to_path_angle) {
           if (!have_best) ++stats_.rotations_refused;
           continue;
         }
         const double ahead =
             goal_critic_.DistanceAhead(candidate_.end(), options_.heading_lookahead);
-        if (!(ahead < ahead_now)) {
+        // In the second (stuck) pass any turn clear of lethal cells will do:
+        // turning is the only way out when both ways ahead are blocked.
+        if (pass == 0 && !(ahead < ahead_now)) {
           if (!have_best) ++stats_.rotations_refused;
         } else if (ahead < heading_dist) {
           std::swap(best_, candidate_);

@@ -37,6 +37,11 @@ struct SimulatorOptions {
   // turn (a² + b²)/b² times more than a no-slip model expects (a: half wheelbase, b: half track);
   // real skid-steer robots calibrate this. 1.0 integrates the raw wheel speeds.
   double odom_wheel_separation_multiplier = 1.0;
+  // The drive's effective track when it turns cmd_vel into wheel speeds (the same
+  // multiplier of diff_drive_controller, applied on the command side): with the slip factor
+  // above, commanded yaw rates are then achieved instead of b²/(a² + b²) of them, which a local
+  // planner predicting arcs relies on. 1.0 is the Gazebo skid-steer plugin (no compensation).
+  double cmd_wheel_separation_multiplier = 1.0;
 };
 
 // Throws std::invalid_argument naming the offending option and value.
