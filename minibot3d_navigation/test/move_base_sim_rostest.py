@@ -5,7 +5,9 @@ default world, amcl started there, the map frame = the world frame:
     about 1 m ahead of where it was;
  2. three goals across the apartment are reached (SUCCEEDED, true position within 0.3 m);
  3. a goal inside a wall is ABORTED, and the status text says why;
- 4. cancelling a goal mid-way stops the robot (PREEMPTED, ground-truth speed falls to ~0).
+ 4. cancelling a goal mid-way stops the robot (PREEMPTED, ground-truth speed falls to ~0);
+ 5. a goal with an all-zero quaternion is rejected saying so; one with w = 2 is normalised and
+    reached, with feedback in the map frame.
 No collisions are reported by the simulator during the whole run.  Every wait is on a condition
 (an action result, a message, a process exit) with a timeout, never a fixed sleep."""
 import math
@@ -131,7 +133,27 @@ class MoveBaseSim(unittest.TestCase):
         self.assertTrue(self.truth.wait(lambda: self.truth.speed < 0.02, 5.0),
                         'robot still moving at %.2f m/s after cancel' % self.truth.speed)
 
-    def test_5_no_collisions(self):
+    def test_5_goal_quaternions(self):
+        # All-zero quaternion: rejected (ABORTED) with the reason, the robot does not move.
+        bad = make_goal(-2.0, -1.5, 0.0)
+        bad.target_pose.pose.orientation.z = 0.0
+        bad.target_pose.pose.orientation.w = 0.0
+        finished, state, text = self.send_and_wait(bad, 30.0)
+        self.assertTrue(finished)
+        self.assertEqual(state, GoalStatus.ABORTED)
+        self.assertIn('quaternion', text)
+        # Not normalised (w = 2): normalised and reached, with feedback on the way.
+        feedback = []
+        good = make_goal(-2.0, -1.5, 0.0)
+        good.target_pose.pose.orientation.w = 2.0
+        self.client.send_goal(good, feedback_cb=feedback.append)
+        self.assertTrue(self.client.wait_for_result(rospy.Duration(300.0)))
+        self.assertEqual(self.client.get_state(), GoalStatus.SUCCEEDED,
+                         self.client.get_goal_status_text())
+        self.assertTrue(feedback, 'no feedback published')
+        self.assertEqual(feedback[-1].base_position.header.frame_id, 'map')
+
+    def test_6_no_collisions(self):
         self.assertEqual(self.truth.collision_count, 0)
 
 

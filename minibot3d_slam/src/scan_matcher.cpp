@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace minibot3d_slam {
 
@@ -41,8 +42,76 @@ const NegExpTable& NegExp() {
 
 }  // namespace
 
+// The hill climber and the proposal sampler evaluate many poses that share an orientation and
+// differ by a fraction of a cell, so most beams end in the same cell again. Whether a cell of the
+// window is an admissible match depends only on the map, the cell and the beam direction — not on
+// where in its cell the endpoint fell — so for a given θ and endpoint cell the bitmask of
+// admissible window cells is remembered, and a repeated window only measures distances to those
+// cells. The result is bit-identical to evaluating the window afresh.
+//
+// Entries are keyed by the exact θ of the sensor pose (a few slots, least recently used replaced)
+// and, per beam, by the endpoint cell in a small direct-mapped table: way (ix + 2·iy) mod 5 gives a
+// cell and its four neighbours distinct ways, the cells a ±1-cell step of the climber reaches.
+class ScanMatcher::WindowCache {
+ public:
+  struct Entry {
+    int ix, iy;                // endpoint cell; ix == kEmpty: unused
+    const Grid::Tile* tile;    // the tile holding the whole window and partners, or nullptr
+    std::uint64_t admissible;  // bit i: window cell i is an admissible match
+  };
+  static constexpr int kEmpty = std::numeric_limits<int>::min();
+  static constexpr int kWays = 5;
+  static constexpr int kSlots = 4;
+
+  // Caching needs one bit per window cell: kernelSize up to 3.
+  static bool Usable(int kernel_size) { return (2 * kernel_size + 1) * (2 * kernel_size + 1) <= 64; }
+
+  explicit WindowCache(std::size_t beams)
+      : beams_(beams), entries_(static_cast<std::size_t>(kSlots) * beams * kWays) {}
+
+  // The entries of the slot for orientation `theta`, beam-major.
+  Entry* Slot(double theta) {
+    ++clock_;
+    int victim = 0;
+    for (int i = 0; i < kSlots; ++i) {
+      if (used_[i] != 0 && theta_[i] == theta) {
+        used_[i] = clock_;
+        return Entries(i);
+      }
+      if (used_[i] < used_[victim]) victim = i;
+    }
+    theta_[victim] = theta;
+    used_[victim] = clock_;
+    Entry* e = Entries(victim);
+    for (std::size_t j = 0; j < beams_ * kWays; ++j) e[j].ix = kEmpty;
+    return e;
+  }
+
+  static int Way(int ix, int iy) {
+    const int m = (ix + 2 * iy) % kWays;
+    return m < 0 ? m + kWays : m;
+  }
+
+ private:
+  Entry* Entries(int slot) { return &entries_[static_cast<std::size_t>(slot) * beams_ * kWays]; }
+
+  std::size_t beams_;
+  std::vector<Entry> entries_;
+  double theta_[kSlots] = {};
+  std::uint64_t used_[kSlots] = {};  // 0: slot unused; else the clock_ of the last use
+  std::uint64_t clock_ = 0;
+};
+
 ScanMatcher::ScanMatcher(const GmappingOptions& options)
-    : options_(options), free_back_(options.delta * std::sqrt(2.0)) {}
+    : options_(options), free_back_(options.delta * std::sqrt(2.0)) {
+  const int k = options.kernelSize;
+  for (int yy = -k; yy <= k; ++yy) {
+    for (int xx = -k; xx <= k; ++xx) {
+      window_dx_.push_back(xx);
+      window_dy_.push_back(yy);
+    }
+  }
+}
 
 PreparedScan ScanMatcher::Prepare(const LaserScan& scan) const {
   PreparedScan out;
@@ -83,19 +152,41 @@ PreparedScan ScanMatcher::Prepare(const LaserScan& scan) const {
 
 template <class F>
 void ScanMatcher::ForEachBeam(const Grid& grid, const PreparedScan& scan, const Pose2& pose,
-                              F&& f) const {
+                              WindowCache* cache, F&& f) const {
   const Pose2 lp = Compose(pose, scan.sensor_in_base);
   const double c = std::cos(lp.theta), s = std::sin(lp.theta);
   const int k = options_.kernelSize;
   const std::size_t n = scan.match_range.size();
+  WindowCache::Entry* slot = cache != nullptr ? cache->Slot(lp.theta) : nullptr;
   for (std::size_t i = 0; i < n; ++i) {
     const double dx = c * scan.match_cos[i] - s * scan.match_sin[i];
     const double dy = s * scan.match_cos[i] + c * scan.match_sin[i];
     const double r = scan.match_range[i];
     const double px = lp.x + r * dx, py = lp.y + r * dy;
     const int ix = grid.CellX(px), iy = grid.CellY(py);
-    const double bx = free_back_ * dx, by = free_back_ * dy;  // one step back along the beam
     double best = -1.0;
+    WindowCache::Entry* entry =
+        slot != nullptr ? &slot[i * WindowCache::kWays + static_cast<std::size_t>(WindowCache::Way(ix, iy))]
+                        : nullptr;
+    if (entry != nullptr && entry->ix == ix && entry->iy == iy) {
+      // This window was seen at this θ: only the distances to its admissible cells are new. Cells
+      // are visited in the same order as below, so ties resolve alike.
+      for (std::uint64_t m = entry->admissible; m != 0; m &= m - 1) {
+        const int b = __builtin_ctzll(m);
+        const int cx = ix + window_dx_[b], cy = iy + window_dy_[b];
+        const GridCell& cell =
+            entry->tile != nullptr
+                ? entry->tile->cells[((cy & Grid::kTileMask) << Grid::kTileBits) | (cx & Grid::kTileMask)]
+                : grid.At(cx, cy);
+        const double ex = px - grid.MeanX(cx, cell), ey = py - grid.MeanY(cy, cell);
+        const double d2 = ex * ex + ey * ey;
+        if (best < 0.0 || d2 < best) best = d2;
+      }
+      f(best);
+      continue;
+    }
+    const double bx = free_back_ * dx, by = free_back_ * dy;  // one step back along the beam
+    std::uint64_t admissible = 0;
     // An occupied cell is admissible when the point one step back along the beam from its mean
     // endpoint lies in a free or unknown cell: the wall was seen from the side this beam comes
     // from. (gmapping applies the endpoint cell's back-step offset to every cell of the window,
@@ -111,12 +202,14 @@ void ScanMatcher::ForEachBeam(const Grid& grid, const PreparedScan& scan, const 
       // once and address cells directly.
       tile = grid.TileAt(ix >> Grid::kTileBits, iy >> Grid::kTileBits);
       if (tile == nullptr) {
+        if (entry != nullptr) *entry = {ix, iy, nullptr, 0};
         f(best);
         continue;
       }
     }
+    int bit = 0;
     for (int yy = -k; yy <= k; ++yy) {
-      for (int xx = -k; xx <= k; ++xx) {
+      for (int xx = -k; xx <= k; ++xx, ++bit) {
         const int cx = ix + xx, cy = iy + yy;
         const GridCell& cell = fast ? tile->cells[((ly + yy) << Grid::kTileBits) | (lx + xx)] : grid.At(cx, cy);
         if (!cell.Occupied()) continue;
@@ -125,20 +218,27 @@ void ScanMatcher::ForEachBeam(const Grid& grid, const PreparedScan& scan, const 
         const GridCell& partner =
             fast ? tile->cells[((ly + fy - iy) << Grid::kTileBits) | (lx + fx - ix)] : grid.At(fx, fy);
         if (!partner.FreeOrUnknown()) continue;
+        admissible |= std::uint64_t{1} << bit;
         const double ex = px - mx, ey = py - my;
         const double d2 = ex * ex + ey * ey;
         if (best < 0.0 || d2 < best) best = d2;
       }
     }
+    if (entry != nullptr) *entry = {ix, iy, tile, admissible};
     f(best);
   }
 }
 
 double ScanMatcher::Score(const Grid& grid, const PreparedScan& scan, const Pose2& pose) const {
+  return ScoreCached(grid, scan, pose, nullptr);
+}
+
+double ScanMatcher::ScoreCached(const Grid& grid, const PreparedScan& scan, const Pose2& pose,
+                                WindowCache* cache) const {
   double score = 0.0;
   const double inv_sigma = 1.0 / options_.sigma;  // gmapping: exp(-d² / sigma)
   const NegExpTable& neg_exp = NegExp();
-  ForEachBeam(grid, scan, pose, [&](double d2) {
+  ForEachBeam(grid, scan, pose, cache, [&](double d2) {
     if (d2 >= 0.0) score += neg_exp(d2 * inv_sigma);
   });
   return score;
@@ -146,10 +246,15 @@ double ScanMatcher::Score(const Grid& grid, const PreparedScan& scan, const Pose
 
 double ScanMatcher::LogLikelihood(const Grid& grid, const PreparedScan& scan, const Pose2& pose,
                                   int* matched) const {
+  return LogLikelihoodCached(grid, scan, pose, nullptr, matched);
+}
+
+double ScanMatcher::LogLikelihoodCached(const Grid& grid, const PreparedScan& scan, const Pose2& pose,
+                                        WindowCache* cache, int* matched) const {
   double l = 0.0;
   int found = 0;
   const double inv_lsigma = 1.0 / options_.lsigma;
-  ForEachBeam(grid, scan, pose, [&](double d2) {
+  ForEachBeam(grid, scan, pose, cache, [&](double d2) {
     if (d2 >= 0.0) {
       l -= d2 * inv_lsigma;
       ++found;
@@ -163,8 +268,11 @@ double ScanMatcher::LogLikelihood(const Grid& grid, const PreparedScan& scan, co
 
 double ScanMatcher::Optimize(const Grid& grid, const PreparedScan& scan, const Pose2& initial,
                              Pose2* best) const {
+  std::optional<WindowCache> cache;
+  if (WindowCache::Usable(options_.kernelSize)) cache.emplace(scan.match_range.size());
+  WindowCache* const cache_ptr = cache ? &*cache : nullptr;
   Pose2 current = initial;
-  double current_score = Score(grid, scan, current);
+  double current_score = ScoreCached(grid, scan, current, cache_ptr);
   double ldelta = options_.lstep, adelta = options_.astep;
   int refinements = 0;
   // The move that would undo the last improving move: its pose is the previous one, whose score is
@@ -182,7 +290,7 @@ double ScanMatcher::Optimize(const Grid& grid, const PreparedScan& scan, const P
       if (m == undo) continue;
       const Pose2 candidate{current.x + moves[m].x, current.y + moves[m].y,
                             NormalizeAngle(current.theta + moves[m].theta)};
-      const double sc = Score(grid, scan, candidate);
+      const double sc = ScoreCached(grid, scan, candidate, cache_ptr);
       if (sc > round_score) {
         round_score = sc;
         round_best = candidate;
@@ -217,6 +325,9 @@ ProposalFit ScanMatcher::SampleAround(const Grid& grid, const PreparedScan& scan
     Eigen::Vector3d offset;
     double l;
   };
+  std::optional<WindowCache> cache;
+  if (WindowCache::Usable(options_.kernelSize)) cache.emplace(scan.match_range.size());
+  WindowCache* const cache_ptr = cache ? &*cache : nullptr;
   std::vector<Sample> samples;
   samples.reserve(static_cast<std::size_t>((2 * nl + 1) * (2 * nl + 1) * (2 * na + 1)));
   double lmax = -std::numeric_limits<double>::infinity();
@@ -226,7 +337,7 @@ ProposalFit ScanMatcher::SampleAround(const Grid& grid, const PreparedScan& scan
         const Eigen::Vector3d off(i * options_.llsamplestep, j * options_.llsamplestep,
                                   t * options_.lasamplestep);
         const Pose2 p{mode.x + off.x(), mode.y + off.y(), NormalizeAngle(mode.theta + off.z())};
-        const double l = LogLikelihood(grid, scan, p);
+        const double l = LogLikelihoodCached(grid, scan, p, cache_ptr, nullptr);
         samples.push_back({off, l});
         lmax = std::max(lmax, l);
       }

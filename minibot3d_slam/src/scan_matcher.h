@@ -71,13 +71,24 @@ class ScanMatcher {
   void Register(const PreparedScan& scan, const Pose2& pose, Grid* grid) const;
 
  private:
+  // Which cells of each beam's kernel window passed the admissibility test, remembered across the
+  // poses of one Optimize or SampleAround call (see scan_matcher.cpp).
+  class WindowCache;
+
   // Squared distance of each match beam's endpoint to its closest admissible mean hit, or -1 when
-  // there is none; calls f(d2) per beam.
+  // there is none; calls f(d2) per beam. `cache` (may be null) must belong to this grid and scan.
   template <class F>
-  void ForEachBeam(const Grid& grid, const PreparedScan& scan, const Pose2& pose, F&& f) const;
+  void ForEachBeam(const Grid& grid, const PreparedScan& scan, const Pose2& pose, WindowCache* cache,
+                   F&& f) const;
+  double ScoreCached(const Grid& grid, const PreparedScan& scan, const Pose2& pose,
+                     WindowCache* cache) const;
+  double LogLikelihoodCached(const Grid& grid, const PreparedScan& scan, const Pose2& pose,
+                             WindowCache* cache, int* matched) const;
 
   GmappingOptions options_;
   double free_back_;  // how far back along the beam the free cell is looked for (√2·δ)
+  // Kernel window cell i (row-major from (-k, -k)) is at offset window_dx_[i], window_dy_[i].
+  std::vector<int> window_dx_, window_dy_;
 };
 
 }  // namespace minibot3d_slam
