@@ -1,0 +1,238 @@
+// explore: frontier-based exploration (Yamauchi 1997) driving move_base.
+//
+// Every ~planner_frequency seconds (sim time) it takes the latest map, finds the
+// reachable frontiers (minibot3d_navigation/explore/frontier_search.h) and sends
+// move_base a goal at the nearest one, facing it.  A goal is kept until it is
+// reached or fails, the robot neither gets closer to it nor moves 0.5 m for
+// ~progress_timeout seconds, or a frontier nearer by ~switch_margin metres
+// appears.  Every goal that ends (reached or not) is blacklisted, so a frontier
+// the sensor cannot clear (glass, below the lidar) is not chased forever.
+// When no reachable frontier is left on two consecutive fresh maps it logs the
+// explored area and exits 0 — the map can then be saved.  Progress (known free
+// area, frontiers, sim time) is printed as it goes.
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <actionlib/client/simple_action_client.h>
+#include <geometry_msgs/PoseArray.h>
+#include <move_base_msgs/MoveBaseAction.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <ros/ros.h>
+#include <tf2_geometry_msgs/tf2_geometry_msgs.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include "minibot3d_navigation/explore/frontier_search.h"
+#include "ros_util.h"
+
+namespace minibot3d_navigation {
+namespace {
+
+using Client = actionlib::SimpleActionClient<move_base_msgs::MoveBaseAction>;
+
+class ExploreNode {
+ public:
+  ExploreNode() : pnh_("~"), tf_listener_(tf_), client_("move_base", true) {}
+
+  void Configure() {
+    std::vector<std::string> problems = ros_util::LoadParams(
+        pnh_, nav::IsExploreOptionName,
+        [this](const std::string& n, const std::string& t) { nav::SetExploreOption(n, t, &o_); });
+    pnh_.param<std::string>("global_frame", global_frame_, "map");
+    pnh_.param<std::string>("robot_base_frame", base_frame_, "base_link");
+    pnh_.param("planner_frequency", planner_frequency_, 0.5);
+    pnh_.param("progress_timeout", progress_timeout_, 20.0);
+    pnh_.param("switch_margin", switch_margin_, 1.0);
+    if (!(planner_frequency_ > 0.0)) problems.push_back("~planner_frequency must be > 0");
+    if (!(progress_timeout_ > 0.0)) problems.push_back("~progress_timeout must be > 0");
+    for (const auto& u : ros_util::UnknownParams(pnh_, [](const std::string& n) {
+           return nav::IsExploreOptionName(n) || n == "global_frame" || n == "robot_base_frame" ||
+                  n == "planner_frequency" || n == "progress_timeout" || n == "switch_margin";
+         })) {
+      ROS_WARN("explore: unknown parameter %s (ignored)", u.c_str());
+    }
+    try {
+      search_ = std::make_unique<nav::FrontierSearch>(o_);
+    } catch (const std::invalid_argument& e) {
+      problems.push_back(e.what());
+    }
+    if (!problems.empty()) {
+      std::string msg;
+      for (const auto& p : problems) msg += "\n  " + p;
+      throw std::invalid_argument(msg);
+    }
+  }
+
+  void Start() {
+    map_sub_ = nh_.subscribe("map", 1, &ExploreNode::OnMap, this);
+    frontier_pub_ = pnh_.advertise<geometry_msgs::PoseArray>("frontiers", 1);
+    timer_ = nh_.createTimer(ros::Duration(1.0 / planner_frequency_), &ExploreNode::OnTimer, this);
+    start_time_ = ros::Time::now();
+  }
+
+ private:
+  void OnMap(const nav_msgs::OccupancyGrid::ConstPtr& map) {
+    map_ = map;
+    ++map_count_;
+  }
+
+  bool RobotPose(nav::Pose2D* pose) {
+    try {
+      const auto t = tf_.lookupTransform(global_frame_, base_frame_, ros::Time(0));
+      tf2::Transform tt;
+      tf2::fromMsg(t.transform, tt);
+      *pose = ros_util::PoseFromTf(tt);
+      return true;
+    } catch (const tf2::TransformException& e) {
+      ROS_WARN_THROTTLE(5.0, "explore: no transform %s <- %s: %s (is SLAM running?)",
+                        global_frame_.c_str(), base_frame_.c_str(), e.what());
+      return false;
+    }
+  }
+
+  void EndGoal(const char* why) {
+    ROS_INFO("explore: goal (%.2f, %.2f) %s; blacklisted", goal_.x, goal_.y, why);
+    blacklist_.push_back(goal_);
+    have_goal_ = false;
+  }
+
+  void OnTimer(const ros::TimerEvent&) {
+    if (!map_ || !client_.isServerConnected()) {
+      ROS_INFO_THROTTLE(10.0, "explore: waiting for %s", !map_ ? "a map" : "move_base");
+      return;
+    }
+    nav::Pose2D robot;
+    if (!RobotPose(&robot)) return;
+    const ros::Time now = ros::Time::now();
+
+    if (have_goal_) {
+      const auto state = client_.getState();
+      const double d = std::hypot(goal_.x - robot.x, goal_.y - robot.y);
+      if (state == actionlib::SimpleClientGoalState::SUCCEEDED) {
+        EndGoal("reached");
+      } else if (state.isDone()) {
+        EndGoal(("ended " + state.toString() + ": " + client_.getState().getText()).c_str());
+      } else if (d < best_distance_ - 0.1 ||
+                 std::hypot(robot.x - progress_pose_.x, robot.y - progress_pose_.y) > 0.5) {
+        // Closer to the goal, or at least moving (a path may first lead away).
+        best_distance_ = std::min(best_distance_, d);
+        progress_pose_ = robot;
+        last_progress_ = now;
+      } else if ((now - last_progress_).toSec() > progress_timeout_) {
+        client_.cancelGoal();
+        EndGoal("made no progress");
+      }
+    }
+
+    nav::FrontierSearchResult r;
+    try {
+      r = search_->Find(ros_util::GridFromMsg(*map_), robot, blacklist_);
+    } catch (const std::invalid_argument& e) {
+      ROS_WARN_THROTTLE(5.0, "explore: %s", e.what());
+      return;
+    }
+    PublishFrontiers(r);
+    ROS_INFO_THROTTLE(5.0, "explore: %.1f m^2 known free, %zu frontiers (%d unreachable, %d "
+                      "blacklisted), %.0f s sim", r.known_free_area, r.frontiers.size(),
+                      r.unreachable, r.blacklisted, (now - start_time_).toSec());
+    if (r.frontiers.empty()) {
+      if (have_goal_) return;  // let the current goal finish first
+      // Done only when two maps in a row (not the same one twice) show nothing.
+      if (empty_at_map_ == 0) {
+        empty_at_map_ = map_count_;
+      } else if (map_count_ > empty_at_map_) {
+        ROS_INFO("explore: exploration complete: %.1f m^2 known free, %zu goals, %.1f s sim",
+                 r.known_free_area, blacklist_.size(), (now - start_time_).toSec());
+        ros::shutdown();
+      }
+      return;
+    }
+    empty_at_map_ = 0;
+    const nav::Frontier& best = r.frontiers.front();
+    if (have_goal_) {
+      const double current = std::hypot(goal_.x - robot.x, goal_.y - robot.y);
+      if (std::hypot(best.goal.x - goal_.x, best.goal.y - goal_.y) < o_.blacklist_radius ||
+          best.distance > current - switch_margin_) {
+        return;  // keep the current goal
+      }
+    }
+    SendGoal(best, robot, now);
+  }
+
+  void SendGoal(const nav::Frontier& f, const nav::Pose2D& robot, const ros::Time& now) {
+    move_base_msgs::MoveBaseGoal g;
+    g.target_pose.header.frame_id = global_frame_;
+    g.target_pose.header.stamp = now;
+    g.target_pose.pose.position.x = f.goal.x;
+    g.target_pose.pose.position.y = f.goal.y;
+    // Face the frontier from the goal (or keep going the way we came).
+    double yaw = std::atan2(f.centroid.y - f.goal.y, f.centroid.x - f.goal.x);
+    if (std::hypot(f.centroid.y - f.goal.y, f.centroid.x - f.goal.x) < 1e-3) {
+      yaw = std::atan2(f.goal.y - robot.y, f.goal.x - robot.x);
+    }
+    g.target_pose.pose.orientation.z = std::sin(yaw / 2.0);
+    g.target_pose.pose.orientation.w = std::cos(yaw / 2.0);
+    client_.sendGoal(g);
+    goal_ = f.goal;
+    have_goal_ = true;
+    best_distance_ = std::hypot(goal_.x - robot.x, goal_.y - robot.y);
+    progress_pose_ = robot;
+    last_progress_ = now;
+    ROS_INFO("explore: going to frontier at (%.2f, %.2f), %.1f m long, %.1f m away",
+             f.centroid.x, f.centroid.y, f.size, f.distance);
+  }
+
+  void PublishFrontiers(const nav::FrontierSearchResult& r) {
+    if (frontier_pub_.getNumSubscribers() == 0) return;
+    geometry_msgs::PoseArray a;
+    a.header.frame_id = global_frame_;
+    a.header.stamp = ros::Time::now();
+    for (const auto& f : r.frontiers) {
+      geometry_msgs::Pose p;
+      p.position.x = f.centroid.x;
+      p.position.y = f.centroid.y;
+      p.orientation.w = 1.0;
+      a.poses.push_back(p);
+    }
+    frontier_pub_.publish(a);
+  }
+
+  ros::NodeHandle nh_, pnh_;
+  tf2_ros::Buffer tf_;
+  tf2_ros::TransformListener tf_listener_;
+  Client client_;
+  nav::ExploreOptions o_;
+  std::unique_ptr<nav::FrontierSearch> search_;
+  std::string global_frame_, base_frame_;
+  double planner_frequency_ = 0.5, progress_timeout_ = 30.0, switch_margin_ = 1.0;
+  ros::Subscriber map_sub_;
+  ros::Publisher frontier_pub_;
+  ros::Timer timer_;
+  nav_msgs::OccupancyGrid::ConstPtr map_;
+  int map_count_ = 0, empty_at_map_ = 0;
+  bool have_goal_ = false;
+  nav::Point2D goal_;
+  double best_distance_ = 0.0;
+  nav::Pose2D progress_pose_;
+  ros::Time last_progress_, start_time_;
+  std::vector<nav::Point2D> blacklist_;
+};
+
+}  // namespace
+}  // namespace minibot3d_navigation
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "explore");
+  minibot3d_navigation::ExploreNode node;
+  try {
+    node.Configure();
+  } catch (const std::invalid_argument& e) {
+    ROS_FATAL("explore: bad parameters:%s", e.what());
+    return 1;
+  }
+  node.Start();
+  ros::spin();
+  return 0;
+}
