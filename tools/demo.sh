@@ -1,27 +1,76 @@
 #!/usr/bin/env bash
-# make demo: the project's main job, headless.
-# At this stage (simulator): the robot in a world, driven around a square through cmd_vel; prints
-# the true path length, the odometry drift and the achieved real-time factor.
-#   tools/demo.sh [WORLD]   (DEMO_X, DEMO_Y, DEMO_YAW: spawn pose, free in that world)
+# make demo: the project's main job, headless, on one world.
+#   1. explore it with SLAM (sim + slam_gmapping + move_base + explore) until no frontier is left;
+#   2. save the map to out/demo_map.{pgm,yaml};
+#   3. restart the simulator with amcl + move_base on that map from another start pose, localize
+#      globally, and visit a list of goals with simple_navi_goals.py;
+#   4. print the summary table and write out/demo.png.
+#   tools/demo.sh [WORLD]
+# Environment: DEMO_X, DEMO_Y, DEMO_YAW (exploration spawn), DEMO_NAV_X, DEMO_NAV_Y, DEMO_NAV_YAW
+# (navigation start), DEMO_GOALS ("x,y,yaw ..." in the world frame), DEMO_REAL_TIME_FACTOR.
+# For the default world all have defaults; for another world give the spawn poses and goals
+# (free cells of that world).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 source tools/ros_env.sh
-world="${1:-$(pwd)/minibot3d_sim/worlds/default.world}"
+default_world="$(pwd)/minibot3d_sim/worlds/default.world"
+world="$(realpath "${1:-$default_world}")"
 x="${DEMO_X:--3.0}"; y="${DEMO_Y:--1.5}"; yaw="${DEMO_YAW:-0.0}"
-rtf="${DEMO_REAL_TIME_FACTOR:-20}"
-mkdir -p out
-log=out/demo_sim.log
-echo "demo: world $world, spawn ($x, $y, $yaw), real-time factor $rtf (log: $log)"
-setsid roslaunch -p "$ROS_PORT" minibot3d_sim minibot3d_gazebo.launch world:="$world" \
-  x:="$x" y:="$y" yaw:="$yaw" real_time_factor:="$rtf" > "$log" 2>&1 &
+nx="${DEMO_NAV_X:-2.5}"; ny="${DEMO_NAV_Y:--1.0}"; nyaw="${DEMO_NAV_YAW:-1.57}"
+goals="${DEMO_GOALS:--2.1,0.6,1.57 -0.3,2.0,0 2.5,-1.0,-1.57 0.8,-2.15,3.14 -3.0,-1.5,0}"
+rtf="${DEMO_REAL_TIME_FACTOR:-5}"
+out="$(pwd)/out"
+mkdir -p "$out"
+rm -f "$out"/demo_explore.json "$out"/demo_nav.json
+
+if [ "$world" = "$default_world" ]; then
+  truth="$(pwd)/maps/default_world.yaml"
+else
+  devel/lib/minibot3d_sim/render_world_map "$world" "$out/demo_truth" > /dev/null
+  truth="$out/demo_truth.yaml"
+fi
+
+launch_pid=
+stop_stack() {
+  if [ -n "$launch_pid" ]; then
+    kill -INT -- -"$launch_pid" 2>/dev/null || true
+    for _ in $(seq 100); do kill -0 "$launch_pid" 2>/dev/null || break; sleep 0.1; done
+    kill -KILL -- -"$launch_pid" 2>/dev/null || true
+    wait "$launch_pid" 2>/dev/null || true
+    launch_pid=
+  fi
+}
+trap stop_stack EXIT
+start=$SECONDS
+
+echo "demo: 1/4 exploring $world from ($x, $y, $yaw) with SLAM at real-time factor $rtf" \
+  "(log: out/demo_explore.log)"
+setsid roslaunch -p "$ROS_PORT" minibot3d_navigation explore.launch explore:=false world:="$world" \
+  x:="$x" y:="$y" yaw:="$yaw" real_time_factor:="$rtf" > "$out/demo_explore.log" 2>&1 &
 launch_pid=$!
-cleanup() { kill -INT -- -"$launch_pid" 2>/dev/null || true; wait "$launch_pid" 2>/dev/null || true; }
-trap cleanup EXIT
 wait_for_master 60
 status=0
-rosrun minibot3d_sim drive_square.py --side 1.0 --laps 2 --timeout 300 || status=$?
-if [ $status -ne 0 ]; then
-  echo "demo: FAILED (exit $status); the simulator said:" >&2
-  grep -E "FATAL|ERROR" "$log" >&2 || tail -20 "$log" >&2
-fi
+/usr/bin/python3 tools/demo_phase.py explore --out "$out" --timeout 2400 2>&1 \
+  | grep --line-buffered -E "explore: .*(m\^2|complete)|demo:|map_saver" || true
+[ -f "$out/demo_explore.json" ] || status=1
+stop_stack
+echo "demo: 2/4 map saved: out/demo_map.pgm, out/demo_map.yaml"
+
+echo "demo: 3/4 navigating on the saved map from ($nx, $ny, $nyaw), global localization" \
+  "(log: out/demo_nav.log)"
+export ROS_PORT="$(ros_free_port)"
+export ROS_MASTER_URI="http://127.0.0.1:${ROS_PORT}"
+setsid roslaunch -p "$ROS_PORT" minibot3d_navigation amcl_navigation.launch world:="$world" \
+  map_file:="$out/demo_map.yaml" x:="$nx" y:="$ny" yaw:="$nyaw" initial_pose_x:=0 \
+  initial_pose_y:=0 initial_pose_a:=0 real_time_factor:="$rtf" > "$out/demo_nav.log" 2>&1 &
+launch_pid=$!
+wait_for_master 60
+/usr/bin/python3 tools/demo_phase.py navigate --out "$out" --spawn="$x,$y,$yaw" --goals "$goals" \
+  --timeout 300 || status=1
+stop_stack
+
+echo "demo: 4/4 report"
+/usr/bin/python3 tools/demo_report.py --out "$out" --truth-map "$truth" --spawn="$x,$y,$yaw" \
+  || status=1
+echo "demo: $((SECONDS - start)) s wall in all"
 exit $status

@@ -7,7 +7,7 @@
 // ~progress_timeout seconds, or a frontier nearer by ~switch_margin metres
 // appears.  Every goal that ends (reached or not) is blacklisted, so a frontier
 // the sensor cannot clear (glass, below the lidar) is not chased forever.
-// When no reachable frontier is left on two consecutive fresh maps it logs the
+// When no reachable frontier is left on a fresher map (or for three cycles) it logs the
 // explored area and exits 0 — the map can then be saved.  Progress (known free
 // area, frontiers, sim time) is printed as it goes.
 #include <cmath>
@@ -134,15 +134,18 @@ class ExploreNode {
       return;
     }
     PublishFrontiers(r);
-    ROS_INFO_THROTTLE(5.0, "explore: %.1f m^2 known free, %zu frontiers (%d unreachable, %d "
+    ROS_INFO_THROTTLE(15.0, "explore: %.1f m^2 known free, %zu frontiers (%d unreachable, %d "
                       "blacklisted), %.0f s sim", r.known_free_area, r.frontiers.size(),
                       r.unreachable, r.blacklisted, (now - start_time_).toSec());
     if (r.frontiers.empty()) {
       if (have_goal_) return;  // let the current goal finish first
-      // Done only when two maps in a row (not the same one twice) show nothing.
+      // Done when a newer map also shows nothing, or (SLAM publishes no new map
+      // while the robot stands still) nothing has shown up for 3 cycles.
       if (empty_at_map_ == 0) {
         empty_at_map_ = map_count_;
-      } else if (map_count_ > empty_at_map_) {
+        empty_since_ = now;
+      } else if (map_count_ > empty_at_map_ ||
+                 (now - empty_since_).toSec() > 3.0 / planner_frequency_) {
         ROS_INFO("explore: exploration complete: %.1f m^2 known free, %zu goals, %.1f s sim",
                  r.known_free_area, blacklist_.size(), (now - start_time_).toSec());
         ros::shutdown();
@@ -216,7 +219,7 @@ class ExploreNode {
   nav::Point2D goal_;
   double best_distance_ = 0.0;
   nav::Pose2D progress_pose_;
-  ros::Time last_progress_, start_time_;
+  ros::Time last_progress_, start_time_, empty_since_;
   std::vector<nav::Point2D> blacklist_;
 };
 

@@ -1,0 +1,206 @@
+#!/usr/bin/env python3
+"""One phase of `make demo` (tools/demo.sh starts the ROS stack; this drives and records it).
+
+  demo_phase.py explore  --out DIR --timeout SIM_S
+      runs `explore` until no reachable frontier is left, recording the true path, then saves the
+      SLAM map to DIR/demo_map.{pgm,yaml}; writes DIR/demo_explore.json.
+  demo_phase.py navigate --out DIR --spawn X,Y,YAW --goals "x,y,yaw ..." --timeout SIM_S
+      global localization (amcl's global_localization, then turning on the spot and short moves
+      until the particle cloud has converged), then each goal with simple_navi_goals.py in the
+      SLAM map's frame; writes DIR/demo_nav.json.
+Poses given on the command line are in the world frame; the SLAM map's frame is the world frame
+moved to the exploration's spawn pose (--spawn), as gmapping starts its map at the robot."""
+import argparse
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+import threading
+import time
+
+import rospy
+from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
+from minibot3d_sim.msg import SimStatus
+from nav_msgs.msg import Odometry
+from std_srvs.srv import Empty
+
+
+def yaw_of(q):
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+
+
+def world_to_map(spawn, p):
+    """Pose p (world) in the frame of spawn (the SLAM map frame)."""
+    sx, sy, sa = spawn
+    dx, dy = p[0] - sx, p[1] - sy
+    c, s = math.cos(sa), math.sin(sa)
+    return (c * dx + s * dy, -s * dx + c * dy, math.atan2(math.sin(p[2] - sa), math.cos(p[2] - sa)))
+
+
+def write_json(path, data):
+    tmp = path + '.tmp'
+    with open(tmp, 'w') as f:
+        json.dump(data, f)
+    os.replace(tmp, path)
+
+
+class Recorder(object):
+    """Ground truth (world frame), amcl_pose and the simulator's collision count."""
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.truth = None
+        self.path = []
+        self.collisions = 0
+        self.amcl = None
+        self.amcl_cov = None
+        rospy.Subscriber('/ground_truth/odom', Odometry, self.on_truth, queue_size=20)
+        rospy.Subscriber('/minibot3d_sim/status', SimStatus, self.on_status, queue_size=5)
+        rospy.Subscriber('/amcl_pose', PoseWithCovarianceStamped, self.on_amcl, queue_size=5)
+
+    def on_truth(self, m):
+        p = m.pose.pose
+        pose = (p.position.x, p.position.y, yaw_of(p.orientation))
+        with self.lock:
+            self.truth = pose
+            if not self.path or math.hypot(pose[0] - self.path[-1][0],
+                                           pose[1] - self.path[-1][1]) > 0.02:
+                self.path.append(pose)
+
+    def on_status(self, m):
+        with self.lock:
+            self.collisions = int(m.collisions)
+
+    def on_amcl(self, m):
+        p = m.pose.pose
+        with self.lock:
+            self.amcl = (p.position.x, p.position.y, yaw_of(p.orientation))
+            self.amcl_cov = (m.pose.covariance[0], m.pose.covariance[7], m.pose.covariance[35])
+
+    def take_path(self):
+        with self.lock:
+            path, self.path = self.path, []
+        return path
+
+
+def wait_for(predicate, sim_timeout, what):
+    deadline = rospy.Time.now() + rospy.Duration(sim_timeout)
+    while not predicate():
+        if rospy.is_shutdown() or rospy.Time.now() > deadline:
+            raise RuntimeError('timed out waiting for ' + what)
+        rospy.rostime.wallsleep(0.05)
+
+
+def explore(args):
+    rec = Recorder()
+    wait_for(lambda: rec.truth is not None, 60, '/ground_truth/odom')
+    t0_sim, t0_wall = rospy.Time.now(), time.time()
+    proc = subprocess.Popen(['rosrun', 'minibot3d_navigation', 'explore',
+                             '_min_frontier_size:=0.5', '_clearance:=0.2'])
+    ok = True
+    try:
+        while proc.poll() is None:
+            if (rospy.Time.now() - t0_sim).to_sec() > args.timeout:
+                ok = False
+                print('demo: exploration did not finish within %.0f s of sim time' % args.timeout,
+                      flush=True)
+                proc.send_signal(2)
+                break
+            rospy.rostime.wallsleep(0.2)
+        proc.wait(30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    ok = ok and proc.returncode == 0
+    sim_s, wall_s = (rospy.Time.now() - t0_sim).to_sec(), time.time() - t0_wall
+    saved = subprocess.run(['rosrun', 'minibot3d_slam', 'map_saver', '-f',
+                            os.path.join(args.out, 'demo_map')]).returncode == 0
+    write_json(os.path.join(args.out, 'demo_explore.json'), dict(
+        ok=ok and saved, explore_exit=proc.returncode, map_saved=saved, sim_s=sim_s,
+        wall_s=wall_s, collisions=rec.collisions, path=rec.take_path()))
+    return 0 if ok and saved else 1
+
+
+def localize(rec, cmd_pub, spawn, tries=4):
+    """Global localization; returns the position error once converged (or the last one)."""
+    rospy.wait_for_service('/global_localization', 60)
+    rospy.ServiceProxy('/global_localization', Empty)()
+    err = float('inf')
+    for attempt in range(tries):
+        # Turn on the spot (two turns), then a short move with move_base (base_link goal).
+        start = rospy.Time.now()
+        cmd = Twist()
+        cmd.angular.z = 1.0
+        while (rospy.Time.now() - start).to_sec() < 4 * math.pi / 1.0 * 1.6:
+            cmd_pub.publish(cmd)
+            rospy.rostime.wallsleep(0.02)
+        cmd_pub.publish(Twist())
+        if rec.amcl_cov is not None and rec.amcl_cov[0] + rec.amcl_cov[1] < 0.05:
+            t = world_to_map(spawn, rec.truth)
+            err = math.hypot(rec.amcl[0] - t[0], rec.amcl[1] - t[1])
+            print('demo: localized after %d turn(s): error %.3f m' % (2 * (attempt + 1), err),
+                  flush=True)
+            return err
+        subprocess.run(['rosrun', 'minibot3d_navigation', 'simple_navi_goals.py', '0.7', '1',
+                        '--timeout', '60'], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    if rec.amcl is not None:
+        t = world_to_map(spawn, rec.truth)
+        err = math.hypot(rec.amcl[0] - t[0], rec.amcl[1] - t[1])
+    print('demo: particle cloud did not converge; error %.3f m' % err, flush=True)
+    return err
+
+
+def navigate(args):
+    spawn = tuple(float(v) for v in args.spawn.split(','))
+    goals = [tuple(float(v) for v in g.split(',')) for g in args.goals.split()]
+    rec = Recorder()
+    cmd_pub = rospy.Publisher('/cmd_vel', Twist, queue_size=1)
+    wait_for(lambda: rec.truth is not None, 60, '/ground_truth/odom')
+    wait_for(lambda: rec.amcl is not None, 120, 'amcl_pose')
+    loc_error = localize(rec, cmd_pub, spawn)
+    rec.take_path()
+    results = []
+    for g in goals:
+        gm = world_to_map(spawn, g)
+        t0 = time.time()
+        out = subprocess.run(['rosrun', 'minibot3d_navigation', 'simple_navi_goals.py', '--frame',
+                              'map', '%.3f' % gm[0], '%.3f' % gm[1], '%.3f' % gm[2],
+                              '--timeout', str(args.timeout)],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                             universal_newlines=True)
+        m = re.search(r'after ([0-9.]+) s', out.stdout)
+        truth = rec.truth
+        tm = world_to_map(spawn, truth)
+        amcl_err = math.hypot(rec.amcl[0] - tm[0], rec.amcl[1] - tm[1]) if rec.amcl else None
+        results.append(dict(goal=g, ok=out.returncode == 0, sim_s=float(m.group(1)) if m else None,
+                            wall_s=time.time() - t0, error=math.hypot(truth[0] - g[0], truth[1] - g[1]),
+                            amcl_error=amcl_err, path=rec.take_path()))
+        print('demo: goal (%.2f, %.2f): %s in %s s sim, %.2f m from it, localization error %s m'
+              % (g[0], g[1], 'reached' if out.returncode == 0 else 'FAILED',
+                 m.group(1) if m else '?', results[-1]['error'],
+                 '%.3f' % amcl_err if amcl_err is not None else '?'), flush=True)
+    write_json(os.path.join(args.out, 'demo_nav.json'), dict(
+        localization_error=loc_error, goals=results, collisions=rec.collisions))
+    return 0 if all(r['ok'] for r in results) else 1
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    parser.add_argument('phase', choices=['explore', 'navigate'])
+    parser.add_argument('--out', required=True)
+    parser.add_argument('--timeout', type=float, default=1500.0, help='sim seconds')
+    parser.add_argument('--spawn', default='-3,-1.5,0')
+    parser.add_argument('--goals', default='')
+    args = parser.parse_args(rospy.myargv()[1:])
+    rospy.init_node('demo_' + args.phase)
+    try:
+        return explore(args) if args.phase == 'explore' else navigate(args)
+    except RuntimeError as e:
+        print('demo: %s' % e, file=sys.stderr, flush=True)
+        return 1
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,203 @@
+#!/usr/bin/env python3
+"""`make demo`'s summary: the table on the terminal and out/demo.png (the saved map with the
+exploration path and the navigation paths drawn on it).
+
+  demo_report.py --out DIR --truth-map GT.yaml --spawn X,Y,YAW
+
+Map accuracy compares the saved SLAM map with the world's ground-truth map: the SLAM map's
+occupied cells are moved into the world frame (the SLAM map frame is the world frame moved to the
+exploration's spawn pose) and counted as right when a ground-truth occupied cell is within 0.1 m.
+Explored area is the SLAM map's known-free area against the ground-truth free area reachable from
+the spawn pose."""
+import argparse
+import importlib.util
+import json
+import math
+import os
+import sys
+from collections import deque
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def route_driver():
+    path = os.path.join(HERE, '..', 'minibot3d_sim', 'scripts', 'route_driver.py')
+    spec = importlib.util.spec_from_file_location('route_driver', path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def load_trinary(yaml_path):
+    """(free, occupied) boolean arrays, row 0 = lowest y, with resolution and origin."""
+    rd = route_driver()
+    occupied, res, origin = rd.load_map(yaml_path)
+    import yaml
+    with open(yaml_path) as f:
+        meta = yaml.safe_load(f)
+    image = meta['image'] if os.path.isabs(meta['image']) else os.path.join(
+        os.path.dirname(os.path.abspath(yaml_path)), meta['image'])
+    with open(image, 'rb') as f:
+        data = f.read()
+    tokens, pos = [], 0
+    while len(tokens) < 4:
+        end = data.index(b'\n', pos)
+        line = data[pos:end]
+        pos = end + 1
+        if not line.startswith(b'#'):
+            tokens += line.split()
+    w, h = int(tokens[1]), int(tokens[2])
+    pixels = np.frombuffer(data[pos:pos + w * h], dtype=np.uint8).reshape(h, w)[::-1, :]
+    p = (255.0 - pixels) / 255.0
+    free = p < meta.get('free_thresh', 0.196)
+    return free, occupied, res, origin
+
+
+def reachable_free(free, occupied, res, origin, start, clearance=0.15):
+    """Free cells connected to start (4-connected), as a boolean array."""
+    blocked = route_driver().inflate(occupied, int(math.ceil(clearance / res)))
+    h, w = free.shape
+    sx = int((start[0] - origin[0]) / res)
+    sy = int((start[1] - origin[1]) / res)
+    seen = np.zeros_like(free)
+    if not (0 <= sx < w and 0 <= sy < h):
+        return seen
+    q = deque([(sy, sx)])
+    seen[sy, sx] = True
+    while q:
+        y, x = q.popleft()
+        for dy, dx in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+            yy, xx = y + dy, x + dx
+            if 0 <= yy < h and 0 <= xx < w and not seen[yy, xx] and free[yy, xx] and \
+                    not blocked[yy, xx]:
+                seen[yy, xx] = True
+                q.append((yy, xx))
+    # Add back the clearance band next to reachable cells (the robot sees it).
+    grown = seen.copy()
+    r = int(math.ceil(clearance / res))
+    for dy in range(-r, r + 1):
+        for dx in range(-r, r + 1):
+            grown |= np.roll(np.roll(seen, dy, axis=0), dx, axis=1)
+    return grown & free
+
+
+def map_to_world(spawn, x, y):
+    c, s = math.cos(spawn[2]), math.sin(spawn[2])
+    return spawn[0] + c * x - s * y, spawn[1] + s * x + c * y
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    parser.add_argument('--out', required=True)
+    parser.add_argument('--truth-map', required=True)
+    parser.add_argument('--spawn', required=True)
+    args = parser.parse_args()
+    spawn = tuple(float(v) for v in args.spawn.split(','))
+    failures = []
+
+    with open(os.path.join(args.out, 'demo_explore.json')) as f:
+        ex = json.load(f)
+    nav_path = os.path.join(args.out, 'demo_nav.json')
+    nav = None
+    if os.path.exists(nav_path):
+        with open(nav_path) as f:
+            nav = json.load(f)
+    if not ex['ok']:
+        failures.append('exploration')
+
+    free, occ, res, origin = load_trinary(os.path.join(args.out, 'demo_map.yaml'))
+    gfree, gocc, gres, gorigin = load_trinary(args.truth_map)
+    explored = free.sum() * res * res
+    world_free = reachable_free(gfree, gocc, gres, gorigin, spawn).sum() * gres * gres
+
+    # Map accuracy: SLAM occupied cells (world frame) near a ground-truth occupied cell.
+    near = route_driver().inflate(gocc, int(round(0.1 / gres)))
+    ys, xs = np.nonzero(occ)
+    good = 0
+    for y, x in zip(ys, xs):
+        wx, wy = map_to_world(spawn, origin[0] + (x + 0.5) * res, origin[1] + (y + 0.5) * res)
+        gx, gy = int((wx - gorigin[0]) / gres), int((wy - gorigin[1]) / gres)
+        if 0 <= gy < near.shape[0] and 0 <= gx < near.shape[1] and near[gy, gx]:
+            good += 1
+    accuracy = good / max(len(xs), 1)
+
+    rows = [('explored area (known free)', '%.1f m^2 of %.1f m^2 reachable free (%.0f %%)' % (
+                explored, world_free, 100.0 * explored / max(world_free, 1e-9))),
+            ('map accuracy', '%.1f %% of %d occupied cells within 0.1 m of a true wall' % (
+                100.0 * accuracy, len(xs))),
+            ('exploration time', '%.0f s sim, %.0f s wall (%.1fx real time)' % (
+                ex['sim_s'], ex['wall_s'], ex['sim_s'] / max(ex['wall_s'], 1e-9))),
+            ('collisions while exploring', str(ex['collisions']))]
+    if nav is not None:
+        goals = nav['goals']
+        reached = [g for g in goals if g['ok']]
+        loc = [g['amcl_error'] for g in goals if g['amcl_error'] is not None]
+        rows += [('global localization error', '%.3f m' % nav['localization_error']),
+                 ('localization error at the goals', 'mean %.3f m, max %.3f m' % (
+                     np.mean(loc), np.max(loc)) if loc else 'n/a'),
+                 ('goals reached', '%d of %d' % (len(reached), len(goals))),
+                 ('time per goal', ', '.join('%.1f s' % g['sim_s'] if g['sim_s'] else '?'
+                                             for g in goals) + ' (sim)'),
+                 ('collisions while navigating', str(nav['collisions']))]
+        if len(reached) != len(goals):
+            failures.append('navigation (%d of %d goals)' % (len(reached), len(goals)))
+        if nav['collisions']:
+            failures.append('collisions while navigating')
+    else:
+        failures.append('navigation did not run')
+    if ex['collisions']:
+        failures.append('collisions while exploring')
+    width = max(len(r[0]) for r in rows)
+    print('\n== make demo summary')
+    for k, v in rows:
+        print('%-*s  %s' % (width, k, v))
+
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    img = np.where(occ, 0.0, np.where(free, 1.0, 0.75))
+    h, w = img.shape
+    # Draw in the world frame: the map's cell corners moved by the spawn pose.
+    fig, ax = plt.subplots(figsize=(8, 7))
+    from matplotlib.transforms import Affine2D
+    tr = Affine2D().rotate(spawn[2]).translate(spawn[0], spawn[1]) + ax.transData
+    ax.imshow(img, cmap='gray', origin='lower', vmin=0, vmax=1, transform=tr,
+              extent=(origin[0], origin[0] + w * res, origin[1], origin[1] + h * res))
+    p = np.array(ex['path'])
+    if len(p):
+        ax.plot(p[:, 0], p[:, 1], '-', color='tab:blue', lw=1, label='exploration')
+    if nav is not None:
+        for i, g in enumerate(nav['goals']):
+            q = np.array(g['path'])
+            if len(q):
+                ax.plot(q[:, 0], q[:, 1], '-', color='tab:red', lw=1.2,
+                        label='navigation' if i == 0 else None)
+            ax.plot(g['goal'][0], g['goal'][1], 'o', color='tab:green' if g['ok'] else 'k')
+    # Zoom to the mapped part of the grid.
+    ys, xs = np.nonzero(free | occ)
+    if len(xs):
+        corners = [map_to_world(spawn, origin[0] + cx * res, origin[1] + cy * res)
+                   for cx in (xs.min(), xs.max() + 1) for cy in (ys.min(), ys.max() + 1)]
+        cx_, cy_ = zip(*corners)
+        ax.set_xlim(min(cx_) - 0.5, max(cx_) + 0.5)
+        ax.set_ylim(min(cy_) - 0.5, max(cy_) + 0.5)
+    ax.set_aspect('equal')
+    ax.set_xlabel('x (m, world)')
+    ax.set_ylabel('y (m, world)')
+    ax.set_title('make demo: explored map, exploration and navigation paths')
+    ax.legend(loc='upper right')
+    png = os.path.join(args.out, 'demo.png')
+    fig.savefig(png + '.tmp.png', dpi=110, bbox_inches='tight')
+    os.replace(png + '.tmp.png', png)
+    print('map with paths: %s' % png)
+    if failures:
+        print('demo: FAILED: %s' % ', '.join(failures), file=sys.stderr)
+        return 1
+    print('demo: all steps succeeded')
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
