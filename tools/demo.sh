@@ -8,16 +8,26 @@
 #   tools/demo.sh [WORLD]
 # Environment: DEMO_X, DEMO_Y, DEMO_YAW (exploration spawn), DEMO_NAV_X, DEMO_NAV_Y, DEMO_NAV_YAW
 # (navigation start), DEMO_GOALS ("x,y,yaw ..." in the world frame), DEMO_REAL_TIME_FACTOR.
-# For the default world all have defaults; for another world give the spawn poses and goals
-# (free cells of that world).
+# For the default world all have defaults; for another world the spawn defaults to its origin and
+# the goals are sampled from the saved map.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 source tools/ros_env.sh
 default_world="$(pwd)/minibot3d_sim/worlds/default.world"
 world="$(realpath "${1:-$default_world}")"
-x="${DEMO_X:--3.0}"; y="${DEMO_Y:--1.5}"; yaw="${DEMO_YAW:-0.0}"
-nx="${DEMO_NAV_X:-2.5}"; ny="${DEMO_NAV_Y:--1.0}"; nyaw="${DEMO_NAV_YAW:-1.57}"
-goals="${DEMO_GOALS:--2.1,0.6,1.57 -0.3,2.0,0 2.5,-1.0,-1.57 0.8,-2.15,3.14 -3.0,-1.5,0}"
+if [ "$world" = "$default_world" ]; then
+  x="${DEMO_X:--3.0}"; y="${DEMO_Y:--1.5}"; yaw="${DEMO_YAW:-0.0}"
+  nx="${DEMO_NAV_X:-2.5}"; ny="${DEMO_NAV_Y:--1.0}"; nyaw="${DEMO_NAV_YAW:-1.57}"
+  goals="${DEMO_GOALS:--2.1,0.6,1.57 -0.3,2.0,0 2.5,-1.0,-1.57 0.8,-2.15,3.14 -3.0,-1.5,0}"
+else
+  # Another world: spawn at DEMO_X/Y/YAW (default the origin, which must then be free); navigation
+  # starts there turned round unless DEMO_NAV_* say otherwise; goals are sampled from the saved
+  # map unless DEMO_GOALS lists them.
+  x="${DEMO_X:-0.0}"; y="${DEMO_Y:-0.0}"; yaw="${DEMO_YAW:-0.0}"
+  nx="${DEMO_NAV_X:-$x}"; ny="${DEMO_NAV_Y:-$y}"
+  nyaw="${DEMO_NAV_YAW:-$(/usr/bin/python3 -c "import math; print(math.remainder($yaw + math.pi, 2 * math.pi))")}"
+  goals="${DEMO_GOALS:-}"
+fi
 rtf="${DEMO_REAL_TIME_FACTOR:-5}"
 out="$(pwd)/out"
 mkdir -p "$out"
