@@ -74,3 +74,11 @@ tools/slam_sim_bench.sh default minibot3d_sim/worlds/default.world maps/default_
   "-2.1,0.6 -2.4,3.0 -2.1,0.6 -0.3,2.0 0.45,0.6 2.5,-1.0 0.8,-2.15 -3,-1.5" 2
 tools/slam_sim_bench.sh arena minibot3d_sim/worlds/arena.world maps/arena.yaml 0 0 0 \
   "1.2,-1.2 1.2,1.0 -1.0,1.2 -1.2,-1.2 0,0" 3
+
+echo "== Trajectory-planner tuning: the seed's six settings x 3 repeats"
+echo "   (min_vel_x {0.01, 0.1} x max_vel_x {0.1, 0.5, 1.0}, the long route, --jobs 2)"
+rm -rf build/bench/tune
+start=$SECONDS
+/usr/bin/python3 minibot3d_navigation/scripts/tune_planner --out build/bench/tune --no-progress \
+  || echo "tune_planner: not every setting reached the goal without a collision (see the table)"
+echo "wall time of the study: $((SECONDS - start)) s; plots: build/bench/tune/*.png"

@@ -7,6 +7,8 @@
 // in the core; this file converts goals, poses, scans and maps and runs the
 // control loop on the ROS (simulator) clock.
 #include <cmath>
+#include <cstring>
+#include <iostream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,6 +28,7 @@
 #include <tf2_ros/transform_listener.h>
 
 #include "costmap_ros.h"
+#include "minibot3d_navigation/costmap/costmap_options.h"
 #include "minibot3d_navigation/dwa/dwa_options.h"
 #include "minibot3d_navigation/dwa/dwa_planner.h"
 #include "minibot3d_navigation/move_base/move_base_options.h"
@@ -424,6 +427,20 @@ class MoveBaseNode {
 }  // namespace minibot3d_navigation
 
 int main(int argc, char** argv) {
+  // For tools (tune_planner) that check parameter names before starting a stack: one
+  // NAMESPACE/NAME per line ("/NAME" for move_base's own), no master needed.
+  if (argc > 1 && std::strcmp(argv[1], "--print-parameter-names") == 0) {
+    namespace nav = minibot3d_navigation::nav;
+    for (const auto& n : nav::dwa::DwaOptionNames()) {
+      std::cout << "TrajectoryPlannerROS/" << n << "\n";
+    }
+    for (const char* ns : {"global_costmap", "local_costmap"}) {
+      for (const auto& n : nav::CostmapOptionNames()) std::cout << ns << "/" << n << "\n";
+    }
+    for (const auto& n : nav::GlobalPlannerOptionNames()) std::cout << "NavfnROS/" << n << "\n";
+    for (const auto& n : nav::MoveBaseOptionNames()) std::cout << "/" << n << "\n";
+    return 0;
+  }
   ros::init(argc, argv, "move_base");
   minibot3d_navigation::MoveBaseNode node;
   try {

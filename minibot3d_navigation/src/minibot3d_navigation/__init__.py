@@ -1,0 +1,1 @@
+"""minibot3d_navigation's Python side: the trajectory-planner tuning tool (tuning/)."""
