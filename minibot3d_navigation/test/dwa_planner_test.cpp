@@ -440,10 +440,10 @@ TEST(DwaPlannerTest, EscapesBackwardsWhenNothingForwardIsLegal) {
   // at once (the slot is barely wider than the robot): that is stuck too.
   {
     DwaPlanner centred(DwaOptions(), kFootprint);
+    // It backs out (straight, or on an arc of the way-out pass).
     const Twist2D back = centred.ComputeVelocity({2.2, 1.0, 0.0}, Twist2D(), plan, map);
-    EXPECT_EQ(centred.last_stats().mode, DwaPlanner::Mode::kEscape);
-    EXPECT_DOUBLE_EQ(back.vx, -0.1);
-    EXPECT_EQ(back.vtheta, 0.0);
+    EXPECT_LT(back.vx, 0.0);
+    EXPECT_GE(back.vx, -0.1 - 1e-9);
   }
   // Off-centre, the side already in the band: it never drives forward (it
   // backs out, or turns in place clear of lethal cells).

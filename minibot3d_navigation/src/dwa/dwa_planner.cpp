@@ -361,6 +361,19 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
         }
       }
     }
+    // Way out, backwards: arcs at escape_vel.  A robot that drifted against a
+    // wall at an angle can neither turn (its corners sweep into the wall) nor
+    // back straight out, but an arc backs its nose off.
+    if (pass == 1 && options_.escape_vel < 0.0) {
+      for (int j = 0; j < nth; ++j) {
+        Twist2D cmd;
+        cmd.vx = options_.escape_vel;
+        cmd.vtheta = vth_sample(j);
+        generator_.Generate(pose, velocity, cmd, TrajectoryKind::kEscape, &candidate_);
+        Evaluate(best_cost);
+        take_if_better();
+      }
+    }
 
     // In-place rotations (TrajectoryPlanner): taken if no worse than the best
     // so far, preferring the one pointing the robot closest to the goal (goal

@@ -97,8 +97,23 @@ class TrialSpec(object):
                                      repeat, digest)
 
 
-def run_trial(setup, spec, registry, stop):
-    """Runs one trial; returns its results.csv row, or raises Interrupted."""
+def run_trial(setup, spec, registry, stop, attempts=3):
+    """Runs one trial; returns its results.csv row, or raises Interrupted.  A stack that could
+    not start because its master port was taken in the meantime (the port is chosen free, then
+    bound by roslaunch a moment later) is retried on a new port."""
+    for attempt in range(attempts):
+        row = _run_trial_once(setup, spec, registry, stop)
+        log = os.path.join(setup.out_dir, 'trials', spec.name, 'stack.log')
+        port_taken = False
+        if row['status'] == 'error' and os.path.exists(log):
+            with open(log, errors='replace') as f:
+                port_taken = 'Address already in use' in f.read()
+        if not port_taken:
+            return row
+    return row
+
+
+def _run_trial_once(setup, spec, registry, stop):
     if stop.is_set():
         raise Interrupted()
     trial_dir = os.path.join(setup.out_dir, 'trials', spec.name)
