@@ -9,7 +9,8 @@ namespace minibot3d_slam {
 
 const GridCell Grid::kUnknown{};
 
-Grid::Grid(double resolution) : resolution_(resolution), inv_resolution_(1.0 / resolution) {}
+Grid::Grid(double resolution)
+    : resolution_(resolution), inv_resolution_(1.0 / resolution), mean_unit_(resolution / kMeanScale) {}
 
 void Grid::Reserve(int ix0, int iy0, int ix1, int iy1) {
   const int tx0 = ix0 >> kTileBits, ty0 = iy0 >> kTileBits;

@@ -35,6 +35,9 @@ class NegExpTable {
   double table_[kSize + 1];
 };
 
+// Stands in for unallocated tiles.
+const Grid::Tile kUnknownTile{};
+
 const NegExpTable& NegExp() {
   static const NegExpTable table;
   return table;
@@ -43,60 +46,54 @@ const NegExpTable& NegExp() {
 }  // namespace
 
 // The hill climber and the proposal sampler evaluate many poses that share an orientation and
-// differ by a fraction of a cell, so most beams end in the same cell again. Whether a cell of the
-// window is an admissible match depends only on the map, the cell and the beam direction — not on
-// where in its cell the endpoint fell — so for a given θ and endpoint cell the bitmask of
-// admissible window cells is remembered, and a repeated window only measures distances to those
-// cells. The result is bit-identical to evaluating the window afresh.
+// differ by a fraction of a cell to a cell, so most beams end in the same or a neighbouring cell
+// again. Whether a cell is an admissible match for a beam depends only on the map, the cell and the
+// beam direction — not on where the endpoint fell — so it is worked out once per cell, beam and
+// orientation and remembered: a window seen before only measures distances to its admissible cells,
+// a window moved by a cell tests only the cells it newly covers. The result is bit-identical to
+// evaluating every window afresh.
 //
-// Entries are keyed by the exact θ of the sensor pose (a few slots, least recently used replaced)
-// and, per beam, by the endpoint cell in a small direct-mapped table: way (ix + 2·iy) mod 5 gives a
-// cell and its four neighbours distinct ways, the cells a ±1-cell step of the climber reaches.
+// Per beam the cache holds an 8×8 patch of cells around the endpoint as two bitmasks (row-major from
+// the patch's lower-left cell: admissibility known, admissible); when a window leaves the patch the
+// patch is re-centred and forgotten. Patches are kept for a few orientations (the exact θ of the
+// sensor pose; least recently used replaced): the climber's current θ and its ±astep candidates, the
+// proposal's three θ.
 class ScanMatcher::WindowCache {
  public:
-  struct Entry {
-    int ix, iy;                // endpoint cell; ix == kEmpty: unused
-    const Grid::Tile* tile;    // the tile holding the whole window and partners, or nullptr
-    std::uint64_t admissible;  // bit i: window cell i is an admissible match
+  struct Patch {
+    int x0, y0;                // lower-left cell
+    std::uint64_t known;       // bit (y - y0) · 8 + (x - x0): admissibility worked out
+    std::uint64_t admissible;  // … and the cell is an admissible match
   };
-  static constexpr int kEmpty = std::numeric_limits<int>::min();
-  static constexpr int kWays = 5;
+  static constexpr int kSide = 8;
   static constexpr int kSlots = 4;
 
-  // Caching needs one bit per window cell: kernelSize up to 3.
-  static bool Usable(int kernel_size) { return (2 * kernel_size + 1) * (2 * kernel_size + 1) <= 64; }
+  // The window must fit in a patch.
+  static bool Usable(int kernel_size) { return 2 * kernel_size + 1 <= kSide; }
 
-  explicit WindowCache(std::size_t beams)
-      : beams_(beams), entries_(static_cast<std::size_t>(kSlots) * beams * kWays) {}
+  explicit WindowCache(std::size_t beams) : beams_(beams), patches_(kSlots * beams) {}
 
-  // The entries of the slot for orientation `theta`, beam-major.
-  Entry* Slot(double theta) {
+  // The patches (one per beam) for sensor orientation `theta`.
+  Patch* Slot(double theta) {
     ++clock_;
     int victim = 0;
     for (int i = 0; i < kSlots; ++i) {
       if (used_[i] != 0 && theta_[i] == theta) {
         used_[i] = clock_;
-        return Entries(i);
+        return &patches_[i * beams_];
       }
       if (used_[i] < used_[victim]) victim = i;
     }
     theta_[victim] = theta;
     used_[victim] = clock_;
-    Entry* e = Entries(victim);
-    for (std::size_t j = 0; j < beams_ * kWays; ++j) e[j].ix = kEmpty;
-    return e;
-  }
-
-  static int Way(int ix, int iy) {
-    const int m = (ix + 2 * iy) % kWays;
-    return m < 0 ? m + kWays : m;
+    Patch* p = &patches_[victim * beams_];
+    for (std::size_t j = 0; j < beams_; ++j) p[j] = Patch{0, 0, 0, 0};
+    return p;
   }
 
  private:
-  Entry* Entries(int slot) { return &entries_[static_cast<std::size_t>(slot) * beams_ * kWays]; }
-
   std::size_t beams_;
-  std::vector<Entry> entries_;
+  std::vector<Patch> patches_;
   double theta_[kSlots] = {};
   std::uint64_t used_[kSlots] = {};  // 0: slot unused; else the clock_ of the last use
   std::uint64_t clock_ = 0;
@@ -104,12 +101,9 @@ class ScanMatcher::WindowCache {
 
 ScanMatcher::ScanMatcher(const GmappingOptions& options)
     : options_(options), free_back_(options.delta * std::sqrt(2.0)) {
-  const int k = options.kernelSize;
-  for (int yy = -k; yy <= k; ++yy) {
-    for (int xx = -k; xx <= k; ++xx) {
-      window_dx_.push_back(xx);
-      window_dy_.push_back(yy);
-    }
+  const int w = 2 * options.kernelSize + 1;
+  if (WindowCache::Usable(options.kernelSize)) {
+    for (int row = 0; row < w; ++row) window_mask_ |= ((std::uint64_t{1} << w) - 1) << (row * WindowCache::kSide);
   }
 }
 
@@ -156,76 +150,95 @@ void ScanMatcher::ForEachBeam(const Grid& grid, const PreparedScan& scan, const 
   const Pose2 lp = Compose(pose, scan.sensor_in_base);
   const double c = std::cos(lp.theta), s = std::sin(lp.theta);
   const int k = options_.kernelSize;
+  const bool patches = WindowCache::Usable(k);
+  constexpr int kSide = WindowCache::kSide;
   const std::size_t n = scan.match_range.size();
-  WindowCache::Entry* slot = cache != nullptr ? cache->Slot(lp.theta) : nullptr;
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  WindowCache::Patch* slot = cache != nullptr ? cache->Slot(lp.theta) : nullptr;
+  int last_tx = 0, last_ty = 0;
+  const Grid::Tile* last_tile = nullptr;
   for (std::size_t i = 0; i < n; ++i) {
     const double dx = c * scan.match_cos[i] - s * scan.match_sin[i];
     const double dy = s * scan.match_cos[i] + c * scan.match_sin[i];
     const double r = scan.match_range[i];
     const double px = lp.x + r * dx, py = lp.y + r * dy;
     const int ix = grid.CellX(px), iy = grid.CellY(py);
-    double best = -1.0;
-    WindowCache::Entry* entry =
-        slot != nullptr ? &slot[i * WindowCache::kWays + static_cast<std::size_t>(WindowCache::Way(ix, iy))]
-                        : nullptr;
-    if (entry != nullptr && entry->ix == ix && entry->iy == iy) {
-      // This window was seen at this θ: only the distances to its admissible cells are new. Cells
-      // are visited in the same order as below, so ties resolve alike.
-      for (std::uint64_t m = entry->admissible; m != 0; m &= m - 1) {
-        const int b = __builtin_ctzll(m);
-        const int cx = ix + window_dx_[b], cy = iy + window_dy_[b];
-        const GridCell& cell =
-            entry->tile != nullptr
-                ? entry->tile->cells[((cy & Grid::kTileMask) << Grid::kTileBits) | (cx & Grid::kTileMask)]
-                : grid.At(cx, cy);
-        const double ex = px - grid.MeanX(cx, cell), ey = py - grid.MeanY(cy, cell);
-        const double d2 = ex * ex + ey * ey;
-        if (best < 0.0 || d2 < best) best = d2;
-      }
-      f(best);
-      continue;
-    }
     const double bx = free_back_ * dx, by = free_back_ * dy;  // one step back along the beam
-    std::uint64_t admissible = 0;
+
     // An occupied cell is admissible when the point one step back along the beam from its mean
     // endpoint lies in a free or unknown cell: the wall was seen from the side this beam comes
     // from. (gmapping applies the endpoint cell's back-step offset to every cell of the window,
     // which rejects or accepts cells depending on where the endpoint falls within its cell and
-    // makes the score jump by whole beams for millimetre moves.)
+    // makes the score jump by whole beams for millimetre moves.) `at` reads a cell.
+    auto admissible = [&](const auto& at, int cx, int cy) {
+      const GridCell& cell = at(cx, cy);
+      if (!cell.Occupied()) return false;
+      return at(grid.CellX(grid.MeanX(cx, cell) - bx), grid.CellY(grid.MeanY(cy, cell) - by)).FreeOrUnknown();
+    };
+    auto d2_to = [&](const GridCell& cell, int cx, int cy) {
+      const double ex = px - grid.MeanX(cx, cell), ey = py - grid.MeanY(cy, cell);
+      return ex * ex + ey * ey;
+    };
+    // Nearest admissible mean endpoint in the window, window cells visited row by row.
+    auto nearest = [&](const auto& at) {
+      double best = kNone;
+      if (!patches) {  // a kernel too wide for a patch
+        for (int cy = iy - k; cy <= iy + k; ++cy) {
+          for (int cx = ix - k; cx <= ix + k; ++cx) {
+            if (admissible(at, cx, cy)) best = std::min(best, d2_to(at(cx, cy), cx, cy));
+          }
+        }
+        return best;
+      }
+      // The window in a patch: the beam's cached one, or a throwaway one without cache.
+      WindowCache::Patch local{ix - k, iy - k, 0, 0};
+      WindowCache::Patch* patch = &local;
+      if (slot != nullptr) {
+        patch = &slot[i];
+        // Re-centred when the window leaves it (an empty patch may sit anywhere).
+        const unsigned room = static_cast<unsigned>(kSide - (2 * k + 1));
+        if (static_cast<unsigned>(ix - k - patch->x0) > room || static_cast<unsigned>(iy - k - patch->y0) > room) {
+          *patch = WindowCache::Patch{ix - kSide / 2, iy - kSide / 2, 0, 0};
+        }
+      }
+      const std::uint64_t window = window_mask_ << ((iy - k - patch->y0) * kSide + (ix - k - patch->x0));
+      for (std::uint64_t todo = window & ~patch->known; todo != 0; todo &= todo - 1) {
+        const int b = __builtin_ctzll(todo);
+        if (admissible(at, patch->x0 + (b & (kSide - 1)), patch->y0 + b / kSide)) {
+          patch->admissible |= std::uint64_t{1} << b;
+        }
+      }
+      patch->known |= window;
+      for (std::uint64_t m = patch->admissible & window; m != 0; m &= m - 1) {
+        const int b = __builtin_ctzll(m);
+        const int cx = patch->x0 + (b & (kSide - 1)), cy = patch->y0 + b / kSide;
+        best = std::min(best, d2_to(at(cx, cy), cx, cy));
+      }
+      return best;
+    };
+
+    // Most windows lie, with every back-step partner, in one tile: the tile is then looked up once
+    // and its cells addressed directly.
+    constexpr int kReach = 2;  // the back step (√2 cells from a point in the cell) stays within 2
     const int lx = ix & Grid::kTileMask, ly = iy & Grid::kTileMask;
-    constexpr int kReach = 2;  // the back step (√2 cells from a point in the cell) stays within 2 cells
-    const Grid::Tile* tile = nullptr;
-    const bool fast = lx - k - kReach >= 0 && lx + k + kReach < Grid::kTileSize && ly - k - kReach >= 0 &&
-                      ly + k + kReach < Grid::kTileSize;
-    if (fast) {
-      // The window and every back-step partner lie in one tile (most beams): look the tile up
-      // once and address cells directly.
-      tile = grid.TileAt(ix >> Grid::kTileBits, iy >> Grid::kTileBits);
-      if (tile == nullptr) {
-        if (entry != nullptr) *entry = {ix, iy, nullptr, 0};
-        f(best);
-        continue;
+    double best = kNone;
+    if (lx - k - kReach >= 0 && lx + k + kReach < Grid::kTileSize && ly - k - kReach >= 0 &&
+        ly + k + kReach < Grid::kTileSize) {
+      const int tx = ix >> Grid::kTileBits, ty = iy >> Grid::kTileBits;
+      if (tx != last_tx || ty != last_ty || last_tile == nullptr) {  // neighbouring beams share tiles
+        last_tile = grid.TileAt(tx, ty);
+        if (last_tile == nullptr) last_tile = &kUnknownTile;  // unallocated: all unknown
+        last_tx = tx;
+        last_ty = ty;
       }
+      const Grid::Tile* tile = last_tile;
+      best = nearest([tile](int cx, int cy) -> const GridCell& {
+        return tile->cells[((cy & Grid::kTileMask) << Grid::kTileBits) | (cx & Grid::kTileMask)];
+      });
+    } else {
+      best = nearest([&grid](int cx, int cy) -> const GridCell& { return grid.At(cx, cy); });
     }
-    int bit = 0;
-    for (int yy = -k; yy <= k; ++yy) {
-      for (int xx = -k; xx <= k; ++xx, ++bit) {
-        const int cx = ix + xx, cy = iy + yy;
-        const GridCell& cell = fast ? tile->cells[((ly + yy) << Grid::kTileBits) | (lx + xx)] : grid.At(cx, cy);
-        if (!cell.Occupied()) continue;
-        const double mx = grid.MeanX(cx, cell), my = grid.MeanY(cy, cell);
-        const int fx = grid.CellX(mx - bx), fy = grid.CellY(my - by);
-        const GridCell& partner =
-            fast ? tile->cells[((ly + fy - iy) << Grid::kTileBits) | (lx + fx - ix)] : grid.At(fx, fy);
-        if (!partner.FreeOrUnknown()) continue;
-        admissible |= std::uint64_t{1} << bit;
-        const double ex = px - mx, ey = py - my;
-        const double d2 = ex * ex + ey * ey;
-        if (best < 0.0 || d2 < best) best = d2;
-      }
-    }
-    if (entry != nullptr) *entry = {ix, iy, tile, admissible};
-    f(best);
+    f(best == kNone ? -1.0 : best);
   }
 }
 

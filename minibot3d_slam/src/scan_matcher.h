@@ -22,10 +22,15 @@
 // y, ±lasamplerange step lasamplestep in θ), fits a Gaussian N(μ, Σ) to it — the proposal the new
 // pose is drawn from — and returns the log of the mean likelihood over the grid, the approximation
 // of η = ∫ p(z | m, x) p(x | x', u) dx that becomes the particle's weight factor.
+//
+// Both evaluate dozens of nearby poses against one map, so within one call they remember, per beam
+// and orientation, which cells are admissible matches (WindowCache in scan_matcher.cpp); the
+// results are bit-identical to evaluating every pose on its own, as Score and LogLikelihood do.
 #ifndef MINIBOT3D_SLAM_SRC_SCAN_MATCHER_H_
 #define MINIBOT3D_SLAM_SRC_SCAN_MATCHER_H_
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "grid.h"
@@ -87,8 +92,8 @@ class ScanMatcher {
 
   GmappingOptions options_;
   double free_back_;  // how far back along the beam the free cell is looked for (√2·δ)
-  // Kernel window cell i (row-major from (-k, -k)) is at offset window_dx_[i], window_dy_[i].
-  std::vector<int> window_dx_, window_dy_;
+  // The kernel window as a WindowCache patch bitmask, at the patch's lower-left corner.
+  std::uint64_t window_mask_ = 0;
 };
 
 }  // namespace minibot3d_slam

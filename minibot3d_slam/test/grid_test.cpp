@@ -32,6 +32,28 @@ TEST(GridTest, RayMarksFreeCellsAndAHit) {
   EXPECT_EQ(g.At(10, 3).visits, 1);
 }
 
+// CellX/CellY and MeanX/MeanY are computed without std::floor and with integer mean units for
+// speed; they must give exactly what the plain formulas give.
+TEST(GridTest, FastCellAndMeanArithmeticIsExact) {
+  for (double resolution : {0.05, 0.1, 0.025, 0.07}) {
+    const Grid g(resolution);
+    for (double x : {0.0, -0.0, 1e-12, -1e-12, 0.05, -0.05, 0.049999, -0.050001, 3.2, -3.2, 123.456,
+                     -123.456, 99.99, -100.0, 1e5 * resolution, -1e5 * resolution}) {
+      EXPECT_EQ(g.CellX(x), static_cast<int>(std::floor(x * (1.0 / resolution)))) << x;
+      EXPECT_EQ(g.CellY(x), static_cast<int>(std::floor(x * (1.0 / resolution)))) << x;
+    }
+    GridCell c;
+    for (int ix : {0, 1, -1, 63, -64, 2000, -2000, 123457, -98765}) {
+      for (int m : {0, 1, -1, 32767, -32768, 12345, -20001}) {
+        c.mean_x = static_cast<std::int16_t>(m);
+        c.mean_y = static_cast<std::int16_t>(-m - 1);
+        EXPECT_EQ(g.MeanX(ix, c), (ix + 0.5 + c.mean_x / Grid::kMeanScale) * resolution) << ix << " " << m;
+        EXPECT_EQ(g.MeanY(ix, c), (ix + 0.5 + c.mean_y / Grid::kMeanScale) * resolution) << ix << " " << m;
+      }
+    }
+  }
+}
+
 TEST(GridTest, DiagonalRayIsConnected) {
   Grid g(0.05);
   g.TraceRay(0.01, 0.01, -3.0, 2.0, true);

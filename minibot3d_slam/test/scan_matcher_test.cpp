@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "synthetic_world.h"
 
@@ -102,6 +104,49 @@ TEST(ScanMatcherTest, SampleAroundFitsAGaussianAtTheMode) {
   EXPECT_DOUBLE_EQ(single.mean.x, truth.x);
   EXPECT_DOUBLE_EQ(single.covariance.norm(), 0.0);
   EXPECT_NEAR(single.log_weight, point.LogLikelihood(grid, scan, truth), 1e-9);
+}
+
+// Optimize and SampleAround remember per beam and orientation which cells are admissible matches
+// (scan_matcher.cpp, WindowCache); their results must equal evaluating every pose afresh, bit for
+// bit, for every kernel size (up to 3 through the cache's patches, above without them).
+TEST(ScanMatcherTest, CachedEvaluationEqualsFreshEvaluation) {
+  const World world = Office();
+  for (int kernel = 0; kernel <= 4; ++kernel) {
+    GmappingOptions o;
+    o.kernelSize = kernel;
+    const ScanMatcher matcher(o);
+    const Grid grid = MappedOffice(matcher, world);
+    for (const Pose2& truth : {Pose2{-3.0, -1.8, 0.7}, Pose2{2.5, 2.8, -2.5}, Pose2{0.1, -0.2, 1.6}}) {
+      const PreparedScan scan = matcher.Prepare(world.Scan(truth));
+      for (const Pose2& off : {Pose2{0.12, -0.07, 0.06}, Pose2{-0.15, 0.1, -0.04}}) {
+        const Pose2 guess{truth.x + off.x, truth.y + off.y, truth.theta + off.theta};
+        Pose2 found;
+        const double score = matcher.Optimize(grid, scan, guess, &found);
+        EXPECT_EQ(score, matcher.Score(grid, scan, found)) << "kernelSize " << kernel;
+
+        const ProposalFit fit = matcher.SampleAround(grid, scan, found);
+        // The same fit from LogLikelihood at every sampled pose, as SampleAround computes it.
+        const int nl = static_cast<int>(std::floor(o.llsamplerange / o.llsamplestep + 1e-9));
+        const int na = static_cast<int>(std::floor(o.lasamplerange / o.lasamplestep + 1e-9));
+        std::vector<double> l;
+        double lmax = -std::numeric_limits<double>::infinity();
+        for (int i = -nl; i <= nl; ++i) {
+          for (int j = -nl; j <= nl; ++j) {
+            for (int t = -na; t <= na; ++t) {
+              const Pose2 p{found.x + i * o.llsamplestep, found.y + j * o.llsamplestep,
+                            NormalizeAngle(found.theta + t * o.lasamplestep)};
+              l.push_back(matcher.LogLikelihood(grid, scan, p));
+              lmax = std::max(lmax, l.back());
+            }
+          }
+        }
+        double wsum = 0.0;
+        for (double x : l) wsum += std::exp(x - lmax);
+        EXPECT_EQ(fit.log_weight, lmax + std::log(wsum / static_cast<double>(l.size())))
+            << "kernelSize " << kernel;
+      }
+    }
+  }
 }
 
 TEST(ScanMatcherTest, PrepareClassifiesBeams) {
