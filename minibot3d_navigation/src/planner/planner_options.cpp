@@ -9,113 +9,38 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "minibot3d_navigation/option_table.h"
+
 namespace minibot3d_navigation {
 namespace nav {
 namespace {
 
-// One row of the option table; exactly one member pointer is non-null, so
-// Set/IsName/Names stay in sync with a single edit per new option.
-struct OptionField {
-  const char* name;
-  int GlobalPlannerOptions::*int_field;
-  double GlobalPlannerOptions::*double_field;
-  bool GlobalPlannerOptions::*bool_field;
-  std::string GlobalPlannerOptions::*string_field;
-};
-
+using options::Field;
+using options::Num;
 using O = GlobalPlannerOptions;
-constexpr OptionField Int(const char* n, int O::*f) {
-  return {n, f, nullptr, nullptr, nullptr};
-}
-constexpr OptionField Dbl(const char* n, double O::*f) {
-  return {n, nullptr, f, nullptr, nullptr};
-}
-constexpr OptionField Bool(const char* n, bool O::*f) {
-  return {n, nullptr, nullptr, f, nullptr};
-}
-constexpr OptionField Str(const char* n, std::string O::*f) {
-  return {n, nullptr, nullptr, nullptr, f};
-}
 
-const OptionField kFields[] = {
-    Str("base_global_planner", &O::base_global_planner),
-    Dbl("default_tolerance", &O::default_tolerance),
-    Bool("allow_unknown", &O::allow_unknown),
-    Int("neutral_cost", &O::neutral_cost),
-    Dbl("cost_factor", &O::cost_factor),
-    Int("lethal_cost", &O::lethal_cost),
-    Bool("smooth_path", &O::smooth_path),
-    Int("orientation_mode", &O::orientation_mode),
-    Str("ompl_planner", &O::ompl_planner),
-    Dbl("ompl_planning_time", &O::ompl_planning_time),
-    Bool("ompl_simplify", &O::ompl_simplify),
-    Dbl("ompl_interpolation_resolution", &O::ompl_interpolation_resolution),
-    Int("ompl_seed", &O::ompl_seed),
-};
+const options::OptionTable<O>& Table() {
+  static const options::OptionTable<O> table(
+      "global planner",
+      {Field("base_global_planner", &O::base_global_planner),
+       Field("default_tolerance", &O::default_tolerance),
+       Field("allow_unknown", &O::allow_unknown),
+       Field("neutral_cost", &O::neutral_cost),
+       Field("cost_factor", &O::cost_factor),
+       Field("lethal_cost", &O::lethal_cost),
+       Field("smooth_path", &O::smooth_path),
+       Field("orientation_mode", &O::orientation_mode),
+       Field("ompl_planner", &O::ompl_planner),
+       Field("ompl_planning_time", &O::ompl_planning_time),
+       Field("ompl_simplify", &O::ompl_simplify),
+       Field("ompl_interpolation_resolution", &O::ompl_interpolation_resolution),
+       Field("ompl_seed", &O::ompl_seed)});
+  return table;
+}
 
 const char* const kAStarNames[] = {"astar", "navfn/NavfnROS",
                                    "global_planner/GlobalPlanner"};
 const char* const kOmplPlannerNames[] = {"rrtstar", "prmstar", "rrtconnect"};
-
-const OptionField* FindField(const std::string& name) {
-  for (const OptionField& f : kFields) {
-    if (name == f.name) return &f;
-  }
-  return nullptr;
-}
-
-std::string Trim(const std::string& s) {
-  const char* ws = " \t\r\n";
-  const size_t b = s.find_first_not_of(ws);
-  if (b == std::string::npos) return "";
-  const size_t e = s.find_last_not_of(ws);
-  return s.substr(b, e - b + 1);
-}
-
-[[noreturn]] void ThrowBadText(const std::string& name, const std::string& text,
-                               const char* type) {
-  throw std::invalid_argument("global planner option " + name +
-                              ": cannot parse '" + text + "' as " + type);
-}
-
-double ParseDouble(const std::string& name, const std::string& text) {
-  const std::string t = Trim(text);
-  if (t.empty()) ThrowBadText(name, text, "a number");
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(t.c_str(), &end);
-  if (end != t.c_str() + t.size() || errno == ERANGE) {
-    ThrowBadText(name, text, "a number");
-  }
-  return v;
-}
-
-int ParseInt(const std::string& name, const std::string& text) {
-  const std::string t = Trim(text);
-  if (t.empty()) ThrowBadText(name, text, "an integer");
-  char* end = nullptr;
-  errno = 0;
-  const long v = std::strtol(t.c_str(), &end, 10);  // NOLINT(runtime/int)
-  if (end != t.c_str() + t.size() || errno == ERANGE ||
-      v > std::numeric_limits<int>::max() ||
-      v < std::numeric_limits<int>::min()) {
-    ThrowBadText(name, text, "an integer");
-  }
-  return static_cast<int>(v);
-}
-
-bool ParseBool(const std::string& name, const std::string& text) {
-  const std::string t = Trim(text);
-  if (t == "true" || t == "True" || t == "TRUE" || t == "1") return true;
-  if (t == "false" || t == "False" || t == "FALSE" || t == "0") return false;
-  ThrowBadText(name, text, "a boolean");
-}
-
-std::string Num(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
-}
 
 template <size_t N>
 std::string JoinNames(const char* const (&names)[N]) {
@@ -128,30 +53,12 @@ std::string JoinNames(const char* const (&names)[N]) {
 
 void SetGlobalPlannerOption(const std::string& name, const std::string& text,
                             GlobalPlannerOptions* options) {
-  const OptionField* f = FindField(name);
-  if (f == nullptr) {
-    throw std::invalid_argument("unknown global planner option '" + name + "'");
-  }
-  if (f->int_field != nullptr) {
-    options->*(f->int_field) = ParseInt(name, text);
-  } else if (f->double_field != nullptr) {
-    options->*(f->double_field) = ParseDouble(name, text);
-  } else if (f->bool_field != nullptr) {
-    options->*(f->bool_field) = ParseBool(name, text);
-  } else {
-    options->*(f->string_field) = Trim(text);
-  }
+  Table().Set(name, text, options);
 }
 
-bool IsGlobalPlannerOptionName(const std::string& name) {
-  return FindField(name) != nullptr;
-}
+bool IsGlobalPlannerOptionName(const std::string& name) { return Table().Has(name); }
 
-std::vector<std::string> GlobalPlannerOptionNames() {
-  std::vector<std::string> names;
-  for (const OptionField& f : kFields) names.emplace_back(f.name);
-  return names;
-}
+std::vector<std::string> GlobalPlannerOptionNames() { return Table().Names(); }
 
 std::vector<std::string> GlobalPlannerNames() {
   std::vector<std::string> names(std::begin(kAStarNames), std::end(kAStarNames));
