@@ -451,6 +451,86 @@ TEST(DwaPlannerTest, EscapesBackwardsWhenNothingForwardIsLegal) {
   EXPECT_LE(cmd.vx, 0.0);
 }
 
+TEST(DwaPlannerTest, CentripetalLimitKeepsFastArcsWide) {
+  // Fast, on a plan curving left on a 0.6 m radius: without a limit the
+  // planner follows it at speed (0.9 m/s needs 1.5 rad/s, 1.35 m/s^2); with
+  // max_centripetal_acc it keeps |vx * vtheta| within it.
+  DwaOptions o;
+  o.max_vel_x = 1.0;
+  o.max_vel_theta = 2.5;
+  o.min_vel_theta = -2.5;
+  o.acc_lim_theta = 20.0;
+  o.sim_time = 1.0;
+  o.path_distance_bias = 1.2;
+  o.meter_scoring = true;
+  Costmap2D map = EmptyMap(4.0, 4.0);
+  std::vector<Point2D> arc;
+  for (int i = 0; i <= 30; ++i) {
+    const double a = kPi * i / 30.0;  // half a circle around (1.0, 1.6)
+    arc.push_back({1.0 + 0.6 * std::sin(a), 1.6 - 0.6 * std::cos(a)});
+  }
+  const Path plan = PolylinePlan(arc, kPi);
+  Twist2D v;
+  v.vx = 0.9;
+  v.vtheta = 1.2;
+  {
+    DwaPlanner unlimited(o, kFootprint);
+    const Twist2D cmd = unlimited.ComputeVelocity({1.0, 1.0, 0.0}, v, plan, map);
+    ASSERT_GT(std::fabs(cmd.vx * cmd.vtheta), 1.2) << cmd.vx << " " << cmd.vtheta;
+  }
+  o.max_centripetal_acc = 1.0;
+  DwaPlanner limited(o, kFootprint);
+  const Twist2D cmd = limited.ComputeVelocity({1.0, 1.0, 0.0}, v, plan, map);
+  EXPECT_EQ(limited.last_stats().mode, DwaPlanner::Mode::kFollowPath);
+  EXPECT_LE(std::fabs(cmd.vx * cmd.vtheta), 1.0 + 1e-9) << cmd.vx << " " << cmd.vtheta;
+  EXPECT_GT(cmd.vtheta, 0.0);  // still turning towards the plan
+}
+
+TEST(DwaPlannerTest, FastRobotCarriedIntoTheBandBrakes) {
+  // Moving at 0.8 m/s towards a wall 0.26 m to the left, at 20 degrees, the
+  // front corner already in the inscribed band (slip, a late costmap):
+  // nothing keeps the outline out of the band, so the first pass
+  // fails.  The way out is for creeping robots; a fast one brakes.
+  Costmap2D map = EmptyMap(6.0, 3.0);
+  AddBox(&map, 0.0, 1.5, 6.0, 3.0);
+  Inflate(&map);
+  DwaOptions o;
+  o.max_vel_x = 1.0;
+  o.sim_time = 1.5;
+  DwaPlanner planner(o, kFootprint);
+  const Path plan = PolylinePlan({{1.0, 1.24}, {5.0, 1.24}}, 0.0);
+  Twist2D v;
+  v.vx = 0.8;
+  const Twist2D cmd = planner.ComputeVelocity({1.0, 1.24, 0.35}, v, plan, map);
+  EXPECT_LT(cmd.vx, v.vx);
+  EXPECT_NEAR(cmd.vx, v.vx - o.acc_lim_x / o.controller_frequency, 1e-9);
+  EXPECT_EQ(cmd.vtheta, 0.0);
+  // Slow, the same pose gets the way out instead of only braking.
+  Twist2D slow;
+  slow.vx = 0.05;
+  DwaPlanner creeping(o, kFootprint);
+  const Twist2D way_out = creeping.ComputeVelocity({1.0, 1.24, 0.35}, slow, plan, map);
+  EXPECT_TRUE(way_out.vtheta < 0.0 || way_out.vx < 0.0)
+      << "turns or backs away from the wall: " << way_out.vx << " " << way_out.vtheta;
+}
+
+TEST(DwaPlannerTest, SlowRobotTurnsOnTheSpotAtHalfTheAngle) {
+  // The plan 60 degrees off the heading: a moving robot follows it on an
+  // arc, a stopped one turns on the spot first (rotate_to_path_angle is 90).
+  Costmap2D map = EmptyMap(4.0, 4.0);
+  const Path plan = PolylinePlan({{1.0, 1.0}, {2.0, 1.0 + std::sqrt(3.0)}}, kPi / 3);
+  DwaPlanner stopped(DwaOptions(), kFootprint);
+  const Twist2D turn = stopped.ComputeVelocity({1.0, 1.0, 0.0}, Twist2D(), plan, map);
+  EXPECT_EQ(stopped.last_stats().mode, DwaPlanner::Mode::kRotateToPath);
+  EXPECT_EQ(turn.vx, 0.0);
+  EXPECT_GT(turn.vtheta, 0.0);
+  Twist2D v;
+  v.vx = 0.4;
+  DwaPlanner moving(DwaOptions(), kFootprint);
+  moving.ComputeVelocity({1.0, 1.0, 0.0}, v, plan, map);
+  EXPECT_EQ(moving.last_stats().mode, DwaPlanner::Mode::kFollowPath);
+}
+
 TEST(OscillationCriticTest, ForbidsFlippingBackUntilMoved) {
   OscillationCritic critic(0.05);
   Costmap2D map = EmptyMap(1.0, 1.0);

@@ -125,6 +125,10 @@ void DwaPlanner::Reset() {
   stats_ = CycleStats();
 }
 
+double DwaPlanner::CreepSpeed() const {
+  return std::max(options_.min_vel_x, -options_.escape_vel);
+}
+
 bool DwaPlanner::Stopped(const Twist2D& v) const {
   return std::fabs(v.vx) <= options_.trans_stopped_vel &&
          std::fabs(v.vtheta) <= options_.rot_stopped_vel;
@@ -316,9 +320,8 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
     return nvx == 1 ? win.max_vx
                     : win.min_vx + (win.max_vx - win.min_vx) * i / (nvx - 1);
   };
-  auto vth_sample = [&](int j) {
-    return nth == 1 ? 0.5 * (win.min_vth + win.max_vth)
-                    : win.min_vth + (win.max_vth - win.min_vth) * j / (nth - 1);
+  auto vth_sample = [&](int j, double lo, double hi) {
+    return nth == 1 ? 0.5 * (lo + hi) : lo + (hi - lo) * j / (nth - 1);
   };
 
   bool have_best = false;
@@ -330,8 +333,29 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
   // robot that drifted to the edge of the band (slip, localization, a
   // recovery turn) can so leave it instead of freezing, but never creeps
   // along inside it towards a wall.
+  //
+  // The way out is for a robot at creeping speed (at most
+  // max(min_vel_x, |escape_vel|)), and is taken at that speed.  A robot
+  // moving faster when nothing passes the first pass has been carried towards
+  // an obstacle further than its rollouts predicted (wheel slip, a late
+  // costmap): it brakes, if braking touches no lethal cell, and looks for the
+  // way out once it has slowed down, rather than picking the best-scoring
+  // fast arc through the band.
+  const double creep = CreepSpeed();
+  const bool fast = velocity.vx > creep + 1e-6 || velocity.vx < -creep - 1e-6;
   for (int pass = 0; pass < 2 && !have_best; ++pass) {
     obstacle_critic_.set_lethal_only(pass == 1);
+    if (pass == 1 && fast) {
+      generator_.Generate(pose, velocity, Twist2D(), TrajectoryKind::kStop,
+                          &candidate_);
+      candidate_.command = generator_.BrakingCommand(velocity);
+      if (Evaluate(kInf) >= 0.0) {
+        std::swap(best_, candidate_);
+        best_cost = best_.cost;
+        have_best = true;
+      }
+      break;
+    }
     // In the second pass a trajectory must end outside the band.
     auto exits_band = [&]() {
       if (pass == 0) return true;
@@ -350,9 +374,20 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
       for (int i = 0; i < nvx; ++i) {
         Twist2D cmd;
         cmd.vx = vx_sample(i);
+        if (pass == 1 && cmd.vx > creep + 1e-6) break;
+        // The theta samples span the window, narrowed at this speed to the
+        // arcs within max_centripetal_acc (none if the robot turns too fast
+        // for this speed: it has to slow down first).
+        double lo = win.min_vth, hi = win.max_vth;
+        if (options_.max_centripetal_acc > 0.0 && std::fabs(cmd.vx) > 1e-9) {
+          const double limit = options_.max_centripetal_acc / std::fabs(cmd.vx);
+          lo = std::max(lo, -limit);
+          hi = std::min(hi, limit);
+        }
         // The straight command first, then the theta samples.
         for (int j = -1; j < nth; ++j) {
-          cmd.vtheta = j < 0 ? 0.0 : vth_sample(j);
+          if (j >= 0 && lo > hi) break;
+          cmd.vtheta = j < 0 ? 0.0 : vth_sample(j, lo, hi);
           if (j >= 0 && cmd.vtheta == 0.0) continue;
           generator_.Generate(pose, velocity, cmd, TrajectoryKind::kSampled,
                               &candidate_);
@@ -368,7 +403,7 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
       for (int j = 0; j < nth; ++j) {
         Twist2D cmd;
         cmd.vx = options_.escape_vel;
-        cmd.vtheta = vth_sample(j);
+        cmd.vtheta = vth_sample(j, win.min_vth, win.max_vth);
         generator_.Generate(pose, velocity, cmd, TrajectoryKind::kEscape, &candidate_);
         Evaluate(best_cost);
         take_if_better();
@@ -388,7 +423,7 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
     const bool spun_out = spun_in_place_ > 2.0 * kPi;
     double last_limited = 0.0;
     for (int j = 0; j < nth; ++j) {
-      const double samp = vth_sample(j);
+      const double samp = vth_sample(j, win.min_vth, win.max_vth);
       if (!(samp > dvth || samp < -dvth)) continue;
       const double limited =
           samp > 0.0 ? std::max(samp, options_.min_in_place_vel_theta)
@@ -638,9 +673,15 @@ Twist2D DwaPlanner::ComputeVelocity(const Pose2D& pose, const Twist2D& velocity,
 
   if (options_.rotate_to_path_angle < kPi) {
     const double error = PathHeadingError(pose, costmap);
-    const double threshold = rotating_to_path_
-                                 ? 0.5 * options_.rotate_to_path_angle
-                                 : options_.rotate_to_path_angle;
+    // A robot at creeping speed or stopped turns on the spot already at half
+    // the angle: the arcs it could start on are too wide for a turn that
+    // sharp, and crawling along them at min_vel_x is what it would do instead.
+    // Turns until within a quarter of the angle.
+    const bool slow = std::fabs(velocity.vx) <= CreepSpeed() + 1e-6;
+    const double threshold =
+        rotating_to_path_ ? 0.25 * options_.rotate_to_path_angle
+        : slow            ? 0.5 * options_.rotate_to_path_angle
+                          : options_.rotate_to_path_angle;
     if (std::isfinite(error) && std::fabs(error) > threshold) {
       rotating_to_path_ = true;
       if (std::fabs(velocity.vx) > options_.trans_stopped_vel) {
@@ -648,7 +689,7 @@ Twist2D DwaPlanner::ComputeVelocity(const Pose2D& pose, const Twist2D& velocity,
       }
       Twist2D cmd;
       if (RotateTowards(pose, velocity, pose.yaw + error,
-                        0.5 * options_.rotate_to_path_angle, costmap, &cmd)) {
+                        0.25 * options_.rotate_to_path_angle, costmap, &cmd)) {
         stats_.mode = Mode::kRotateToPath;
         return cmd;
       }

@@ -91,8 +91,18 @@ struct DwaOptions {
   // --- Not ROS parameters ---
   // rad: if the plan ahead lies further than this off the robot's heading,
   // stop and rotate in place towards it before following it (back to normal
-  // following below half this angle).  >= pi disables.
+  // following below a quarter of this angle); at creeping speed or stopped,
+  // already beyond half of it.  >= pi disables.
   double rotate_to_path_angle = kPi / 2.0;
+  // m/s^2: sampled commands keep |vx * vtheta| (the centripetal acceleration
+  // of the arc) at or below this; 0 (default, as TrajectoryPlannerROS) means
+  // no limit.  A skid-steer base turns by sliding its wheels sideways, and the
+  // harder it corners the less its yaw rate follows the command: minibot3d in
+  // the simulator over-rotates by 3 % at 1 m/s^2, 8 % at 1.5 and 18 % at 2, so
+  // arcs flown above the limit are tighter than the rollouts predicted and
+  // wheel odometry under-reports the turn.  Fast commands then have to slow
+  // down before they turn hard, as a car does.
+  double max_centripetal_acc = 0.0;
 };
 
 // Throws std::invalid_argument whose message lists every offending parameter
