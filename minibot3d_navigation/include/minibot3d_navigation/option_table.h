@@ -1,5 +1,5 @@
 // A table of named option fields, shared by every options struct of the
-// navigation core (costmap, planners, DWA, move_base).  Each options file
+// navigation core (AMCL, costmap, planners, DWA, move_base, explore).  Each options file
 // lists its fields once — name and member pointer — and gets Set/IsName/Names
 // from here, so a new parameter is one line and the three can't drift apart.
 //

@@ -1,173 +1,76 @@
 #include "minibot3d_navigation/amcl/amcl_options.h"
 
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
-#include <limits>
-#include <sstream>
-#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "minibot3d_navigation/option_table.h"
 
 namespace minibot3d_navigation {
 namespace amcl {
 namespace {
 
-// One row of the option table; exactly one member pointer is non-null.  A
-// table (rather than a chain of if/else) keeps SetAmclOption, the name list
-// and IsAmclOptionName in sync with a single edit per new option.
-struct OptionField {
-  const char* name;
-  int AmclOptions::*int_field;
-  double AmclOptions::*double_field;
-  bool AmclOptions::*bool_field;
-  std::string AmclOptions::*string_field;
-};
+using options::Field;
+using options::Num;
+using O = AmclOptions;
 
-constexpr OptionField Int(const char* n, int AmclOptions::*f) {
-  return {n, f, nullptr, nullptr, nullptr};
-}
-constexpr OptionField Dbl(const char* n, double AmclOptions::*f) {
-  return {n, nullptr, f, nullptr, nullptr};
-}
-constexpr OptionField Bool(const char* n, bool AmclOptions::*f) {
-  return {n, nullptr, nullptr, f, nullptr};
-}
-constexpr OptionField Str(const char* n, std::string AmclOptions::*f) {
-  return {n, nullptr, nullptr, nullptr, f};
-}
-
-const OptionField kFields[] = {
-    Int("min_particles", &AmclOptions::min_particles),
-    Int("max_particles", &AmclOptions::max_particles),
-    Dbl("kld_err", &AmclOptions::kld_err),
-    Dbl("kld_z", &AmclOptions::kld_z),
-    Dbl("update_min_d", &AmclOptions::update_min_d),
-    Dbl("update_min_a", &AmclOptions::update_min_a),
-    Int("resample_interval", &AmclOptions::resample_interval),
-    Dbl("recovery_alpha_slow", &AmclOptions::recovery_alpha_slow),
-    Dbl("recovery_alpha_fast", &AmclOptions::recovery_alpha_fast),
-    Str("odom_model_type", &AmclOptions::odom_model_type),
-    Dbl("odom_alpha1", &AmclOptions::odom_alpha1),
-    Dbl("odom_alpha2", &AmclOptions::odom_alpha2),
-    Dbl("odom_alpha3", &AmclOptions::odom_alpha3),
-    Dbl("odom_alpha4", &AmclOptions::odom_alpha4),
-    Dbl("odom_alpha5", &AmclOptions::odom_alpha5),
-    Str("laser_model_type", &AmclOptions::laser_model_type),
-    Int("laser_max_beams", &AmclOptions::laser_max_beams),
-    Dbl("laser_z_hit", &AmclOptions::laser_z_hit),
-    Dbl("laser_z_short", &AmclOptions::laser_z_short),
-    Dbl("laser_z_max", &AmclOptions::laser_z_max),
-    Dbl("laser_z_rand", &AmclOptions::laser_z_rand),
-    Dbl("laser_sigma_hit", &AmclOptions::laser_sigma_hit),
-    Dbl("laser_lambda_short", &AmclOptions::laser_lambda_short),
-    Dbl("laser_likelihood_max_dist", &AmclOptions::laser_likelihood_max_dist),
-    Dbl("laser_min_range", &AmclOptions::laser_min_range),
-    Dbl("laser_max_range", &AmclOptions::laser_max_range),
-    Bool("do_beamskip", &AmclOptions::do_beamskip),
-    Dbl("beam_skip_distance", &AmclOptions::beam_skip_distance),
-    Dbl("beam_skip_threshold", &AmclOptions::beam_skip_threshold),
-    Dbl("beam_skip_error_threshold", &AmclOptions::beam_skip_error_threshold),
-    Dbl("initial_pose_x", &AmclOptions::initial_pose_x),
-    Dbl("initial_pose_y", &AmclOptions::initial_pose_y),
-    Dbl("initial_pose_a", &AmclOptions::initial_pose_a),
-    Dbl("initial_cov_xx", &AmclOptions::initial_cov_xx),
-    Dbl("initial_cov_yy", &AmclOptions::initial_cov_yy),
-    Dbl("initial_cov_aa", &AmclOptions::initial_cov_aa),
-};
-
-const OptionField* FindField(const std::string& name) {
-  for (const OptionField& f : kFields) {
-    if (name == f.name) return &f;
-  }
-  return nullptr;
-}
-
-std::string Trim(const std::string& s) {
-  const char* ws = " \t\r\n";
-  const size_t b = s.find_first_not_of(ws);
-  if (b == std::string::npos) return "";
-  const size_t e = s.find_last_not_of(ws);
-  return s.substr(b, e - b + 1);
-}
-
-[[noreturn]] void ThrowBadText(const std::string& name, const std::string& text,
-                               const char* type) {
-  throw std::invalid_argument("AMCL option " + name + ": cannot parse '" +
-                              text + "' as " + type);
-}
-
-double ParseDouble(const std::string& name, const std::string& text) {
-  const std::string t = Trim(text);
-  if (t.empty()) ThrowBadText(name, text, "a number");
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(t.c_str(), &end);
-  if (end != t.c_str() + t.size() || errno == ERANGE) {
-    ThrowBadText(name, text, "a number");
-  }
-  return v;
-}
-
-int ParseInt(const std::string& name, const std::string& text) {
-  const std::string t = Trim(text);
-  if (t.empty()) ThrowBadText(name, text, "an integer");
-  char* end = nullptr;
-  errno = 0;
-  const long v = std::strtol(t.c_str(), &end, 10);  // NOLINT(runtime/int)
-  if (end != t.c_str() + t.size() || errno == ERANGE ||
-      v > std::numeric_limits<int>::max() ||
-      v < std::numeric_limits<int>::min()) {
-    ThrowBadText(name, text, "an integer");
-  }
-  return static_cast<int>(v);
-}
-
-bool ParseBool(const std::string& name, const std::string& text) {
-  const std::string t = Trim(text);
-  // YAML 1.1 spellings that rosparam accepts.
-  if (t == "true" || t == "True" || t == "TRUE" || t == "1") return true;
-  if (t == "false" || t == "False" || t == "FALSE" || t == "0") return false;
-  ThrowBadText(name, text, "a boolean");
-}
-
-std::string Num(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
+const options::OptionTable<O>& Table() {
+  static const options::OptionTable<O> table(
+      "AMCL",
+      {Field("min_particles", &O::min_particles),
+       Field("max_particles", &O::max_particles),
+       Field("kld_err", &O::kld_err),
+       Field("kld_z", &O::kld_z),
+       Field("update_min_d", &O::update_min_d),
+       Field("update_min_a", &O::update_min_a),
+       Field("resample_interval", &O::resample_interval),
+       Field("recovery_alpha_slow", &O::recovery_alpha_slow),
+       Field("recovery_alpha_fast", &O::recovery_alpha_fast),
+       Field("odom_model_type", &O::odom_model_type),
+       Field("odom_alpha1", &O::odom_alpha1),
+       Field("odom_alpha2", &O::odom_alpha2),
+       Field("odom_alpha3", &O::odom_alpha3),
+       Field("odom_alpha4", &O::odom_alpha4),
+       Field("odom_alpha5", &O::odom_alpha5),
+       Field("laser_model_type", &O::laser_model_type),
+       Field("laser_max_beams", &O::laser_max_beams),
+       Field("laser_z_hit", &O::laser_z_hit),
+       Field("laser_z_short", &O::laser_z_short),
+       Field("laser_z_max", &O::laser_z_max),
+       Field("laser_z_rand", &O::laser_z_rand),
+       Field("laser_sigma_hit", &O::laser_sigma_hit),
+       Field("laser_lambda_short", &O::laser_lambda_short),
+       Field("laser_likelihood_max_dist", &O::laser_likelihood_max_dist),
+       Field("laser_min_range", &O::laser_min_range),
+       Field("laser_max_range", &O::laser_max_range),
+       Field("do_beamskip", &O::do_beamskip),
+       Field("beam_skip_distance", &O::beam_skip_distance),
+       Field("beam_skip_threshold", &O::beam_skip_threshold),
+       Field("beam_skip_error_threshold", &O::beam_skip_error_threshold),
+       Field("initial_pose_x", &O::initial_pose_x),
+       Field("initial_pose_y", &O::initial_pose_y),
+       Field("initial_pose_a", &O::initial_pose_a),
+       Field("initial_cov_xx", &O::initial_cov_xx),
+       Field("initial_cov_yy", &O::initial_cov_yy),
+       Field("initial_cov_aa", &O::initial_cov_aa)});
+  return table;
 }
 
 }  // namespace
 
 void SetAmclOption(const std::string& name, const std::string& text,
                    AmclOptions* options) {
-  const OptionField* f = FindField(name);
-  if (f == nullptr) {
-    throw std::invalid_argument("unknown AMCL option '" + name + "'");
-  }
-  if (f->int_field != nullptr) {
-    options->*(f->int_field) = ParseInt(name, text);
-  } else if (f->double_field != nullptr) {
-    options->*(f->double_field) = ParseDouble(name, text);
-  } else if (f->bool_field != nullptr) {
-    options->*(f->bool_field) = ParseBool(name, text);
-  } else {
-    options->*(f->string_field) = Trim(text);
-  }
+  Table().Set(name, text, options);
 }
 
-bool IsAmclOptionName(const std::string& name) {
-  return FindField(name) != nullptr;
-}
+bool IsAmclOptionName(const std::string& name) { return Table().Has(name); }
 
-std::vector<std::string> AmclOptionNames() {
-  std::vector<std::string> names;
-  for (const OptionField& f : kFields) names.emplace_back(f.name);
-  return names;
-}
+std::vector<std::string> AmclOptionNames() { return Table().Names(); }
 
 void ValidateAmclOptions(const AmclOptions& o) {
-  std::vector<std::string> errors;
-  auto require = [&errors](bool ok, const std::string& what) {
-    if (!ok) errors.push_back(what);
+  options::Problems problems("AMCL");
+  auto require = [&problems](bool ok, const std::string& what) {
+    problems.Require(ok, what);
   };
   // Each double check also rejects NaN / inf: a comparison with NaN is false.
   auto positive = [&](const char* name, double v) {
@@ -265,14 +168,7 @@ void ValidateAmclOptions(const AmclOptions& o) {
   non_negative("initial_cov_yy", o.initial_cov_yy);
   non_negative("initial_cov_aa", o.initial_cov_aa);
 
-  if (!errors.empty()) {
-    std::string msg = "invalid AMCL options: ";
-    for (size_t i = 0; i < errors.size(); ++i) {
-      if (i > 0) msg += "; ";
-      msg += errors[i];
-    }
-    throw std::invalid_argument(msg);
-  }
+  problems.ThrowIfAny();
 }
 
 }  // namespace amcl

@@ -69,7 +69,7 @@ struct AmclOptions {
 };
 
 // Throws std::invalid_argument whose message lists every offending parameter
-// with its value (not just the first), e.g. "invalid AMCL options:
+// with its value (not just the first), e.g. "invalid AMCL parameters:
 // min_particles=600 > max_particles=500; laser_sigma_hit=-0.1 must be > 0".
 void ValidateAmclOptions(const AmclOptions& options);
 
