@@ -514,11 +514,11 @@ TEST(DwaPlannerTest, FastRobotCarriedIntoTheBandBrakes) {
       << "turns or backs away from the wall: " << way_out.vx << " " << way_out.vtheta;
 }
 
-TEST(DwaPlannerTest, SlowRobotTurnsOnTheSpotAtHalfTheAngle) {
-  // The plan 60 degrees off the heading: a moving robot follows it on an
+TEST(DwaPlannerTest, SlowRobotTurnsOnTheSpotAtAQuarterOfTheAngle) {
+  // The plan 30 degrees off the heading: a moving robot follows it on an
   // arc, a stopped one turns on the spot first (rotate_to_path_angle is 90).
   Costmap2D map = EmptyMap(4.0, 4.0);
-  const Path plan = PolylinePlan({{1.0, 1.0}, {2.0, 1.0 + std::sqrt(3.0)}}, kPi / 3);
+  const Path plan = PolylinePlan({{1.0, 1.0}, {1.0 + std::sqrt(3.0), 2.0}}, kPi / 6);
   DwaPlanner stopped(DwaOptions(), kFootprint);
   const Twist2D turn = stopped.ComputeVelocity({1.0, 1.0, 0.0}, Twist2D(), plan, map);
   EXPECT_EQ(stopped.last_stats().mode, DwaPlanner::Mode::kRotateToPath);

@@ -362,8 +362,16 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
       const int c = FootprintCost(costmap, footprint_, candidate_.end());
       return c >= 0 && c < kInscribedInflatedObstacle;
     };
+    // Among equally scored trajectories the faster wins (Fox et al.'s
+    // velocity term as a tie-break): costs move in whole cells, so a crawl
+    // at min_vel_x and an arc a few times faster that ends in the same cell
+    // score the same, and the crawl used to win for being sampled first.
     auto take_if_better = [&]() {
-      if (candidate_.cost >= 0.0 && candidate_.cost < best_cost && exits_band()) {
+      const bool better =
+          candidate_.cost < best_cost ||
+          (have_best && candidate_.cost == best_cost &&
+           std::fabs(candidate_.command.vx) > std::fabs(best_.command.vx));
+      if (candidate_.cost >= 0.0 && better && exits_band()) {
         std::swap(best_, candidate_);
         best_cost = best_.cost;
         have_best = true;
@@ -673,14 +681,15 @@ Twist2D DwaPlanner::ComputeVelocity(const Pose2D& pose, const Twist2D& velocity,
 
   if (options_.rotate_to_path_angle < kPi) {
     const double error = PathHeadingError(pose, costmap);
-    // A robot at creeping speed or stopped turns on the spot already at half
-    // the angle: the arcs it could start on are too wide for a turn that
-    // sharp, and crawling along them at min_vel_x is what it would do instead.
-    // Turns until within a quarter of the angle.
+    // A robot at creeping speed or stopped turns on the spot already at a
+    // quarter of the angle: from there its dynamic window only reaches arcs
+    // too wide for the turn, every forward arc ends off the plan and the
+    // slowest ends nearest to it, so it would crawl along at min_vel_x
+    // instead.  Turns until within an eighth of the angle.
     const bool slow = std::fabs(velocity.vx) <= CreepSpeed() + 1e-6;
     const double threshold =
-        rotating_to_path_ ? 0.25 * options_.rotate_to_path_angle
-        : slow            ? 0.5 * options_.rotate_to_path_angle
+        rotating_to_path_ ? 0.125 * options_.rotate_to_path_angle
+        : slow            ? 0.25 * options_.rotate_to_path_angle
                           : options_.rotate_to_path_angle;
     if (std::isfinite(error) && std::fabs(error) > threshold) {
       rotating_to_path_ = true;
@@ -689,7 +698,7 @@ Twist2D DwaPlanner::ComputeVelocity(const Pose2D& pose, const Twist2D& velocity,
       }
       Twist2D cmd;
       if (RotateTowards(pose, velocity, pose.yaw + error,
-                        0.25 * options_.rotate_to_path_angle, costmap, &cmd)) {
+                        0.125 * options_.rotate_to_path_angle, costmap, &cmd)) {
         stats_.mode = Mode::kRotateToPath;
         return cmd;
       }

@@ -91,8 +91,8 @@ struct DwaOptions {
   // --- Not ROS parameters ---
   // rad: if the plan ahead lies further than this off the robot's heading,
   // stop and rotate in place towards it before following it (back to normal
-  // following below a quarter of this angle); at creeping speed or stopped,
-  // already beyond half of it.  >= pi disables.
+  // following below an eighth of this angle); at creeping speed or stopped,
+  // already beyond a quarter of it.  >= pi disables.
   double rotate_to_path_angle = kPi / 2.0;
   // m/s^2: sampled commands keep |vx * vtheta| (the centripetal acceleration
   // of the arc) at or below this; 0 (default, as TrajectoryPlannerROS) means

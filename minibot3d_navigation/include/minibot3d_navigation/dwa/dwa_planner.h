@@ -10,10 +10,10 @@
 //     [min_in_place_vel_theta, max_vel_theta], slowing at acc_lim_theta so
 //     that it stops inside yaw_goal_tolerance; zero once within it.
 //  3. If the plan ahead (the first plan pose heading_lookahead or more from
-//     the robot) is more than rotate_to_path_angle off the heading (half that
-//     when the robot is at creeping speed, max(min_vel_x, |escape_vel|), or
-//     stopped), brake and rotate in place towards it until it is within a
-//     quarter of rotate_to_path_angle.
+//     the robot) is more than rotate_to_path_angle off the heading (a quarter
+//     of it when the robot is at creeping speed, max(min_vel_x, |escape_vel|),
+//     or stopped), brake and rotate in place towards it until it is within an
+//     eighth of rotate_to_path_angle.
 //  4. Otherwise sample the dynamic window (trajectory.h): vx_samples x
 //     (vtheta_samples + the straight command; with max_centripetal_acc set,
 //     each speed's theta samples span only the arcs with |vx * vtheta| within
@@ -126,7 +126,8 @@ class DwaPlanner : public LocalPlanner {
                  const Costmap2D& costmap);
   bool Stopped(const Twist2D& velocity) const;
   // max(min_vel_x, |escape_vel|): the speed of the way out, and below which
-  // the robot turns to the path on the spot at half rotate_to_path_angle.
+  // the robot turns to the path on the spot at a quarter of
+  // rotate_to_path_angle.
   double CreepSpeed() const;
   // Braking command; its trajectory becomes last_trajectory().
   Twist2D Brake(const Pose2D& pose, const Twist2D& velocity, Mode mode,
