@@ -82,3 +82,12 @@ start=$SECONDS
 /usr/bin/python3 minibot3d_navigation/scripts/tune_planner --out build/bench/tune --no-progress \
   || echo "tune_planner: not every setting reached the goal without a collision (see the table)"
 echo "wall time of the study: $((SECONDS - start)) s; plots: build/bench/tune/*.png"
+
+echo "== tune_planner's real-time factor: the same trials at RTF 1 and at the default RTF 3"
+echo "   (min_vel_x 0.1, max_vel_x {0.5, 1.0}, 4 noise seeds each; the times must agree)"
+for rtf in 1 3; do
+  rm -rf "build/bench/tune_rtf$rtf"
+  /usr/bin/python3 minibot3d_navigation/scripts/tune_planner --out "build/bench/tune_rtf$rtf" \
+    --no-progress --rtf "$rtf" --repeats 4 --set min_vel_x=0.1 --set max_vel_x=0.5,1.0 \
+    || echo "tune_planner at RTF $rtf: not every trial reached the goal (see build/bench/tune_rtf$rtf)"
+done
