@@ -173,10 +173,18 @@ class AmclSim(unittest.TestCase):
         # 3. global localization
         rospy.wait_for_service('/global_localization', timeout=10.0)
         rospy.ServiceProxy('/global_localization', Empty)()
-        self.drive(GLOBAL_ROUTE)
-        last = self.settle(rec, 3)
-        global_err = rec.error(last)
-        rospy.loginfo('global localization: error after the drive %.3f m', global_err)
+        # One lap of the route (about 9 m) is usually enough; a filter still split between
+        # look-alike rooms gets one more lap, as a robot would drive on.  (One that has locked
+        # onto the wrong room stays there: augmented MCL injects random particles only when
+        # the likelihood drops, and a look-alike room's does not.)  make bench reports the
+        # distance to convergence; this checks that it converges.
+        for lap in (1, 2):
+            self.drive(GLOBAL_ROUTE)
+            last = self.settle(rec, 3)
+            global_err = rec.error(last)
+            rospy.loginfo('global localization: error after lap %d %.3f m', lap, global_err)
+            if global_err < 0.3:
+                break
         self.assertLess(global_err, 0.3)
 
 

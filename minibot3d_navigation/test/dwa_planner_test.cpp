@@ -531,6 +531,25 @@ TEST(DwaPlannerTest, SlowRobotTurnsOnTheSpotAtAQuarterOfTheAngle) {
   EXPECT_EQ(moving.last_stats().mode, DwaPlanner::Mode::kFollowPath);
 }
 
+TEST(DwaPlannerTest, TiesGoToTheFasterTrajectory) {
+  // Three speeds whose rollouts all end in the robot's own cell score the
+  // same (costs move in whole cells); the fastest is taken, not the first
+  // sampled (which used to leave a robot crawling at min_vel_x).
+  DwaOptions o;
+  o.min_vel_x = 0.005;
+  o.max_vel_x = 0.015;
+  o.escape_vel = -0.01;
+  o.vx_samples = 3;
+  o.sim_time = 1.0;
+  DwaPlanner planner(o, kFootprint);
+  Costmap2D map = EmptyMap(4.0, 2.0);
+  const Path plan = PolylinePlan({{1.025, 1.025}, {3.5, 1.025}}, 0.0);
+  const Twist2D cmd = planner.ComputeVelocity({1.025, 1.025, 0.0}, Twist2D(), plan, map);
+  EXPECT_EQ(planner.last_stats().mode, DwaPlanner::Mode::kFollowPath);
+  EXPECT_NEAR(cmd.vx, 0.015, 1e-9);
+  EXPECT_EQ(cmd.vtheta, 0.0);
+}
+
 TEST(OscillationCriticTest, ForbidsFlippingBackUntilMoved) {
   OscillationCritic critic(0.05);
   Costmap2D map = EmptyMap(1.0, 1.0);
