@@ -125,6 +125,12 @@ void DwaPlanner::Reset() {
   stats_ = CycleStats();
 }
 
+void DwaPlanner::GenerateBraking(const Pose2D& pose, const Twist2D& velocity,
+                                 Trajectory* traj) const {
+  generator_.Generate(pose, velocity, Twist2D(), TrajectoryKind::kStop, traj);
+  traj->command = generator_.BrakingCommand(velocity);
+}
+
 double DwaPlanner::CreepSpeed() const {
   return std::max(options_.min_vel_x, -options_.escape_vel);
 }
@@ -192,8 +198,7 @@ void DwaPlanner::PrunePlan(const Pose2D& pose, const Path& plan,
 
 Twist2D DwaPlanner::Brake(const Pose2D& pose, const Twist2D& velocity,
                           Mode mode, const Costmap2D& costmap) {
-  generator_.Generate(pose, velocity, Twist2D(), TrajectoryKind::kStop, &best_);
-  best_.command = generator_.BrakingCommand(velocity);
+  GenerateBraking(pose, velocity, &best_);
   obstacle_critic_.SetCostmap(costmap);
   // Braking is the safest thing available whether or not it is clear, so
   // the cost is informative only.
@@ -346,9 +351,7 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
   for (int pass = 0; pass < 2 && !have_best; ++pass) {
     obstacle_critic_.set_lethal_only(pass == 1);
     if (pass == 1 && fast) {
-      generator_.Generate(pose, velocity, Twist2D(), TrajectoryKind::kStop,
-                          &candidate_);
-      candidate_.command = generator_.BrakingCommand(velocity);
+      GenerateBraking(pose, velocity, &candidate_);
       if (Evaluate(kInf) >= 0.0) {
         std::swap(best_, candidate_);
         best_cost = best_.cost;
@@ -478,9 +481,7 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
     // escaping: there the escape trajectory itself is the fallback.
     if (!have_best && !escaping_ &&
         (std::fabs(velocity.vx) > 1e-3 || std::fabs(velocity.vtheta) > 1e-3)) {
-      generator_.Generate(pose, velocity, Twist2D(), TrajectoryKind::kStop,
-                          &candidate_);
-      candidate_.command = generator_.BrakingCommand(velocity);
+      GenerateBraking(pose, velocity, &candidate_);
       Evaluate(kInf);
       take_if_better();
     }

@@ -129,6 +129,10 @@ class DwaPlanner : public LocalPlanner {
   // the robot turns to the path on the spot at a quarter of
   // rotate_to_path_angle.
   double CreepSpeed() const;
+  // The braking trajectory from `velocity` at the acceleration limits, with
+  // the first period's braking command.
+  void GenerateBraking(const Pose2D& pose, const Twist2D& velocity,
+                       Trajectory* traj) const;
   // Braking command; its trajectory becomes last_trajectory().
   Twist2D Brake(const Pose2D& pose, const Twist2D& velocity, Mode mode,
                 const Costmap2D& costmap);
