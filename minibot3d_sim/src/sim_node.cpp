@@ -2,8 +2,15 @@
 // robot_description and ~parameters, converts cmd_vel in and scans/odometry/tf/joint states/clock
 // out, offers reset/pause/unpause/step/set_pose services, and paces sim time against the wall clock
 // (~real_time_factor; 0 = as fast as possible). All physics and sensing live in the core.
+//
+// With /use_lockstep true the node also runs the lock-step loop (minibot3d_lockstep/coordinator.h):
+// sim time advances one ~lockstep_quantum at a time, and at each quantum every participant that
+// has work (a wake time, mail, or it just joined) is ticked in turn, and the simulator waits for
+// its acknowledgement and for the messages it sent before going on.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -12,15 +19,24 @@
 #include <geometry_msgs/TransformStamped.h>
 #include <geometry_msgs/Twist.h>
 #include <nav_msgs/Odometry.h>
+#include <ros/callback_queue.h>
 #include <ros/package.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Clock.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
 #include <std_srvs/Empty.h>
-#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_msgs/TFMessage.h>
 #include <urdf/model.h>
 
+#include "minibot3d_lockstep/Ack.h"
+#include "minibot3d_lockstep/Participants.h"
+#include "minibot3d_lockstep/Register.h"
+#include "minibot3d_lockstep/Tick.h"
+#include "minibot3d_lockstep/Unregister.h"
+#include "minibot3d_lockstep/coordinator.h"
+#include "minibot3d_lockstep/link_counts.h"
+#include "minibot3d_lockstep/participant.h"
 #include "minibot3d_sim/Collision.h"
 #include "minibot3d_sim/SetPose.h"
 #include "minibot3d_sim/SimStatus.h"
@@ -58,7 +74,11 @@ nav_msgs::Odometry MakeOdometry(const ros::Time& stamp, const std::string& frame
 struct NodeOptions {
   std::string world_path;
   double real_time_factor = 1.0;
-  double clock_period = 0.005;  // s of sim time between /clock messages
+  double clock_period = 0.005;  // s of sim time between /clock messages (free-running)
+  double pub_clock_frequency = 1000.0;  // at most this many /clock messages per wall second
+  bool lockstep = false;
+  minibot3d_lockstep::CoordinatorOptions lockstep_options;
+  std::vector<std::string> lockstep_participants;  // waited for before time starts
   std::string world_frame = "world";
   bool publish_ground_truth = true;
   double floorplan_wall_height = 1.0;
@@ -93,6 +113,42 @@ class SimNode {
     pnh_.param("publish_ground_truth", opts_.publish_ground_truth, opts_.publish_ground_truth);
     pnh_.param("floorplan_wall_height", opts_.floorplan_wall_height, opts_.floorplan_wall_height);
     pnh_.param("paused", opts_.start_paused, opts_.start_paused);
+    pnh_.param("pub_clock_frequency", opts_.pub_clock_frequency, opts_.pub_clock_frequency);
+    opts_.lockstep = minibot3d_lockstep::LockstepEnabled();
+    pnh_.param("lockstep_quantum", opts_.lockstep_options.quantum, opts_.lockstep_options.quantum);
+    pnh_.param("lockstep_timeout", opts_.lockstep_options.timeout, opts_.lockstep_options.timeout);
+    if (pnh_.hasParam("lockstep_participants")) {
+      std::string names;
+      if (!pnh_.getParam("lockstep_participants", opts_.lockstep_participants)) {
+        if (!pnh_.getParam("lockstep_participants", names)) {
+          ROS_FATAL("minibot3d_sim: ~lockstep_participants must be a list of node names or a "
+                    "space-separated string of them");
+          return false;
+        }
+        std::istringstream in(names);
+        for (std::string n; in >> n;) opts_.lockstep_participants.push_back(n);
+      }
+      for (auto& n : opts_.lockstep_participants) n = ros::names::resolve(n, false);
+    }
+    if (!(opts_.pub_clock_frequency > 0.0) || !std::isfinite(opts_.pub_clock_frequency)) {
+      ROS_FATAL("minibot3d_sim: ~pub_clock_frequency must be > 0 Hz (wall), got %g",
+                opts_.pub_clock_frequency);
+      return false;
+    }
+    try {
+      minibot3d_lockstep::ValidateOptions(opts_.lockstep_options);
+    } catch (const std::invalid_argument& e) {
+      ROS_FATAL("minibot3d_sim: parameter ~%s", e.what());
+      return false;
+    }
+    if (opts_.lockstep) {
+      const double q = opts_.lockstep_options.quantum / sim.physics_step;
+      if (std::fabs(q - std::round(q)) > 1e-6) {
+        ROS_FATAL("minibot3d_sim: ~lockstep_quantum (%g s) must be a whole number of "
+                  "~physics_step (%g s)", opts_.lockstep_options.quantum, sim.physics_step);
+        return false;
+      }
+    }
     if (!(opts_.real_time_factor >= 0.0) || !std::isfinite(opts_.real_time_factor)) {
       ROS_FATAL("minibot3d_sim: ~real_time_factor must be >= 0 (0: as fast as possible), got %g",
                 opts_.real_time_factor);
@@ -167,17 +223,40 @@ class SimNode {
 
     const DriveSpec& d = robot.drive;
     odom_period_ = d.update_rate > 0 ? 1.0 / d.update_rate : sim.physics_step;
-    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
-    scan_pub_ = nh_.advertise<sensor_msgs::LaserScan>(robot.lidar.topic, 5);
-    odom_pub_ = nh_.advertise<nav_msgs::Odometry>(d.odometry_topic, 20);
-    joint_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 20);
+    // In lock-step a participant counts on receiving every message the simulator queued to it, so
+    // outgoing queues must not drop: roscpp drops the oldest message when a subscriber's socket is
+    // backed up past the queue size (a subscriber that reads slowly while no participant has work
+    // and the simulator runs ahead). Free-running keeps today's small queues.
+    const auto q = [this](int free_running) { return opts_.lockstep ? 100000 : free_running; };
+    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", q(10));
+    scan_pub_ = nh_.advertise<sensor_msgs::LaserScan>(robot.lidar.topic, q(5));
+    odom_pub_ = nh_.advertise<nav_msgs::Odometry>(d.odometry_topic, q(20));
+    tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf", q(100));
+    joint_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", q(20));
     if (opts_.publish_ground_truth) {
-      truth_pub_ = nh_.advertise<nav_msgs::Odometry>("ground_truth/odom", 20);
+      truth_pub_ = nh_.advertise<nav_msgs::Odometry>("ground_truth/odom", q(20));
     }
-    collision_pub_ = pnh_.advertise<Collision>("collisions", 50);
+    collision_pub_ = pnh_.advertise<Collision>("collisions", q(50));
     status_pub_ = pnh_.advertise<SimStatus>("status", 5, true);
-    cmd_sub_ = nh_.subscribe(d.command_topic, 5, &SimNode::OnCommand, this,
-                             ros::TransportHints().tcpNoDelay());
+    // Commands have their own queue: in lock-step they are applied once every participant's
+    // messages have arrived, never in the middle of a round.
+    ros::NodeHandle cmd_nh(nh_);
+    cmd_nh.setCallbackQueue(&cmd_queue_);
+    cmd_sub_ = cmd_nh.subscribe(d.command_topic, 5, &SimNode::OnCommand, this,
+                                ros::TransportHints().tcpNoDelay());
+    if (opts_.lockstep) {
+      coordinator_ = std::make_unique<minibot3d_lockstep::Coordinator>(
+          opts_.lockstep_options, ros::this_node::getName());
+      ack_sub_ = nh_.subscribe(minibot3d_lockstep::kAckTopic, 100, &SimNode::OnAck, this,
+                               ros::TransportHints().tcpNoDelay());
+      participants_pub_ = nh_.advertise<minibot3d_lockstep::Participants>(
+          minibot3d_lockstep::kParticipantsTopic, 1, true);
+      services_.push_back(nh_.advertiseService(minibot3d_lockstep::kRegisterService,
+                                               &SimNode::OnRegister, this));
+      services_.push_back(nh_.advertiseService(minibot3d_lockstep::kUnregisterService,
+                                               &SimNode::OnUnregister, this));
+      PublishParticipants();
+    }
     services_.push_back(pnh_.advertiseService("reset", &SimNode::OnReset, this));
     services_.push_back(pnh_.advertiseService("pause", &SimNode::OnPause, this));
     services_.push_back(pnh_.advertiseService("unpause", &SimNode::OnUnpause, this));
@@ -194,9 +273,10 @@ class SimNode {
     scan_.range_min = robot.lidar.min_range;
     scan_.range_max = robot.lidar.max_range;
     ROS_INFO("minibot3d_sim: robot '%s', world %s (%zu shapes), physics %s at %g s, real-time "
-             "factor %g, spawn (%g, %g, %g)", robot.name.c_str(), opts_.world_path.c_str(),
+             "factor %g, spawn (%g, %g, %g)%s", robot.name.c_str(), opts_.world_path.c_str(),
              sim_->world().shapes.size(), sim.physics.c_str(), sim.physics_step,
-             opts_.real_time_factor, sim.spawn.x, sim.spawn.y, sim.spawn.yaw);
+             opts_.real_time_factor, sim.spawn.x, sim.spawn.y, sim.spawn.yaw,
+             opts_.lockstep ? ", lock-step" : "");
     return true;
   }
 
@@ -204,21 +284,10 @@ class SimNode {
     PublishClock();
     Publish(true);
     Anchor();
-    const auto steps_per_clock =
-        std::max<std::uint64_t>(1, std::llround(opts_.clock_period / sim_->physics_step()));
-    while (ros::ok()) {
-      if (paused_) {
-        ros::WallDuration(0.005).sleep();
-        ros::spinOnce();
-        Anchor();
-        continue;
-      }
-      StepOnce();
-      if (sim_->steps() % steps_per_clock == 0) {
-        PublishClock();
-        ros::spinOnce();
-        Pace();
-      }
+    if (opts_.lockstep) {
+      RunLockstep();
+    } else {
+      RunFree();
     }
     const double wall = (ros::WallTime::now() - run_wall_start_).toSec();
     ROS_INFO("minibot3d_sim: %.1f s simulated in %.1f s wall (real-time factor %.1f), %lu "
@@ -227,6 +296,260 @@ class SimNode {
   }
 
  private:
+  // Today's behaviour: sim time runs on; nodes take messages as they come.
+  void RunFree() {
+    const auto steps_per_clock =
+        std::max<std::uint64_t>(1, std::llround(opts_.clock_period / sim_->physics_step()));
+    while (ros::ok()) {
+      if (paused_) {
+        ros::WallDuration(0.005).sleep();
+        ros::spinOnce();
+        cmd_queue_.callAvailable();
+        Anchor();
+        continue;
+      }
+      StepOnce();
+      if (sim_->steps() % steps_per_clock == 0) {
+        MaybePublishClock();
+        ros::spinOnce();
+        cmd_queue_.callAvailable();
+        Pace();
+      }
+    }
+  }
+
+  // Lock-step: a round at the current time, then one quantum of physics, and again.
+  void RunLockstep() {
+    const auto steps_per_quantum = std::max<std::uint64_t>(
+        1, std::llround(opts_.lockstep_options.quantum / sim_->physics_step()));
+    WaitForExpectedParticipants();
+    Anchor();
+    while (ros::ok()) {
+      if (paused_) {
+        ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.005));
+        Anchor();
+        continue;
+      }
+      Round();
+      for (std::uint64_t i = 0; i < steps_per_quantum && ros::ok(); ++i) StepOnce();
+      coordinator_->SetSent(ros::this_node::getName(), ToCounts());
+      Pace();
+      // Non-participants (rviz, a user's script) still see time go by, throttled in wall time.
+      MaybePublishClock();
+    }
+  }
+
+  std::vector<minibot3d_lockstep::LinkCount> ToCounts() const {
+    return minibot3d_lockstep::SentCounts();
+  }
+
+  // Time does not start until the participants a launch file names have joined (each joins at a
+  // sim time that then does not depend on how fast its process started).
+  void WaitForExpectedParticipants() {
+    const ros::WallTime start = ros::WallTime::now();
+    ros::WallTime last_note = start;
+    while (ros::ok()) {
+      ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.01));
+      std::vector<std::string> missing;
+      for (const auto& n : opts_.lockstep_participants) {
+        if (!coordinator_->Has(n)) missing.push_back(n);
+      }
+      if (missing.empty()) return;
+      const ros::WallTime now = ros::WallTime::now();
+      if ((now - start).toSec() > opts_.lockstep_options.timeout) {
+        ROS_WARN("minibot3d_sim: lock-step: starting time without %s, which did not register "
+                 "within ~lockstep_timeout %g s", Join(missing).c_str(),
+                 opts_.lockstep_options.timeout);
+        return;
+      }
+      if ((now - last_note).toSec() > 2.0) {
+        last_note = now;
+        ROS_INFO("minibot3d_sim: lock-step: waiting for %s to register before starting time",
+                 Join(missing).c_str());
+      }
+    }
+  }
+
+  static std::string Join(const std::vector<std::string>& names) {
+    std::string s;
+    for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+    return s;
+  }
+
+  // Ticks every participant that has work at the current time, one after the other in name
+  // order, waiting for each to acknowledge; then waits for what they sent the simulator.
+  void Round() {
+    ros::getGlobalCallbackQueue()->callAvailable();
+    DropDead();
+    const double t = sim_->time();
+    bool clock_sent = false;
+    for (const std::string& name : coordinator_->Due(t)) {
+      auto it = ticks_.find(name);
+      if (it == ticks_.end()) continue;
+      if (!WaitReady(name)) continue;
+      if (!clock_sent) {
+        PublishClock();  // before the first tick: participants wait for their clock to show t
+        clock_sent = true;
+      }
+      minibot3d_lockstep::Tick tick;
+      tick.seq = ++tick_seq_;
+      tick.stamp = ros::Time(t);
+      for (const auto& l : coordinator_->Expected(name)) {
+        minibot3d_lockstep::Link link;
+        link.topic = l.topic;
+        link.peer = l.peer;
+        link.count = l.count;
+        tick.expected.push_back(link);
+      }
+      coordinator_->MarkTicked(name, tick.seq, t, ros::WallTime::now().toSec());
+      it->second.pub.publish(tick);
+      WaitForAck(name);
+    }
+    WaitForDeliveryToSim();
+    cmd_queue_.callAvailable();
+  }
+
+  // A joined participant is ticked once its tick subscription is connected.
+  bool WaitReady(const std::string& name) {
+    const ros::WallTime start = ros::WallTime::now();
+    while (ros::ok()) {
+      auto it = ticks_.find(name);
+      if (it == ticks_.end()) return false;
+      if (it->second.pub.getNumSubscribers() > 0) {
+        it->second.connected = true;
+        return true;
+      }
+      if ((ros::WallTime::now() - start).toSec() > opts_.lockstep_options.timeout) {
+        Drop(name, "never subscribed to its tick topic");
+        return false;
+      }
+      ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.001));
+    }
+    return false;
+  }
+
+  void WaitForAck(const std::string& name) {
+    ros::WallTime last_note = ros::WallTime::now();
+    while (ros::ok() && coordinator_->Has(name)) {
+      const auto waiting = coordinator_->Waiting();
+      if (std::find(waiting.begin(), waiting.end(), name) == waiting.end()) return;
+      ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.001));
+      const ros::WallTime now = ros::WallTime::now();
+      const double waited = coordinator_->WaitingFor(name, now.toSec());
+      auto it = ticks_.find(name);
+      if (it != ticks_.end() && it->second.connected && it->second.pub.getNumSubscribers() == 0) {
+        Drop(name, "its process is gone (tick topic unsubscribed)");
+        return;
+      }
+      if (waited > opts_.lockstep_options.timeout) {
+        Drop(name, "no acknowledgement within ~lockstep_timeout");
+        return;
+      }
+      if (waited > 1.0 && (now - last_note).toSec() > 2.0) {
+        last_note = now;
+        ROS_WARN("minibot3d_sim: lock-step: sim time %.3f waits for %s (%.1f s wall so far)",
+                 sim_->time(), name.c_str(), waited);
+      }
+    }
+  }
+
+  // Messages participants sent to the simulator (cmd_vel, acks) are all here before commands are
+  // applied and physics goes on.
+  void WaitForDeliveryToSim() {
+    const auto expected = coordinator_->Expected(ros::this_node::getName());
+    const ros::WallTime start = ros::WallTime::now();
+    while (ros::ok()) {
+      std::map<std::pair<std::string, std::string>, std::uint64_t> have;
+      for (const auto& l : minibot3d_lockstep::ReceivedCounts()) have[{l.topic, l.peer}] = l.count;
+      bool ok = true;
+      for (const auto& e : expected) {
+        auto it = have.find({e.topic, e.peer});
+        if (it == have.end() || it->second < e.count) {
+          ok = false;
+          if ((ros::WallTime::now() - start).toSec() > opts_.lockstep_options.timeout) {
+            ROS_WARN("minibot3d_sim: lock-step: going on without %s's messages on %s",
+                     e.peer.c_str(), e.topic.c_str());
+            ok = true;
+          }
+          break;
+        }
+      }
+      if (ok) break;
+      minibot3d_lockstep::WaitForPollIteration(0.002);
+    }
+    minibot3d_lockstep::SyncWithPollThread();
+  }
+
+  // Participants whose process is gone are dropped between rounds too.
+  void DropDead() {
+    std::vector<std::string> dead;
+    for (const auto& kv : ticks_) {
+      if (kv.second.connected && kv.second.pub.getNumSubscribers() == 0) dead.push_back(kv.first);
+    }
+    for (const auto& n : dead) Drop(n, "its process is gone (tick topic unsubscribed)");
+  }
+
+  void Drop(const std::string& name, const std::string& why) {
+    ROS_WARN("minibot3d_sim: lock-step: dropped participant %s at sim time %.3f: %s",
+             name.c_str(), sim_->time(), why.c_str());
+    coordinator_->Remove(name);
+    ticks_.erase(name);
+    PublishParticipants();
+  }
+
+  void PublishParticipants() {
+    minibot3d_lockstep::Participants p;
+    p.stamp = ros::Time(sim_->time());
+    p.names = coordinator_->Participants();
+    participants_pub_.publish(p);
+  }
+
+  bool OnRegister(minibot3d_lockstep::Register::Request& req,
+                  minibot3d_lockstep::Register::Response& res) {
+    const std::string error = coordinator_->Register(req.name, req.wake_topics);
+    res.accepted = error.empty();
+    res.message = error;
+    res.now = ros::Time(sim_->time());
+    res.quantum = opts_.lockstep_options.quantum;
+    if (!res.accepted) {
+      ROS_WARN("minibot3d_sim: lock-step: refused %s: %s", req.name.c_str(), error.c_str());
+      return true;
+    }
+    std::string topic = minibot3d_lockstep::kTickTopicPrefix;
+    topic += req.name[0] == '/' ? req.name : "/" + req.name;
+    res.tick_topic = topic;
+    TickPublisher tp;
+    tp.pub = nh_.advertise<minibot3d_lockstep::Tick>(topic, 1000);
+    ticks_[req.name] = tp;
+    ROS_INFO("minibot3d_sim: lock-step: %s joined at sim time %.3f", req.name.c_str(),
+             sim_->time());
+    PublishParticipants();
+    return true;
+  }
+
+  bool OnUnregister(minibot3d_lockstep::Unregister::Request& req,
+                    minibot3d_lockstep::Unregister::Response& res) {
+    res.removed = coordinator_->Remove(req.name);
+    ticks_.erase(req.name);
+    if (res.removed) {
+      ROS_INFO("minibot3d_sim: lock-step: %s left at sim time %.3f", req.name.c_str(),
+               sim_->time());
+      PublishParticipants();
+    }
+    return true;
+  }
+
+  void OnAck(const minibot3d_lockstep::Ack::ConstPtr& ack) {
+    std::vector<minibot3d_lockstep::LinkCount> sent;
+    for (const auto& l : ack->sent) sent.push_back({l.topic, l.peer, l.count});
+    const double wake = ack->next_wake.isZero() ? 0.0 : ack->next_wake.toSec();
+    if (!coordinator_->Ack(ack->name, ack->seq, wake, sent)) {
+      ROS_WARN_THROTTLE(5.0, "minibot3d_sim: lock-step: ignoring an acknowledgement from %s "
+                        "for tick %lu it is not waiting on", ack->name.c_str(),
+                        static_cast<unsigned long>(ack->seq));
+    }
+  }
+
   void StepOnce() {
     sim_->Step();
     Publish(false);
@@ -295,7 +618,9 @@ class SimNode {
       tf.transform.translation.x = o.x;
       tf.transform.translation.y = o.y;
       tf.transform.rotation = odom.pose.pose.orientation;
-      tf_.sendTransform(tf);
+      tf2_msgs::TFMessage m;
+      m.transforms.push_back(tf);
+      tf_pub_.publish(m);
     }
     const auto q = sim_->wheel_positions();
     const auto w = sim_->wheel_velocities();
@@ -314,7 +639,19 @@ class SimNode {
   void PublishClock() {
     rosgraph_msgs::Clock c;
     c.clock = ros::Time(sim_->time());
+    if (c.clock == last_clock_ && clock_published_) return;  // at most one per instant
     clock_pub_.publish(c);
+    last_clock_ = c.clock;
+    clock_published_ = true;
+    last_clock_wall_ = ros::WallTime::now();
+  }
+
+  // /clock for nodes that do not participate, at most ~pub_clock_frequency per wall second
+  // (gazebo_ros's pub_clock_frequency): a listener is never flooded at high real-time factors.
+  void MaybePublishClock() {
+    if ((ros::WallTime::now() - last_clock_wall_).toSec() >= 1.0 / opts_.pub_clock_frequency) {
+      PublishClock();
+    }
   }
 
   void PublishStatus(const ros::Time& stamp) {
@@ -419,9 +756,21 @@ class SimNode {
   std::unique_ptr<Simulator> sim_;
   ros::Publisher clock_pub_, scan_pub_, odom_pub_, joint_pub_, truth_pub_, collision_pub_,
       status_pub_;
-  ros::Subscriber cmd_sub_;
+  ros::Subscriber cmd_sub_, ack_sub_;
+  ros::CallbackQueue cmd_queue_;
+  ros::Publisher participants_pub_;
+  struct TickPublisher {
+    ros::Publisher pub;
+    bool connected = false;
+  };
+  std::map<std::string, TickPublisher> ticks_;
+  std::unique_ptr<minibot3d_lockstep::Coordinator> coordinator_;
+  std::uint64_t tick_seq_ = 0;
+  ros::Time last_clock_;
+  bool clock_published_ = false;
+  ros::WallTime last_clock_wall_;
   std::vector<ros::ServiceServer> services_;
-  tf2_ros::TransformBroadcaster tf_;
+  ros::Publisher tf_pub_;
   sensor_msgs::LaserScan scan_;
   sensor_msgs::JointState joint_state_;
   std::vector<float> ranges_;

@@ -1,0 +1,102 @@
+// Makes a roscpp node a lock-step participant of minibot3d_sim in a few lines:
+//
+//   minibot3d_lockstep::Participant lockstep(nh, {/*wake_topics=*/{"scan"}});
+//   tf2_ros::TransformListener tf(buffer, lockstep.tf_node_handle(), !lockstep.enabled());
+//   lockstep.AddPeriodic(0.05, [&](const ros::Time& now) { Control(now); });  // not ros::Timer
+//   lockstep.Spin();                                                          // not ros::spin()
+//
+// With the global parameter /use_lockstep false (or unset) this is plain ROS: AddPeriodic makes a
+// ros::Timer and Spin() is ros::spin(). With it true, Spin() registers with the simulator and,
+// for every tick: waits until every message other participants have sent to this node is here,
+// waits until this node's clock shows the tick's time, runs the tf callbacks, then every other
+// callback, then the periodic jobs that are due, and acknowledges with the messages it has sent
+// and the time its next job is due. The node is single-threaded: its callbacks and jobs run only
+// inside Spin(), at a sim time that no longer moves while they run. Service servers advertised
+// through service_node_handle() are also answered between ticks (another participant may call
+// them while it works).
+#ifndef MINIBOT3D_LOCKSTEP_PARTICIPANT_H
+#define MINIBOT3D_LOCKSTEP_PARTICIPANT_H
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <ros/callback_queue.h>
+#include <ros/ros.h>
+
+#include "minibot3d_lockstep/Tick.h"
+
+namespace minibot3d_lockstep {
+
+// The global parameter that switches lock-step on for every participant (like /use_sim_time).
+constexpr char kLockstepParam[] = "/use_lockstep";
+constexpr char kRegisterService[] = "/minibot3d_sim/lockstep/register";
+constexpr char kUnregisterService[] = "/minibot3d_sim/lockstep/unregister";
+constexpr char kAckTopic[] = "/minibot3d_sim/lockstep/ack";
+constexpr char kParticipantsTopic[] = "/minibot3d_sim/lockstep/participants";
+constexpr char kTickTopicPrefix[] = "/minibot3d_sim/lockstep/tick";
+
+// True when /use_lockstep is set and true.
+bool LockstepEnabled();
+
+struct ParticipantOptions {
+  // Topics (resolved against the node handle) whose messages wake the node between its jobs.
+  std::vector<std::string> wake_topics;
+  // Wall seconds to wait for a message that was announced but does not arrive before going on
+  // with a warning (a publisher that died mid-send).
+  double delivery_timeout = 10.0;
+};
+
+class Participant {
+ public:
+  Participant(const ros::NodeHandle& nh, const ParticipantOptions& options);
+  ~Participant();
+  Participant(const Participant&) = delete;
+  Participant& operator=(const Participant&) = delete;
+
+  bool enabled() const { return enabled_; }
+  // For tf2_ros::TransformListener(buffer, tf_node_handle(), /*spin_thread=*/!enabled()).
+  ros::NodeHandle& tf_node_handle() { return tf_nh_; }
+  // For service servers other participants call while they work.
+  ros::NodeHandle& service_node_handle() { return service_nh_; }
+
+  // Runs `job` every `period` s of sim time, first at the first tick.
+  void AddPeriodic(double period, std::function<void(const ros::Time&)> job);
+  // Asks to be woken at `t` (once) even if no job is due and no mail arrives.
+  void WakeAt(const ros::Time& t);
+  // Until shutdown. Returns false if the simulator refused the registration.
+  bool Spin();
+
+ private:
+  struct Job {
+    double period;
+    double next;
+    std::function<void(const ros::Time&)> fn;
+    ros::Timer timer;
+  };
+  bool Register();
+  void Unregister();
+  bool WaitForTick(TickConstPtr* tick);
+  void WaitForDelivery(const Tick& tick);
+  void WaitForClock(const ros::Time& stamp);
+  void ServeBetweenTicks();
+
+  ros::NodeHandle nh_;
+  ParticipantOptions options_;
+  bool enabled_ = false;
+  bool registered_ = false;
+  std::string name_;
+  ros::CallbackQueue tf_queue_, service_queue_, tick_queue_;
+  ros::NodeHandle tf_nh_, service_nh_, tick_nh_;
+  ros::Publisher ack_pub_;
+  ros::Subscriber tick_sub_;
+  TickConstPtr pending_tick_;
+  std::vector<std::unique_ptr<Job>> jobs_;
+  std::vector<double> wake_at_;
+  bool first_tick_ = true;
+};
+
+}  // namespace minibot3d_lockstep
+
+#endif  // MINIBOT3D_LOCKSTEP_PARTICIPANT_H

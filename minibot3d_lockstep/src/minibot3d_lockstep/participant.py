@@ -1,0 +1,348 @@
+"""Make a rospy script or node a lock-step participant of minibot3d_sim.
+
+With the global parameter ``/use_lockstep`` true, the simulator advances sim time only when every
+participant has finished its work for the current time and received every message sent to it.
+A script joins in a few lines (import this module before rospy.init_node: it counts messages on
+connections made after the import)::
+
+    from minibot3d_lockstep import Participant, action_server_ready
+    rospy.init_node('my_client')
+    lockstep = Participant(wake_topics=['move_base/result'])
+    client = actionlib.SimpleActionClient('move_base', MoveBaseAction)
+    lockstep.wait_for(lambda: action_server_ready(client), timeout=30.0)
+    client.send_goal(goal)
+    lockstep.wait_for(lambda: client.get_state() in DONE_STATES, timeout=120.0)
+    lockstep.sleep(1.0)
+
+``wait_for``, ``sleep`` and ``spin`` are the only places where sim time moves for a participant:
+between them the script works "at" one instant, however long it takes in wall time. Never block
+in rospy.sleep, rospy.Rate, ``wait_for_result`` or ``wait_for_server`` while participating: sim
+time would not move and the simulator would drop the script after ``~lockstep_timeout``.
+Predicates are checked at ticks, once every message other participants sent by then has arrived
+and its callbacks have run. ``wake_topics`` are the topics whose messages wake the script early;
+otherwise it is woken at its ``timeout`` or ``sleep`` deadline, or its ``add_periodic`` jobs.
+
+With ``/use_lockstep`` false (or unset) the same calls fall back to ordinary rospy waiting on sim
+time, so a script written this way runs both ways.
+"""
+import math
+import socket
+import threading
+import time
+
+import rospy
+import rospy.impl.registration
+import rospy.impl.tcpros_base
+import rospy.impl.tcpros_pubsub
+import rospy.topics
+from minibot3d_lockstep.msg import Ack, Link, Tick
+from minibot3d_lockstep.srv import Register, Unregister
+
+LOCKSTEP_PARAM = '/use_lockstep'
+REGISTER_SERVICE = '/minibot3d_sim/lockstep/register'
+UNREGISTER_SERVICE = '/minibot3d_sim/lockstep/unregister'
+ACK_TOPIC = '/minibot3d_sim/lockstep/ack'
+
+_patch_lock = threading.Lock()
+_patched = False
+
+
+def lockstep_enabled():
+    """True when the global parameter /use_lockstep is set and true."""
+    try:
+        return bool(rospy.get_param(LOCKSTEP_PARAM, False))
+    except (KeyError, rospy.ROSException):
+        return False
+
+
+def _install_counting():
+    """Counts, per rospy connection, messages queued out and messages whose callbacks have run.
+
+    rospy counts messages written (stat_num_msg) but a publisher with queue_size hands them to a
+    writer thread first, and a subscriber runs callbacks after counting. The lock-step protocol
+    needs "queued" on the sending side and "handled" on the receiving side, so both are counted
+    here, on the connection objects rospy already keeps.
+    """
+    global _patched
+    with _patch_lock:
+        if _patched:
+            return
+        _patched = True
+        queued_write = rospy.impl.tcpros_pubsub.QueuedConnection.write_data
+
+        def counting_write(self, data):
+            self.__dict__['_lockstep_sent'] = self.__dict__.get('_lockstep_sent', 0) + 1
+            return queued_write(self, data)
+        rospy.impl.tcpros_pubsub.QueuedConnection.write_data = counting_write
+
+        transport_init = rospy.impl.tcpros_base.TCPROSTransport.__init__
+
+        def marking_init(self, *args, **kwargs):
+            transport_init(self, *args, **kwargs)
+            self.__dict__['_lockstep_counted'] = True  # its callbacks are counted (below)
+        rospy.impl.tcpros_base.TCPROSTransport.__init__ = marking_init
+
+        # A subscriber with queue_size discards all but the newest messages of a batch before its
+        # callbacks see them (and before rospy counts them); count those as handled too.
+        protocol = rospy.impl.tcpros_base.TCPROSTransportProtocol
+
+        def counting_read(self, b, msg_queue, sock):
+            if self.queue_size is None:
+                return rospy.impl.tcpros_base.deserialize_messages(b, msg_queue,
+                                                                   self.recv_data_class)
+            parsed = []
+            rospy.impl.tcpros_base.deserialize_messages(b, parsed, self.recv_data_class)
+            dropped = max(0, len(msg_queue) + len(parsed) - self.queue_size)
+            msg_queue.extend(parsed)
+            del msg_queue[:-self.queue_size]
+            self.__dict__['_lockstep_dropped'] = self.__dict__.get('_lockstep_dropped', 0) + dropped
+        protocol.read_messages = counting_read
+
+        receive = rospy.topics._SubscriberImpl.receive_callback
+
+        def counting_receive(self, msgs, connection):
+            try:
+                return receive(self, msgs, connection)
+            finally:
+                connection.__dict__['_lockstep_done'] = (
+                    connection.__dict__.get('_lockstep_done', 0) + len(msgs))
+        rospy.topics._SubscriberImpl.receive_callback = counting_receive
+
+
+def _nodelay(conn):
+    inner = conn.__dict__.get('_connection', conn)
+    if inner.__dict__.get('_lockstep_nodelay'):
+        return
+    sock = getattr(inner, 'socket', None)
+    if sock is not None:
+        try:
+            sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+            inner.__dict__['_lockstep_nodelay'] = True
+        except OSError:
+            pass
+
+
+def sent_counts():
+    """[(topic, subscriber caller id, messages queued)] for this process's publications."""
+    out = []
+    tm = rospy.impl.registration.get_topic_manager()
+    for topic, impl in list(tm.pubs.items()):
+        for c in list(impl.connections):
+            _nodelay(c)
+            if isinstance(c, rospy.impl.tcpros_pubsub.QueuedConnection):
+                n = c.__dict__.get('_lockstep_sent', 0)
+            else:
+                n = c.stat_num_msg
+            out.append((topic, c.endpoint_id, n))
+    return sorted(out)
+
+
+def handled_counts():
+    """{(topic, publisher caller id): messages whose callbacks have run}."""
+    out = {}
+    tm = rospy.impl.registration.get_topic_manager()
+    for topic, impl in list(tm.subs.items()):
+        for c in list(impl.connections):
+            key = (topic, getattr(c, 'callerid_pub', ''))
+            if c.__dict__.get('_lockstep_counted'):
+                n = c.__dict__.get('_lockstep_done', 0)
+                proto = getattr(c, 'protocol', None)
+                if proto is not None:
+                    n += proto.__dict__.get('_lockstep_dropped', 0)
+            else:  # made before this module was imported: received is the best we know
+                n = c.stat_num_msg
+            out[key] = out.get(key, 0) + n
+    return out
+
+
+def action_server_ready(client):
+    """True once `client` (actionlib SimpleActionClient or ActionClient) sees its server.
+
+    The check actionlib's wait_for_server makes, without its sleeping loop.
+    """
+    ac = getattr(client, 'action_client', client)
+    status = ac.last_status_msg
+    if status is None:
+        return False
+    server = status._connection_header['callerid']
+    return (ac.pub_goal.impl.has_connection(server) and ac.pub_cancel.impl.has_connection(server)
+            and ac.status_sub.impl.get_num_connections() > 0
+            and ac.result_sub.impl.get_num_connections() > 0
+            and ac.feedback_sub.impl.get_num_connections() > 0)
+
+
+class Participant(object):
+    """A rospy script's membership of the lock-step loop (plain rospy when it is off)."""
+
+    def __init__(self, wake_topics=(), delivery_timeout=10.0):
+        self.enabled = lockstep_enabled()
+        self.name = rospy.get_name()
+        self._wake_topics = [rospy.resolve_name(t) for t in wake_topics]
+        self._delivery_timeout = delivery_timeout
+        self._jobs = []  # [period, next, fn]
+        self._cond = threading.Condition()
+        self._tick = None        # arrived, not yet taken
+        self._current = None     # being worked on, not yet acknowledged
+        self._registered = False
+        if not self.enabled:
+            return
+        self._ack_pub = rospy.Publisher(ACK_TOPIC, Ack, queue_size=100, tcp_nodelay=True)
+        self._register()
+        rospy.on_shutdown(self.close)
+
+    # -- public API --------------------------------------------------------------------------
+
+    def now(self):
+        return rospy.get_rostime()
+
+    def add_periodic(self, period, fn):
+        """Run fn(now) every `period` s of sim time while the script waits (wait_for/sleep/spin)."""
+        self._jobs.append([float(period), None, fn])
+
+    def wait_for(self, predicate, timeout=None):
+        """Wait until predicate() is true (True) or `timeout` s of sim time pass (False)."""
+        start = rospy.get_rostime()
+        deadline = None if timeout is None or timeout <= 0 else start + rospy.Duration(timeout)
+        if not self.enabled:
+            while not rospy.is_shutdown():
+                self._run_jobs_free(rospy.get_rostime())
+                if predicate():
+                    return True
+                if deadline is not None and rospy.get_rostime() >= deadline:
+                    return False
+                rospy.sleep(0.01)
+            return False
+        if self._current is not None and predicate():
+            return True
+        while not rospy.is_shutdown():
+            tick = self._next_tick(deadline)
+            if tick is None:
+                return False
+            self._run_jobs(tick.stamp)
+            if predicate():
+                return True
+            if deadline is not None and tick.stamp >= deadline:
+                return False
+        return False
+
+    def sleep(self, duration):
+        """Let `duration` s of sim time pass."""
+        end = rospy.get_rostime() + rospy.Duration(duration)
+        self.wait_for(lambda: rospy.get_rostime() >= end, timeout=duration)
+
+    def spin(self):
+        """Until shutdown, running add_periodic jobs (callbacks run on rospy's threads)."""
+        self.wait_for(lambda: False)
+
+    def close(self):
+        """Acknowledge the tick in hand and leave the loop (also done on shutdown)."""
+        if not self._registered:
+            return
+        self._registered = False
+        try:
+            rospy.wait_for_service(UNREGISTER_SERVICE, timeout=1.0)
+            rospy.ServiceProxy(UNREGISTER_SERVICE, Unregister)(self.name)
+        except (rospy.ROSException, rospy.ServiceException):
+            pass  # the simulator is gone already
+
+    # -- protocol ----------------------------------------------------------------------------
+
+    def _register(self):
+        warned = 0.0
+        while not rospy.is_shutdown():
+            try:
+                rospy.wait_for_service(REGISTER_SERVICE, timeout=1.0)
+                break
+            except rospy.ROSException:
+                if time.time() - warned > 10.0:
+                    warned = time.time()
+                    rospy.logwarn('%s: /use_lockstep is true; waiting for the simulator\'s %s '
+                                  '(is minibot3d_sim running with lockstep:=true?)',
+                                  self.name, REGISTER_SERVICE)
+        res = rospy.ServiceProxy(REGISTER_SERVICE, Register)(self.name, self._wake_topics)
+        if not res.accepted:
+            raise RuntimeError('%s: the simulator refused lock-step registration: %s'
+                               % (self.name, res.message))
+        self._tick_sub = rospy.Subscriber(res.tick_topic, Tick, self._on_tick, queue_size=10,
+                                          tcp_nodelay=True)
+        self._registered = True
+        # The first acknowledgement must reach the simulator: wait for both connections.
+        while not rospy.is_shutdown() and (self._ack_pub.get_num_connections() == 0
+                                           or self._tick_sub.get_num_connections() == 0):
+            time.sleep(0.001)
+
+    def _on_tick(self, tick):
+        with self._cond:
+            self._tick = tick
+            self._cond.notify_all()
+
+    def _ack(self, next_wake):
+        tick, self._current = self._current, None
+        if tick is None:
+            return
+        wake = next_wake
+        for job in self._jobs:
+            if job[1] is not None and (wake is None or job[1] < wake):
+                wake = job[1]
+        ack = Ack(name=self.name, seq=tick.seq, next_wake=wake if wake is not None else rospy.Time(0))
+        ack.sent = [Link(topic=t, peer=p, count=n) for t, p, n in sent_counts()]
+        self._ack_pub.publish(ack)
+
+    def _next_tick(self, deadline):
+        self._ack(deadline)
+        with self._cond:
+            while self._tick is None and not rospy.is_shutdown():
+                self._cond.wait(0.5)
+            tick, self._tick = self._tick, None
+        if tick is None:
+            return None
+        self._wait_for_delivery(tick)
+        self._wait_for_clock(tick.stamp)
+        self._current = tick
+        return tick
+
+    def _wait_for_delivery(self, tick):
+        start = time.time()
+        while not rospy.is_shutdown():
+            have = handled_counts()
+            missing = ['%s from %s (%d of %d)' % (l.topic, l.peer, have.get((l.topic, l.peer), 0),
+                                                   l.count)
+                       for l in tick.expected if have.get((l.topic, l.peer), 0) < l.count]
+            if not missing:
+                return
+            if time.time() - start > self._delivery_timeout:
+                rospy.logwarn('%s: going on at t=%.3f without messages announced by the '
+                              'simulator\'s tick: %s (publisher gone?)', self.name,
+                              tick.stamp.to_sec(), '; '.join(missing))
+                return
+            time.sleep(0.0001)
+
+    def _wait_for_clock(self, stamp):
+        # rospy's /clock subscriber sets the time; /clock for `stamp` precedes the tick and older
+        # /clock messages precede it on the same connection.
+        start = time.time()
+        while not rospy.is_shutdown() and rospy.get_rostime() < stamp:
+            if time.time() - start > self._delivery_timeout:
+                rospy.logwarn('%s: /clock has not reached the tick\'s time %.3f', self.name,
+                              stamp.to_sec())
+                return
+            time.sleep(0.0001)
+
+    def _run_jobs(self, now):
+        t = now.to_sec()
+        for job in self._jobs:
+            period = job[0]
+            if job[1] is None:
+                job[1] = rospy.Time(math.ceil(t / period - 1e-6) * period)
+            if job[1].to_sec() <= t + 1e-9:
+                job[2](now)
+                while job[1].to_sec() <= t + 1e-9:
+                    job[1] = job[1] + rospy.Duration(period)
+
+    def _run_jobs_free(self, now):
+        self._run_jobs(now)
+
+
+# Counting must be in place before the subscriptions it counts are connected: importing this module
+# (before rospy.init_node, as scripts do) installs it.
+_install_counting()

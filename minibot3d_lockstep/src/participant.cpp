@@ -1,0 +1,199 @@
+#include "minibot3d_lockstep/participant.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <utility>
+
+#include "minibot3d_lockstep/Ack.h"
+#include "minibot3d_lockstep/Register.h"
+#include "minibot3d_lockstep/Unregister.h"
+#include "minibot3d_lockstep/link_counts.h"
+
+namespace minibot3d_lockstep {
+
+bool LockstepEnabled() {
+  bool on = false;
+  return ros::param::get(kLockstepParam, on) && on;
+}
+
+Participant::Participant(const ros::NodeHandle& nh, const ParticipantOptions& options)
+    : nh_(nh), options_(options), enabled_(LockstepEnabled()), name_(ros::this_node::getName()),
+      tf_nh_(nh), service_nh_(nh), tick_nh_(nh) {
+  if (!enabled_) return;
+  tf_nh_.setCallbackQueue(&tf_queue_);
+  // Ticks and service requests share a queue: both are handled while the node waits for a tick.
+  service_nh_.setCallbackQueue(&service_queue_);
+  tick_nh_.setCallbackQueue(&service_queue_);
+  ack_pub_ = nh_.advertise<Ack>(kAckTopic, 100);
+}
+
+Participant::~Participant() { Unregister(); }
+
+void Participant::AddPeriodic(double period, std::function<void(const ros::Time&)> job) {
+  auto j = std::make_unique<Job>();
+  j->period = period;
+  j->next = std::numeric_limits<double>::quiet_NaN();
+  j->fn = std::move(job);
+  if (!enabled_) {
+    auto fn = j->fn;
+    j->timer = nh_.createTimer(ros::Duration(period),
+                               [fn](const ros::TimerEvent&) { fn(ros::Time::now()); });
+  }
+  jobs_.push_back(std::move(j));
+}
+
+void Participant::WakeAt(const ros::Time& t) { wake_at_.push_back(t.toSec()); }
+
+bool Participant::Register() {
+  int waited = 0;
+  while (ros::ok() && !ros::service::waitForService(kRegisterService, 1000)) {
+    if (++waited % 10 == 1) {
+      ROS_WARN("%s: /use_lockstep is true; waiting for the simulator's %s (is minibot3d_sim "
+               "running with lockstep:=true?)", name_.c_str(), kRegisterService);
+    }
+  }
+  if (!ros::ok()) return false;
+  minibot3d_lockstep::Register srv;
+  srv.request.name = name_;
+  for (const auto& t : options_.wake_topics) srv.request.wake_topics.push_back(nh_.resolveName(t));
+  if (!ros::service::call(kRegisterService, srv)) {
+    ROS_FATAL("%s: the lock-step registration call to %s failed", name_.c_str(), kRegisterService);
+    return false;
+  }
+  if (!srv.response.accepted) {
+    ROS_FATAL("%s: the simulator refused lock-step registration: %s", name_.c_str(),
+              srv.response.message.c_str());
+    return false;
+  }
+  tick_sub_ = tick_nh_.subscribe<Tick>(
+      srv.response.tick_topic, 10, [this](const TickConstPtr& t) { pending_tick_ = t; },
+      ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+  registered_ = true;
+  ROS_INFO("%s: lock-step participant of the simulator (ticks on %s, quantum %g s)",
+           name_.c_str(), srv.response.tick_topic.c_str(), srv.response.quantum);
+  return true;
+}
+
+void Participant::Unregister() {
+  if (!registered_ || !ros::ok()) return;
+  registered_ = false;
+  minibot3d_lockstep::Unregister srv;
+  srv.request.name = name_;
+  ros::ServiceClient c = ros::NodeHandle().serviceClient<minibot3d_lockstep::Unregister>(
+      kUnregisterService);
+  // A simulator that is already gone does not need telling.
+  if (c.exists()) c.call(srv);
+}
+
+void Participant::ServeBetweenTicks() { service_queue_.callAvailable(ros::WallDuration(0.001)); }
+
+bool Participant::WaitForTick(TickConstPtr* tick) {
+  while (ros::ok() && !pending_tick_) ServeBetweenTicks();
+  *tick = pending_tick_;
+  pending_tick_.reset();
+  return static_cast<bool>(*tick);
+}
+
+void Participant::WaitForDelivery(const Tick& tick) {
+  const ros::WallTime start = ros::WallTime::now();
+  std::map<std::pair<std::string, std::string>, std::uint64_t> want;
+  for (const auto& l : tick.expected) want[{l.topic, l.peer}] = l.count;
+  while (ros::ok()) {
+    std::vector<std::string> missing;
+    std::map<std::pair<std::string, std::string>, std::uint64_t> have;
+    for (const auto& l : ReceivedCounts()) have[{l.topic, l.peer}] = l.count;
+    for (const auto& w : want) {
+      auto it = have.find(w.first);
+      const std::uint64_t got = it == have.end() ? 0 : it->second;
+      if (got < w.second) {
+        std::ostringstream m;
+        m << w.first.first << " from " << w.first.second << " (" << got << " of " << w.second << ")";
+        missing.push_back(m.str());
+      }
+    }
+    if (missing.empty()) break;
+    if ((ros::WallTime::now() - start).toSec() > options_.delivery_timeout) {
+      std::ostringstream m;
+      for (const auto& s : missing) m << " " << s << ";";
+      ROS_WARN_THROTTLE(10.0, "%s: going on at t=%.3f without messages announced by the "
+                        "simulator's tick:%s (publisher gone?)", name_.c_str(),
+                        tick.stamp.toSec(), m.str().c_str());
+      break;
+    }
+    WaitForPollIteration(0.002);
+    service_queue_.callAvailable();
+  }
+  SyncWithPollThread();
+}
+
+void Participant::WaitForClock(const ros::Time& stamp) {
+  // roscpp's own /clock callback (on its internal thread) sets ros::Time::now(). The simulator
+  // publishes /clock for `stamp` before the tick, and older /clock messages come before it on
+  // the same connection: once now() shows `stamp`, no older value can overwrite it.
+  const ros::WallTime start = ros::WallTime::now();
+  while (ros::ok() && ros::Time::now() < stamp) {
+    if ((ros::WallTime::now() - start).toSec() > options_.delivery_timeout) {
+      ROS_WARN_THROTTLE(10.0, "%s: /clock has not reached the tick's time %.3f (now %.3f); "
+                        "setting it", name_.c_str(), stamp.toSec(), ros::Time::now().toSec());
+      ros::Time::setNow(stamp);
+      break;
+    }
+    ros::WallDuration(0.00005).sleep();
+  }
+}
+
+bool Participant::Spin() {
+  if (!enabled_) {
+    ros::spin();
+    return true;
+  }
+  if (!Register()) return false;
+  // The first acknowledgement must reach the simulator: wait for both connections.
+  while (ros::ok() && (ack_pub_.getNumSubscribers() == 0 || tick_sub_.getNumPublishers() == 0)) {
+    ServeBetweenTicks();
+  }
+  while (ros::ok()) {
+    TickConstPtr tick;
+    if (!WaitForTick(&tick)) break;
+    WaitForDelivery(*tick);
+    WaitForClock(tick->stamp);
+    // tf first, so a message's transform is in the buffer when its callback looks it up.
+    tf_queue_.callAvailable();
+    ros::getGlobalCallbackQueue()->callAvailable();
+    service_queue_.callAvailable();
+    const double t = tick->stamp.toSec();
+    const double eps = 1e-9;
+    double next_wake = std::numeric_limits<double>::infinity();
+    for (auto& j : jobs_) {
+      if (std::isnan(j->next)) j->next = std::ceil(t / j->period - 1e-6) * j->period;
+      if (j->next <= t + eps) {
+        j->fn(tick->stamp);
+        while (j->next <= t + eps) j->next += j->period;
+      }
+      next_wake = std::min(next_wake, j->next);
+    }
+    wake_at_.erase(std::remove_if(wake_at_.begin(), wake_at_.end(),
+                                  [&](double w) { return w <= t + eps; }),
+                   wake_at_.end());
+    for (double w : wake_at_) next_wake = std::min(next_wake, w);
+    Ack ack;
+    ack.name = name_;
+    ack.seq = tick->seq;
+    ack.next_wake = std::isfinite(next_wake) ? ros::Time(next_wake) : ros::Time(0);
+    for (const auto& l : SentCounts()) {
+      Link link;
+      link.topic = l.topic;
+      link.peer = l.peer;
+      link.count = l.count;
+      ack.sent.push_back(link);
+    }
+    ack_pub_.publish(ack);
+  }
+  Unregister();
+  return true;
+}
+
+}  // namespace minibot3d_lockstep

@@ -1,0 +1,148 @@
+#include "minibot3d_lockstep/coordinator.h"
+
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+namespace minibot3d_lockstep {
+namespace {
+
+using Names = std::vector<std::string>;
+constexpr double kQ = 0.005;
+
+Coordinator Make() {
+  CoordinatorOptions o;
+  o.quantum = kQ;
+  o.timeout = 2.0;
+  return Coordinator(o, "/sim");
+}
+
+TEST(CoordinatorTest, RejectsBadOptionsNamingThem) {
+  CoordinatorOptions o;
+  o.quantum = 0.0;
+  try {
+    ValidateOptions(o);
+    FAIL() << "quantum 0 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("lockstep_quantum"), std::string::npos);
+  }
+  o.quantum = 0.01;
+  o.timeout = -1;
+  EXPECT_THROW(ValidateOptions(o), std::invalid_argument);
+}
+
+TEST(CoordinatorTest, RefusesEmptyAndSimulatorNames) {
+  Coordinator c = Make();
+  EXPECT_FALSE(c.Register("", {}).empty());
+  EXPECT_FALSE(c.Register("/sim", {}).empty());
+  EXPECT_TRUE(c.Register("/a", {}).empty());
+  EXPECT_EQ(c.Participants(), Names({"/a"}));
+}
+
+TEST(CoordinatorTest, NewParticipantIsDueOnceThenOnlyAtItsWakeTime) {
+  Coordinator c = Make();
+  c.Register("/b", {});
+  c.Register("/a", {});
+  EXPECT_EQ(c.Due(0.0), Names({"/a", "/b"}));  // name order
+  c.MarkTicked("/a", 1, 0.0, 100.0);
+  EXPECT_EQ(c.Due(0.0), Names({"/b"}));  // /a is waiting: never ticked twice
+  EXPECT_EQ(c.Waiting(), Names({"/a"}));
+  ASSERT_TRUE(c.Ack("/a", 1, 0.05, {}));
+  c.MarkTicked("/b", 2, 0.0, 100.0);
+  ASSERT_TRUE(c.Ack("/b", 2, 0.0, {}));  // 0: only on mail
+  EXPECT_TRUE(c.Waiting().empty());
+  EXPECT_TRUE(c.Due(0.045).empty());
+  EXPECT_EQ(c.Due(0.05), Names({"/a"}));
+  EXPECT_TRUE(c.Due(1000.0) == Names({"/a"}));  // /b never wakes without mail
+}
+
+TEST(CoordinatorTest, StaleOrUnknownAcksChangeNothing) {
+  Coordinator c = Make();
+  c.Register("/a", {});
+  EXPECT_FALSE(c.Ack("/a", 1, 0.1, {}));  // not ticked yet
+  c.MarkTicked("/a", 7, 0.0, 0.0);
+  EXPECT_FALSE(c.Ack("/a", 6, 0.1, {}));
+  EXPECT_FALSE(c.Ack("/nobody", 7, 0.1, {}));
+  EXPECT_EQ(c.Waiting(), Names({"/a"}));
+  EXPECT_TRUE(c.Ack("/a", 7, 0.1, {}));
+}
+
+TEST(CoordinatorTest, AWakeTimeNoLaterThanTheTickMeansTheNextQuantum) {
+  Coordinator c = Make();
+  c.Register("/a", {});
+  c.MarkTicked("/a", 1, 1.0, 0.0);
+  c.Ack("/a", 1, 0.5, {});
+  EXPECT_TRUE(c.Due(1.0).empty());
+  EXPECT_EQ(c.Due(1.0 + kQ), Names({"/a"}));
+}
+
+TEST(CoordinatorTest, MailOnAWakeTopicWakesOnlyItsReceiver) {
+  Coordinator c = Make();
+  c.Register("/amcl", {"/scan", "/initialpose"});
+  c.Register("/move_base", {"/move_base/goal"});
+  for (const char* n : {"/amcl", "/move_base"}) {
+    c.MarkTicked(n, 1, 0.0, 0.0);
+    c.Ack(n, 1, 0.0, {});
+  }
+  EXPECT_TRUE(c.Due(0.005).empty());
+  // The simulator queued a scan to both and a tf message to both; only /scan wakes, only /amcl
+  // (move_base does not list it).
+  c.SetSent("/sim", {{"/scan", "/amcl", 1}, {"/scan", "/move_base", 1}, {"/tf", "/amcl", 3},
+                     {"/tf", "/move_base", 3}});
+  EXPECT_EQ(c.Due(0.005), Names({"/amcl"}));
+  c.MarkTicked("/amcl", 2, 0.005, 0.0);
+  c.Ack("/amcl", 2, 0.0, {{"/tf", "/move_base", 1}});
+  EXPECT_TRUE(c.Due(0.01).empty());  // mail seen; tf is not a wake topic
+  c.SetSent("/sim", {{"/scan", "/amcl", 2}, {"/scan", "/move_base", 2}});
+  EXPECT_EQ(c.Due(0.01), Names({"/amcl"}));
+}
+
+TEST(CoordinatorTest, ExpectedListsWhatOthersQueuedToTheParticipant) {
+  Coordinator c = Make();
+  c.Register("/a", {});
+  c.Register("/b", {});
+  c.SetSent("/sim", {{"/scan", "/a", 10}, {"/scan", "/b", 9}, {"/scan", "/rviz", 10}});
+  c.MarkTicked("/a", 1, 0.0, 0.0);
+  c.Ack("/a", 1, 0.0, {{"/cmd_vel", "/sim", 4}, {"/tf", "/b", 2}, {"/tf", "/rviz", 2}});
+  const auto e = c.Expected("/b");
+  ASSERT_EQ(e.size(), 2u);
+  EXPECT_EQ(e[0], (LinkCount{"/tf", "/a", 2}));
+  EXPECT_EQ(e[1], (LinkCount{"/scan", "/sim", 9}));
+  const auto s = c.Expected("/sim");
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_EQ(s[0], (LinkCount{"/cmd_vel", "/a", 4}));
+  // Non-participants (rviz) are never waited on: nothing lists them.
+  EXPECT_TRUE(c.Expected("/rviz").empty());
+}
+
+TEST(CoordinatorTest, AStalledParticipantIsOverdueAfterTheTimeoutAndRemovalForgetsIt) {
+  Coordinator c = Make();
+  c.Register("/a", {});
+  c.Register("/b", {});
+  c.MarkTicked("/a", 1, 0.0, 10.0);
+  EXPECT_TRUE(c.Overdue(11.9).empty());
+  EXPECT_NEAR(c.WaitingFor("/a", 11.0), 1.0, 1e-12);
+  EXPECT_EQ(c.Overdue(12.1), Names({"/a"}));
+  c.Ack("/a", 1, 0.0, {{"/tf", "/b", 5}});
+  c.MarkTicked("/a", 2, 0.005, 20.0);
+  EXPECT_TRUE(c.Remove("/a"));
+  EXPECT_FALSE(c.Remove("/a"));
+  EXPECT_TRUE(c.Waiting().empty());
+  EXPECT_TRUE(c.Expected("/b").empty());  // /b no longer waits for /a's messages
+  EXPECT_EQ(c.Participants(), Names({"/b"}));
+}
+
+TEST(CoordinatorTest, ARestartedParticipantStartsAfresh) {
+  Coordinator c = Make();
+  c.Register("/a", {});
+  c.Register("/b", {});
+  c.MarkTicked("/a", 1, 0.0, 0.0);
+  c.Ack("/a", 1, 0.0, {{"/tf", "/b", 50}});
+  ASSERT_EQ(c.Expected("/b").size(), 1u);
+  c.Register("/a", {});  // same name again: its old connections are gone
+  EXPECT_TRUE(c.Expected("/b").empty());
+  EXPECT_EQ(c.Due(0.0), Names({"/a", "/b"}));
+}
+
+}  // namespace
+}  // namespace minibot3d_lockstep
