@@ -8,6 +8,10 @@
 #include <string>
 
 #include <ros/connection.h>
+#include <ros/master.h>
+#include <ros/network.h>
+#include <xmlrpcpp/XmlRpcClient.h>
+#include <ros/this_node.h>
 #include <ros/init.h>
 #include <ros/poll_manager.h>
 #include <ros/publication.h>
@@ -117,6 +121,9 @@ std::vector<LinkCount> SentCounts() {
   for (const auto& topic : topics) {
     ros::PublicationPtr pub = tm->lookupPublication(topic);
     if (!pub) continue;
+    // publish() only queues the message; roscpp's poll thread hands it to each connection (and
+    // counts it) later. Hand over what this thread has published so far, so it is counted now.
+    pub->processPublishQueue();
     boost::mutex::scoped_lock lock((*pub).*Get(SubscriberLinksMutexTag()));
     for (const auto& link : (*pub).*Get(SubscriberLinksTag())) {
       if (link->isIntraprocess()) continue;
@@ -136,8 +143,9 @@ std::vector<LinkCount> ReceivedCounts() {
     boost::mutex::scoped_lock links_lock((*sub).*Get(PublisherLinksMutexTag()));
     for (const auto& link : (*sub).*Get(PublisherLinksTag())) {
       if (link->getTransportType() == "INTRAPROCESS") continue;
-      out.push_back(LinkCount{sub->getName(), link->getCallerID(),
-                              link->getStats().messages_received_});
+      LinkCount l{sub->getName(), link->getCallerID(), link->getStats().messages_received_};
+      l.latched = link->isLatched();
+      out.push_back(l);
     }
   }
   Sort(&out);
@@ -174,6 +182,114 @@ bool WaitForPollIteration(double timeout) {
   const std::uint64_t start = poll.iterations;
   return poll.cv.wait_for(lock, std::chrono::duration<double>(timeout),
                           [&] { return poll.iterations > start; });
+}
+
+}  // namespace minibot3d_lockstep
+
+namespace minibot3d_lockstep {
+
+namespace {
+
+// Messages `node` has queued to this node on `topic`, from its own getBusInfo/getBusStats
+// (the XML-RPC calls rosnode uses); -1 if it cannot be asked.
+long SentByPeer(const std::string& topic, const std::string& node) {
+  using V = XmlRpc::XmlRpcValue;
+  // Type-checked reads: a node's answer is input, never trusted to have the expected shape.
+  auto str = [](V& v) { return v.getType() == V::TypeString ? static_cast<std::string>(v) : ""; };
+  auto num = [](V& v) { return v.getType() == V::TypeInt ? static_cast<int>(v) : -1; };
+  auto arr = [](V& v, int n) { return v.getType() == V::TypeArray && v.size() >= n; };
+  V args, result, payload;
+  args[0] = ros::this_node::getName();
+  args[1] = node;
+  if (!ros::master::execute("lookupNode", args, result, payload, false)) return -1;
+  std::string host;
+  uint32_t port = 0;
+  if (!ros::network::splitURI(str(payload), host, port)) return -1;
+  XmlRpc::XmlRpcClient client(host.c_str(), port, "/");
+  V a, info, stats;
+  a[0] = ros::this_node::getName();
+  if (!client.execute("getBusInfo", a, info) || !client.execute("getBusStats", a, stats)) return -1;
+  // info: [code, msg, [[conn_id, destination, direction, transport, topic, connected, ...]]]
+  if (!arr(info, 3) || !arr(info[2], 0)) return -1;
+  int conn_id = -1;
+  for (int i = 0; i < info[2].size(); ++i) {
+    V& c = info[2][i];
+    if (arr(c, 5) && str(c[4]) == topic && str(c[1]) == ros::this_node::getName() &&
+        str(c[2]) == "o") {
+      conn_id = num(c[0]);
+    }
+  }
+  if (conn_id < 0) return -1;
+  // stats: [publish_stats, subscribe_stats, service_stats] from roscpp, [code, msg, that] from
+  // rospy; a publish_stats entry is [topic, [[conn_id, bytes, data_bytes, num_sent, connected]]]
+  // from roscpp and [topic, data_bytes, [[conn_id, bytes, num_sent, connected]]] from rospy.
+  if (arr(stats, 3) && stats[0].getType() == V::TypeInt) stats = V(stats[2]);
+  if (!arr(stats, 1) || !arr(stats[0], 0)) return -1;
+  V& pubs = stats[0];
+  for (int i = 0; i < pubs.size(); ++i) {
+    if (!arr(pubs[i], 2) || str(pubs[i][0]) != topic) continue;
+    V& cs = pubs[i][pubs[i].size() - 1];
+    if (!arr(cs, 0)) continue;
+    for (int k = 0; k < cs.size(); ++k) {
+      if (!arr(cs[k], 3) || num(cs[k][0]) != conn_id) continue;
+      return num(cs[k][cs[k].size() >= 5 ? 3 : 2]);
+    }
+  }
+  return -1;
+}
+
+}  // namespace
+
+std::vector<std::string> MissingConnections() {
+  std::vector<std::string> missing;
+  XmlRpc::XmlRpcValue args, result, payload;
+  args[0] = ros::this_node::getName();
+  if (!ros::master::execute("getSystemState", args, result, payload, false) ||
+      payload.getType() != XmlRpc::XmlRpcValue::TypeArray || payload.size() < 2) {
+    return {"master"};
+  }
+  const std::string self = ros::this_node::getName();
+  ros::V_string subscribed, advertised;
+  ros::this_node::getSubscribedTopics(subscribed);
+  ros::this_node::getAdvertisedTopics(advertised);
+  const auto in = ReceivedCounts();
+  const auto out = SentCounts();
+  auto has = [](const std::vector<LinkCount>& links, const std::string& topic,
+                const std::string& peer) {
+    for (const auto& l : links) {
+      if (l.topic == topic && l.peer == peer) return true;
+    }
+    return false;
+  };
+  // payload[0]: [[topic, [publishers]]...], payload[1]: [[topic, [subscribers]]...]
+  for (int kind = 0; kind < 2; ++kind) {
+    const ros::V_string& mine = kind == 0 ? subscribed : advertised;
+    XmlRpc::XmlRpcValue& list = payload[kind];
+    for (int i = 0; i < list.size(); ++i) {
+      const std::string topic = list[i][0];
+      if (std::find(mine.begin(), mine.end(), topic) == mine.end()) continue;
+      XmlRpc::XmlRpcValue& nodes = list[i][1];
+      for (int j = 0; j < nodes.size(); ++j) {
+        const std::string node = nodes[j];
+        if (node == self) continue;
+        if (!has(kind == 0 ? in : out, topic, node)) {
+          missing.push_back((kind == 0 ? topic + " from " : topic + " to ") + node);
+        }
+      }
+    }
+  }
+  for (const auto& l : in) {
+    if (!l.latched) continue;
+    // A latching publisher sends its last message when a connection is made; ask it how many it
+    // has queued to this node so far (it may not have published yet: then there is nothing to
+    // wait for).
+    const long sent = SentByPeer(l.topic, l.peer);
+    if (sent < 0 || static_cast<long>(l.count) < sent) {
+      missing.push_back(l.topic + " (latched) from " + l.peer);
+    }
+  }
+  std::sort(missing.begin(), missing.end());
+  return missing;
 }
 
 }  // namespace minibot3d_lockstep

@@ -32,6 +32,12 @@ Participant::Participant(const ros::NodeHandle& nh, const ParticipantOptions& op
 
 Participant::~Participant() { Unregister(); }
 
+ros::NodeHandle Participant::ServiceHandle(const ros::NodeHandle& nh) {
+  ros::NodeHandle h(nh);
+  if (enabled_) h.setCallbackQueue(&service_queue_);
+  return h;
+}
+
 void Participant::AddPeriodic(double period, std::function<void(const ros::Time&)> job) {
   auto j = std::make_unique<Job>();
   j->period = period;
@@ -86,6 +92,35 @@ void Participant::Unregister() {
       kUnregisterService);
   // A simulator that is already gone does not need telling.
   if (c.exists()) c.call(srv);
+}
+
+void Participant::SettleConnections() {
+  // Sim time holds while this node has a tick in hand, so connections made now are made at the
+  // same sim time in every run. Only when this node's own topics change (at its first tick, or
+  // when it advertises or subscribes later) is the master asked.
+  ros::V_string topics, advertised;
+  ros::this_node::getSubscribedTopics(topics);
+  ros::this_node::getAdvertisedTopics(advertised);
+  std::sort(topics.begin(), topics.end());
+  std::sort(advertised.begin(), advertised.end());
+  topics.push_back("--");
+  topics.insert(topics.end(), advertised.begin(), advertised.end());
+  if (topics == settled_topics_) return;
+  settled_topics_ = topics;
+  const ros::WallTime start = ros::WallTime::now();
+  while (ros::ok()) {
+    const auto missing = MissingConnections();
+    if (missing.empty()) return;
+    if ((ros::WallTime::now() - start).toSec() > options_.delivery_timeout) {
+      std::string m;
+      for (const auto& s : missing) m += " " + s + ";";
+      ROS_WARN("%s: lock-step: going on without connections:%s (a node registered with the "
+               "master that is not running?)", name_.c_str(), m.c_str());
+      return;
+    }
+    WaitForPollIteration(0.005);
+    service_queue_.callAvailable();
+  }
 }
 
 void Participant::ServeBetweenTicks() { service_queue_.callAvailable(ros::WallDuration(0.001)); }
@@ -151,13 +186,10 @@ bool Participant::Spin() {
     return true;
   }
   if (!Register()) return false;
-  // The first acknowledgement must reach the simulator: wait for both connections.
-  while (ros::ok() && (ack_pub_.getNumSubscribers() == 0 || tick_sub_.getNumPublishers() == 0)) {
-    ServeBetweenTicks();
-  }
   while (ros::ok()) {
     TickConstPtr tick;
     if (!WaitForTick(&tick)) break;
+    SettleConnections();
     WaitForDelivery(*tick);
     WaitForClock(tick->stamp);
     // tf first, so a message's transform is in the buffer when its callback looks it up.

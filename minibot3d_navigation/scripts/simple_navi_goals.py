@@ -14,11 +14,17 @@ goal SUCCEEDED (1 otherwise, 2 on bad arguments).
     simple_navi_goals.py --frame map X Y YAW [--timeout S] [--server move_base]
 
 sends a goal at (X, Y) with heading YAW (radians) in the named frame.
+
+Under lock-step time (/use_lockstep, see minibot3d_lockstep) it is a participant: it waits for
+the server and the result on sim time that moves only when it is done looking, so a route of
+goals gives the same times in every run.
 """
 import argparse
 import math
 import sys
 import time
+
+from minibot3d_lockstep import Participant, action_server_ready  # before rospy.init_node
 
 import actionlib
 import rospy
@@ -28,6 +34,7 @@ from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 STATE_NAMES = {getattr(GoalStatus, n): n for n in (
     'PENDING', 'ACTIVE', 'PREEMPTED', 'SUCCEEDED', 'ABORTED', 'REJECTED',
     'PREEMPTING', 'RECALLING', 'RECALLED', 'LOST')}
+
 
 
 def parse_args(argv):
@@ -80,8 +87,17 @@ def main():
     rospy.init_node('simple_navi_goals')
     goal = make_goal(args)
     client = actionlib.SimpleActionClient(args.server, MoveBaseAction)
+    lockstep = Participant(wake_topics=[args.server.rstrip('/') + '/result',
+                                        args.server.rstrip('/') + '/status'])
+    try:
+        return run(args, goal, client, lockstep)
+    finally:
+        lockstep.close()  # leave the loop at the sim time the result came
+
+
+def run(args, goal, client, lockstep):
     rospy.loginfo('Waiting for server')
-    if not client.wait_for_server(rospy.Duration(args.timeout)):
+    if not lockstep.wait_for(lambda: action_server_ready(client), args.timeout):
         rospy.logerr('No action server %s within %.1f s: is move_base running?',
                      args.server, args.timeout)
         return 1
@@ -89,7 +105,8 @@ def main():
     rospy.loginfo('Sending Goals')
     start_ros, start_wall = rospy.Time.now(), time.time()
     client.send_goal(goal)
-    finished = client.wait_for_result(rospy.Duration(args.timeout))
+    finished = lockstep.wait_for(lambda: client.simple_state == actionlib.SimpleGoalState.DONE,
+                                 args.timeout)
     elapsed_ros = (rospy.Time.now() - start_ros).to_sec()
     elapsed_wall = time.time() - start_wall
     if not finished:

@@ -19,6 +19,8 @@
 #include <nav_msgs/GetMap.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
+
+#include "minibot3d_lockstep/participant.h"
 #include <sensor_msgs/LaserScan.h>
 #include <std_srvs/Empty.h>
 #include <tf2/LinearMath/Matrix3x3.h>
@@ -46,7 +48,28 @@ using minibot3d_navigation::ros_util::XmlToText;
 
 class AmclNode {
  public:
-  AmclNode() : pnh_("~"), tf_listener_(tf_buffer_) {}
+  AmclNode()
+      : pnh_("~"),
+        lockstep_(nh_, LockstepOptions()),
+        tf_listener_(tf_buffer_, lockstep_.tf_node_handle(), !lockstep_.enabled()) {}
+
+  // Woken by scans, pose resets and maps; amcl has no periodic work of its own.
+  static minibot3d_lockstep::ParticipantOptions LockstepOptions() {
+    minibot3d_lockstep::ParticipantOptions o;
+    o.wake_topics = {"scan", "initialpose", "map"};
+    return o;
+  }
+
+  bool Spin() { return lockstep_.Spin(); }
+
+  // A tf lookup that may wait `seconds` for data when free-running. Under lock-step sim time
+  // stands still while this node works and every transform it can get is already in the buffer:
+  // it does not wait (tf2's waiting lookups also insist on a tf thread, which there is not).
+  geometry_msgs::TransformStamped Lookup(const std::string& target, const std::string& source,
+                                         const ros::Time& time, double seconds) const {
+    if (lockstep_.enabled()) return tf_buffer_.lookupTransform(target, source, time);
+    return tf_buffer_.lookupTransform(target, source, time, ros::Duration(seconds));
+  }
 
   // Reads and validates the parameters; false (after ROS_FATAL) on error.
   bool Configure() {
@@ -90,9 +113,11 @@ class AmclNode {
   void Start() {
     pose_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("amcl_pose", 2, true);
     cloud_pub_ = nh_.advertise<geometry_msgs::PoseArray>("particlecloud", 2, true);
-    global_srv_ = nh_.advertiseService("global_localization", &AmclNode::OnGlobal, this);
+    // Other participants call these while they work: answered between ticks too.
+    ros::NodeHandle snh = lockstep_.ServiceHandle(nh_);
+    global_srv_ = snh.advertiseService("global_localization", &AmclNode::OnGlobal, this);
     nomotion_srv_ =
-        nh_.advertiseService("request_nomotion_update", &AmclNode::OnNoMotion, this);
+        snh.advertiseService("request_nomotion_update", &AmclNode::OnNoMotion, this);
     initial_sub_ = nh_.subscribe("initialpose", 2, &AmclNode::OnInitialPose, this);
     scan_sub_.subscribe(nh_, "scan", 100);
     scan_filter_.reset(new tf2_ros::MessageFilter<sensor_msgs::LaserScan>(
@@ -300,8 +325,7 @@ class AmclNode {
     if (frame != global_frame_) {
       try {
         geometry_msgs::TransformStamped t =
-            tf_buffer_.lookupTransform(global_frame_, frame, msg->header.stamp,
-                                       ros::Duration(0.5));
+            Lookup(global_frame_, frame, msg->header.stamp, 0.5);
         tf2::Transform tr;
         tf2::fromMsg(t.transform, tr);
         pose = tr * pose;
@@ -370,6 +394,7 @@ class AmclNode {
 
   ros::NodeHandle nh_;
   ros::NodeHandle pnh_;
+  minibot3d_lockstep::Participant lockstep_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
@@ -403,6 +428,5 @@ int main(int argc, char** argv) {
   AmclNode node;
   if (!node.Configure()) return 1;
   node.Start();
-  ros::spin();
-  return 0;
+  return node.Spin() ? 0 : 1;
 }

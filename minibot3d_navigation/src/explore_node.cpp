@@ -20,6 +20,8 @@
 #include <move_base_msgs/MoveBaseAction.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
+
+#include "minibot3d_lockstep/participant.h"
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
@@ -34,7 +36,20 @@ using Client = actionlib::SimpleActionClient<move_base_msgs::MoveBaseAction>;
 
 class ExploreNode {
  public:
-  ExploreNode() : pnh_("~"), tf_listener_(tf_), client_("move_base", true) {}
+  ExploreNode()
+      : pnh_("~"),
+        lockstep_(nh_, LockstepOptions()),
+        tf_listener_(tf_, lockstep_.tf_node_handle(), !lockstep_.enabled()),
+        client_(nh_, "move_base", /*spin_thread=*/!lockstep_.enabled()) {}
+
+  // Woken by new maps and by move_base's results as well as by its planning period.
+  static minibot3d_lockstep::ParticipantOptions LockstepOptions() {
+    minibot3d_lockstep::ParticipantOptions o;
+    o.wake_topics = {"map", "move_base/result"};
+    return o;
+  }
+
+  bool Spin() { return lockstep_.Spin(); }
 
   void Configure() {
     std::vector<std::string> problems = ros_util::LoadParams(
@@ -68,7 +83,7 @@ class ExploreNode {
   void Start() {
     map_sub_ = nh_.subscribe("map", 1, &ExploreNode::OnMap, this);
     frontier_pub_ = pnh_.advertise<geometry_msgs::PoseArray>("frontiers", 1);
-    timer_ = nh_.createTimer(ros::Duration(1.0 / planner_frequency_), &ExploreNode::OnTimer, this);
+    lockstep_.AddPeriodic(1.0 / planner_frequency_, [this](const ros::Time&) { OnTimer(); });
     start_time_ = ros::Time::now();
   }
 
@@ -98,7 +113,7 @@ class ExploreNode {
     have_goal_ = false;
   }
 
-  void OnTimer(const ros::TimerEvent&) {
+  void OnTimer() {
     if (!map_ || !client_.isServerConnected()) {
       ROS_INFO_THROTTLE(10.0, "explore: waiting for %s", !map_ ? "a map" : "move_base");
       return;
@@ -203,6 +218,7 @@ class ExploreNode {
   }
 
   ros::NodeHandle nh_, pnh_;
+  minibot3d_lockstep::Participant lockstep_;
   tf2_ros::Buffer tf_;
   tf2_ros::TransformListener tf_listener_;
   Client client_;
@@ -212,7 +228,6 @@ class ExploreNode {
   double planner_frequency_ = 0.5, progress_timeout_ = 30.0, switch_margin_ = 1.0;
   ros::Subscriber map_sub_;
   ros::Publisher frontier_pub_;
-  ros::Timer timer_;
   nav_msgs::OccupancyGrid::ConstPtr map_;
   int map_count_ = 0, empty_at_map_ = 0;
   bool have_goal_ = false;
@@ -236,6 +251,5 @@ int main(int argc, char** argv) {
     return 1;
   }
   node.Start();
-  ros::spin();
-  return 0;
+  return node.Spin() ? 0 : 1;
 }

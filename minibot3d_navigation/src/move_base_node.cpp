@@ -21,6 +21,8 @@
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
+
+#include "minibot3d_lockstep/participant.h"
 #include <std_srvs/Empty.h>
 #include <tf2/utils.h>
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
@@ -53,7 +55,8 @@ class MoveBaseNode {
  public:
   MoveBaseNode()
       : pnh_("~"),
-        tf_listener_(tf_),
+        lockstep_(nh_, LockstepOptions()),
+        tf_listener_(tf_, lockstep_.tf_node_handle(), !lockstep_.enabled()),
         global_costmap_("global_costmap", &tf_),
         local_costmap_("local_costmap", &tf_) {}
 
@@ -137,14 +140,26 @@ class MoveBaseNode {
     local_plan_pub_ = pnh_.advertise<nav_msgs::Path>(local_ns_ + "/local_plan", 1);
     odom_sub_ = nh_.subscribe("odom", 1, &MoveBaseNode::OnOdom, this);
     simple_goal_sub_ = nh_.subscribe("move_base_simple/goal", 1, &MoveBaseNode::OnSimpleGoal, this);
-    make_plan_srv_ = pnh_.advertiseService("make_plan", &MoveBaseNode::OnMakePlan, this);
-    clear_srv_ = pnh_.advertiseService("clear_costmaps", &MoveBaseNode::OnClearCostmaps, this);
+    ros::NodeHandle snh = lockstep_.ServiceHandle(pnh_);
+    make_plan_srv_ = snh.advertiseService("make_plan", &MoveBaseNode::OnMakePlan, this);
+    clear_srv_ = snh.advertiseService("clear_costmaps", &MoveBaseNode::OnClearCostmaps, this);
     server_ = std::make_unique<MoveBaseServer>(nh_, "move_base", false);
     server_->registerGoalCallback([this] { OnGoal(); });
     server_->registerPreemptCallback([this] { OnPreempt(); });
     server_->start();
-    timer_ = nh_.createTimer(ros::Duration(1.0 / mb_.controller_frequency),
-                             &MoveBaseNode::OnControl, this);
+    lockstep_.AddPeriodic(1.0 / mb_.controller_frequency, [this](const ros::Time&) { OnControl(); });
+  }
+
+  // Until shutdown: ros::spin(), or the lock-step loop under /use_lockstep.
+  bool Spin() { return lockstep_.Spin(); }
+
+  // A tf lookup that may wait `seconds` for data when free-running. Under lock-step sim time
+  // stands still while this node works and every transform it can get is already in the buffer:
+  // it does not wait (tf2's waiting lookups also insist on a tf thread, which there is not).
+  geometry_msgs::TransformStamped Lookup(const std::string& target, const std::string& source,
+                                         const ros::Time& time, double seconds) const {
+    if (lockstep_.enabled()) return tf_.lookupTransform(target, source, time);
+    return tf_.lookupTransform(target, source, time, ros::Duration(seconds));
   }
 
  private:
@@ -215,7 +230,9 @@ class MoveBaseNode {
     normalized.header.stamp = ros::Time(0);  // latest: "1 m ahead of where the robot is now"
     try {
       geometry_msgs::PoseStamped g;
-      tf_.transform(normalized, g, global_costmap_.options().global_frame, ros::Duration(0.5));
+      tf2::doTransform(normalized, g,
+                       Lookup(global_costmap_.options().global_frame,
+                              normalized.header.frame_id, normalized.header.stamp, 0.5));
       out->x = g.pose.position.x;
       out->y = g.pose.position.y;
       out->yaw = tf2::getYaw(g.pose.orientation);
@@ -285,7 +302,14 @@ class MoveBaseNode {
     return msg;
   }
 
-  void OnControl(const ros::TimerEvent&) {
+  // Woken by goals as well as by the control period: a goal is accepted at once.
+  static minibot3d_lockstep::ParticipantOptions LockstepOptions() {
+    minibot3d_lockstep::ParticipantOptions o;
+    o.wake_topics = {"move_base/goal", "move_base/cancel", "move_base_simple/goal"};
+    return o;
+  }
+
+  void OnControl() {
     const ros::Time now = ros::Time::now();
     nav::RobotState state;
     state.time = now.toSec();
@@ -401,6 +425,7 @@ class MoveBaseNode {
   }
 
   ros::NodeHandle nh_, pnh_;
+  minibot3d_lockstep::Participant lockstep_;
   tf2_ros::Buffer tf_;
   tf2_ros::TransformListener tf_listener_;
   CostmapRos global_costmap_, local_costmap_;
@@ -418,7 +443,6 @@ class MoveBaseNode {
       simple_client_pub_;
   ros::Subscriber odom_sub_, simple_goal_sub_;
   ros::ServiceServer make_plan_srv_, clear_srv_;
-  ros::Timer timer_;
   nav::Twist2D velocity_;
   std::string last_message_;
 };
@@ -450,6 +474,5 @@ int main(int argc, char** argv) {
     return 1;
   }
   node.Start();
-  ros::spin();
-  return 0;
+  return node.Spin() ? 0 : 1;
 }

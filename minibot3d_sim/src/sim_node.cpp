@@ -219,6 +219,23 @@ class SimNode {
       if (movable && !wheel) joint_state_.name.push_back(j.first);
     }
     joint_state_.position.assign(joint_state_.name.size(), 0.0);
+    // The robot's fixed joints, for tf_static: published by the simulator too (see
+    // PublishStaticTransforms), so they are there when sim time starts.
+    for (const auto& j : model.joints_) {
+      if (j.second->type != urdf::Joint::FIXED) continue;
+      const urdf::Pose& o = j.second->parent_to_joint_origin_transform;
+      geometry_msgs::TransformStamped t;
+      t.header.frame_id = j.second->parent_link_name;
+      t.child_frame_id = j.second->child_link_name;
+      t.transform.translation.x = o.position.x;
+      t.transform.translation.y = o.position.y;
+      t.transform.translation.z = o.position.z;
+      t.transform.rotation.x = o.rotation.x;
+      t.transform.rotation.y = o.rotation.y;
+      t.transform.rotation.z = o.rotation.z;
+      t.transform.rotation.w = o.rotation.w;
+      static_tf_.transforms.push_back(t);
+    }
     joint_state_.velocity.assign(joint_state_.name.size(), 0.0);
 
     const DriveSpec& d = robot.drive;
@@ -232,6 +249,7 @@ class SimNode {
     scan_pub_ = nh_.advertise<sensor_msgs::LaserScan>(robot.lidar.topic, q(5));
     odom_pub_ = nh_.advertise<nav_msgs::Odometry>(d.odometry_topic, q(20));
     tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf", q(100));
+    tf_static_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf_static", 1, true);
     joint_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", q(20));
     if (opts_.publish_ground_truth) {
       truth_pub_ = nh_.advertise<nav_msgs::Odometry>("ground_truth/odom", q(20));
@@ -281,12 +299,13 @@ class SimNode {
   }
 
   void Run() {
-    PublishClock();
-    Publish(true);
-    Anchor();
     if (opts_.lockstep) {
       RunLockstep();
     } else {
+      PublishClock();
+      PublishStaticTransforms();
+      Publish(true);
+      Anchor();
       RunFree();
     }
     const double wall = (ros::WallTime::now() - run_wall_start_).toSec();
@@ -322,7 +341,22 @@ class SimNode {
   void RunLockstep() {
     const auto steps_per_quantum = std::max<std::uint64_t>(
         1, std::llround(opts_.lockstep_options.quantum / sim_->physics_step()));
+    // roscpp takes sim time 0 for "no clock yet" (ros::Time::isValid): nodes such as
+    // robot_state_publisher wait for a later time before publishing, latched tf_static included.
+    // One physics step with nothing published but the clock gets time going.
+    sim_->Step();
+    PublishClock();
+    // Nothing else is published before the participants a launch file names have joined and made
+    // their connections (in their first round): the first messages reach all of them alike.
     WaitForExpectedParticipants();
+    WaitForOwnConnections();
+    // The first sensor messages go out before the first round: robot_state_publisher answers
+    // the first joint states with the latched tf_static that participants wait for.
+    PublishStaticTransforms();
+    Publish(true);
+    coordinator_->SetSent(ros::this_node::getName(), ToCounts());
+    Round();
+    coordinator_->SetSent(ros::this_node::getName(), ToCounts());
     Anchor();
     while (ros::ok()) {
       if (paused_) {
@@ -370,6 +404,22 @@ class SimNode {
     }
   }
 
+  // Every subscriber the master lists for the simulator's topics is connected, so the first
+  // messages reach every node that has asked for them, however fast each process started.
+  void WaitForOwnConnections() {
+    const ros::WallTime start = ros::WallTime::now();
+    while (ros::ok()) {
+      const auto missing = minibot3d_lockstep::MissingConnections();
+      if (missing.empty()) return;
+      if ((ros::WallTime::now() - start).toSec() > opts_.lockstep_options.timeout) {
+        ROS_WARN("minibot3d_sim: lock-step: starting without connections: %s",
+                 Join(missing).c_str());
+        return;
+      }
+      ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.005));
+    }
+  }
+
   static std::string Join(const std::vector<std::string>& names) {
     std::string s;
     for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
@@ -388,7 +438,7 @@ class SimNode {
       if (it == ticks_.end()) continue;
       if (!WaitReady(name)) continue;
       if (!clock_sent) {
-        PublishClock();  // before the first tick: participants wait for their clock to show t
+        PublishClock(true);  // before the first tick: participants wait for their clock to show t
         clock_sent = true;
       }
       minibot3d_lockstep::Tick tick;
@@ -636,10 +686,20 @@ class SimNode {
     }
   }
 
-  void PublishClock() {
+  // robot_state_publisher publishes the same transforms, but only once its own sim-time timer
+  // has fired: under lock-step that is after participants need them (base_link -> laser for the
+  // first scan). Identical static transforms from two publishers are harmless to tf2.
+  void PublishStaticTransforms() {
+    for (auto& t : static_tf_.transforms) t.header.stamp = ros::Time(sim_->time());
+    tf_static_pub_.publish(static_tf_);
+  }
+
+  // At most one /clock per instant, unless `again` (a round: a participant that connected since
+  // must see its clock reach the tick's time).
+  void PublishClock(bool again = false) {
     rosgraph_msgs::Clock c;
     c.clock = ros::Time(sim_->time());
-    if (c.clock == last_clock_ && clock_published_) return;  // at most one per instant
+    if (!again && c.clock == last_clock_ && clock_published_) return;
     clock_pub_.publish(c);
     last_clock_ = c.clock;
     clock_published_ = true;
@@ -770,7 +830,8 @@ class SimNode {
   bool clock_published_ = false;
   ros::WallTime last_clock_wall_;
   std::vector<ros::ServiceServer> services_;
-  ros::Publisher tf_pub_;
+  ros::Publisher tf_pub_, tf_static_pub_;
+  tf2_msgs::TFMessage static_tf_;
   sensor_msgs::LaserScan scan_;
   sensor_msgs::JointState joint_state_;
   std::vector<float> ranges_;

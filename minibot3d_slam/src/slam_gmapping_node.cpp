@@ -16,6 +16,8 @@
 #include <nav_msgs/OccupancyGrid.h>
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
+
+#include "minibot3d_lockstep/participant.h"
 #include <sensor_msgs/LaserScan.h>
 #include <std_msgs/Float64.h>
 #include <tf2/utils.h>
@@ -54,7 +56,28 @@ struct NodeOptions {
 
 class SlamGmappingNode {
  public:
-  SlamGmappingNode() : pnh_("~"), tf_listener_(tf_buffer_) {}
+  SlamGmappingNode()
+      : pnh_("~"),
+        lockstep_(nh_, LockstepOptions()),
+        tf_listener_(tf_buffer_, lockstep_.tf_node_handle(), !lockstep_.enabled()) {}
+
+  // Woken by scans; the map -> odom broadcast is its periodic job.
+  static minibot3d_lockstep::ParticipantOptions LockstepOptions() {
+    minibot3d_lockstep::ParticipantOptions o;
+    o.wake_topics = {"scan"};
+    return o;
+  }
+
+  bool Spin() { return lockstep_.Spin(); }
+
+  // A tf lookup that may wait `seconds` for data when free-running. Under lock-step sim time
+  // stands still while this node works and every transform it can get is already in the buffer:
+  // it does not wait (tf2's waiting lookups also insist on a tf thread, which there is not).
+  geometry_msgs::TransformStamped Lookup(const std::string& target, const std::string& source,
+                                         const ros::Time& time, double seconds) const {
+    if (lockstep_.enabled()) return tf_buffer_.lookupTransform(target, source, time);
+    return tf_buffer_.lookupTransform(target, source, time, ros::Duration(seconds));
+  }
 
   bool Init() {
     // gmapping's parameters, read into the core's options and validated in one place.
@@ -129,7 +152,8 @@ class SlamGmappingNode {
     map_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("map", 1, true);
     meta_pub_ = nh_.advertise<nav_msgs::MapMetaData>("map_metadata", 1, true);
     entropy_pub_ = pnh_.advertise<std_msgs::Float64>("entropy", 1, true);
-    map_service_ = nh_.advertiseService("dynamic_map", &SlamGmappingNode::OnDynamicMap, this);
+    map_service_ = lockstep_.ServiceHandle(nh_).advertiseService(
+        "dynamic_map", &SlamGmappingNode::OnDynamicMap, this);
     scan_sub_.subscribe(nh_, "scan", 5);
     scan_filter_ = std::make_unique<tf2_ros::MessageFilter<sensor_msgs::LaserScan>>(
         scan_sub_, tf_buffer_, node_.odom_frame, 10, nh_);
@@ -139,7 +163,11 @@ class SlamGmappingNode {
                tf2_ros::filter_failure_reasons::FilterFailureReason reason) {
           OnScanDropped(scan, reason);
         });
-    if (node_.transform_publish_period > 0) {
+    if (node_.transform_publish_period > 0 && lockstep_.enabled()) {
+      // Lock-step: sim time stands still while a scan is processed, so no thread is needed.
+      lockstep_.AddPeriodic(node_.transform_publish_period,
+                            [this](const ros::Time&) { PublishTransform(ros::TimerEvent()); });
+    } else if (node_.transform_publish_period > 0) {
       // The map → odom broadcast has its own queue and thread, so tf keeps flowing while a scan
       // is being processed (the filter update is slow); scans stay in order on the main queue.
       tf_nh_.setCallbackQueue(&tf_queue_);
@@ -171,10 +199,8 @@ class SlamGmappingNode {
     if (++scan_count_ % node_.throttle_scans != 0) return;
     geometry_msgs::TransformStamped odom_base, base_laser;
     try {
-      odom_base = tf_buffer_.lookupTransform(node_.odom_frame, node_.base_frame,
-                                             msg->header.stamp, ros::Duration(0.1));
-      base_laser = tf_buffer_.lookupTransform(node_.base_frame, msg->header.frame_id,
-                                              msg->header.stamp, ros::Duration(0.1));
+      odom_base = Lookup(node_.odom_frame, node_.base_frame, msg->header.stamp, 0.1);
+      base_laser = Lookup(node_.base_frame, msg->header.frame_id, msg->header.stamp, 0.1);
     } catch (const tf2::TransformException& e) {
       ReportFrameOnce(msg->header.frame_id, std::string("cannot place scan frame '") +
                                                 msg->header.frame_id + "' relative to " +
@@ -269,6 +295,7 @@ class SlamGmappingNode {
   }
 
   ros::NodeHandle nh_, pnh_, tf_nh_;
+  minibot3d_lockstep::Participant lockstep_;
   ros::CallbackQueue tf_queue_;
   std::unique_ptr<ros::AsyncSpinner> tf_spinner_;
   GmappingOptions options_;
@@ -300,6 +327,5 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "slam_gmapping");
   minibot3d_slam::SlamGmappingNode node;
   if (!node.Init()) return 1;
-  ros::spin();
-  return 0;
+  return node.Spin() ? 0 : 1;
 }

@@ -34,6 +34,7 @@ struct LinkCount {
   std::string topic;
   std::string peer;
   std::uint64_t count = 0;
+  bool latched = false;  // ReceivedCounts(): the publisher latches (sends its last message on connect)
   bool operator==(const LinkCount& o) const {
     return topic == o.topic && peer == o.peer && count == o.count;
   }

@@ -60,6 +60,8 @@ class Participant {
   ros::NodeHandle& tf_node_handle() { return tf_nh_; }
   // For service servers other participants call while they work.
   ros::NodeHandle& service_node_handle() { return service_nh_; }
+  // `nh` (e.g. a private "~" handle) with the same service queue.
+  ros::NodeHandle ServiceHandle(const ros::NodeHandle& nh);
 
   // Runs `job` every `period` s of sim time, first at the first tick.
   void AddPeriodic(double period, std::function<void(const ros::Time&)> job);
@@ -81,6 +83,7 @@ class Participant {
   void WaitForDelivery(const Tick& tick);
   void WaitForClock(const ros::Time& stamp);
   void ServeBetweenTicks();
+  void SettleConnections();
 
   ros::NodeHandle nh_;
   ParticipantOptions options_;
@@ -94,7 +97,7 @@ class Participant {
   TickConstPtr pending_tick_;
   std::vector<std::unique_ptr<Job>> jobs_;
   std::vector<double> wake_at_;
-  bool first_tick_ = true;
+  std::vector<std::string> settled_topics_;
 };
 
 }  // namespace minibot3d_lockstep

@@ -29,19 +29,22 @@ import math
 import socket
 import threading
 import time
+import xmlrpc.client
 
+import rosgraph
 import rospy
 import rospy.impl.registration
 import rospy.impl.tcpros_base
 import rospy.impl.tcpros_pubsub
 import rospy.topics
-from minibot3d_lockstep.msg import Ack, Link, Tick
+from minibot3d_lockstep.msg import Ack, Link, Participants, Tick
 from minibot3d_lockstep.srv import Register, Unregister
 
 LOCKSTEP_PARAM = '/use_lockstep'
 REGISTER_SERVICE = '/minibot3d_sim/lockstep/register'
 UNREGISTER_SERVICE = '/minibot3d_sim/lockstep/unregister'
 ACK_TOPIC = '/minibot3d_sim/lockstep/ack'
+PARTICIPANTS_TOPIC = '/minibot3d_sim/lockstep/participants'
 
 _patch_lock = threading.Lock()
 _patched = False
@@ -155,17 +158,75 @@ def handled_counts():
     return out
 
 
-def action_server_ready(client):
-    """True once `client` (actionlib SimpleActionClient or ActionClient) sees its server.
+def _sent_by_peer(topic, node):
+    """Messages `node` has queued to this node on `topic` (its getBusInfo/getBusStats), or None."""
+    try:
+        me = rospy.get_name()
+        uri = rosgraph.Master(me).lookupNode(node)
+        proxy = xmlrpc.client.ServerProxy(uri)
+        _, _, info = proxy.getBusInfo(me)
+        conn = [c[0] for c in info if c[4] == topic and c[1] == me and c[2] == 'o']
+        if not conn:
+            return None
+        stats = proxy.getBusStats(me)
+        if isinstance(stats[0], int):  # rospy wraps it in [code, msg, stats]; roscpp does not
+            stats = stats[2]
+        # roscpp: [topic, [[id, bytes, data, num, connected]]]; rospy: [topic, data, [[id, bytes,
+        # num, connected]]]
+        for entry in stats[0]:
+            if entry[0] == topic:
+                for c in entry[-1]:
+                    if c[0] == conn[-1]:
+                        return int(c[3] if len(c) >= 5 else c[2])
+    except Exception:  # noqa: BLE001 - a node that cannot be asked is reported as missing
+        return None
+    return None
 
-    The check actionlib's wait_for_server makes, without its sleeping loop.
-    """
+
+def missing_connections():
+    """Connections the master says this process should have and does not have yet (see the C++
+    MissingConnections): publishers of topics it subscribes to, subscribers of topics it
+    advertises, latching publishers whose message has not been handled."""
+    try:
+        pubs, subs, _ = rosgraph.Master(rospy.get_name()).getSystemState()
+    except Exception:  # noqa: BLE001 - any failure to reach the master means "cannot tell"
+        return ['master']
+    me = rospy.get_name()
+    tm = rospy.impl.registration.get_topic_manager()
+    missing = []
+    handled = handled_counts()
+    for topic, nodes in pubs:
+        impl = tm.subs.get(topic)
+        if impl is None:
+            continue
+        have = set(getattr(c, 'callerid_pub', '') for c in list(impl.connections))
+        missing += ['%s from %s' % (topic, n) for n in nodes if n != me and n not in have]
+        for c in list(impl.connections):
+            header = getattr(c, 'header', None) or {}
+            if header.get('latching') != '1':
+                continue
+            # A latching publisher sends its last message on connect: ask it how many it has
+            # queued to us (it may not have published yet; then there is nothing to wait for).
+            sent = _sent_by_peer(topic, c.callerid_pub)
+            if sent is None or handled.get((topic, c.callerid_pub), 0) < sent:
+                missing.append('%s (latched) from %s' % (topic, c.callerid_pub))
+    for topic, nodes in subs:
+        impl = tm.pubs.get(topic)
+        if impl is None:
+            continue
+        have = set(c.endpoint_id for c in list(impl.connections))
+        missing += ['%s to %s' % (topic, n) for n in nodes if n != me and n not in have]
+    return sorted(missing)
+
+
+def action_server_ready(client):
+    """True once `client` (actionlib SimpleActionClient or ActionClient) is connected to its
+    server both ways. Unlike actionlib's wait_for_server it does not wait for a status message
+    (the server sends those on a timer, at no fixed sim time), so it is decided the same way in
+    every lock-step run."""
     ac = getattr(client, 'action_client', client)
-    status = ac.last_status_msg
-    if status is None:
-        return False
-    server = status._connection_header['callerid']
-    return (ac.pub_goal.impl.has_connection(server) and ac.pub_cancel.impl.has_connection(server)
+    return (ac.pub_goal.impl.get_num_connections() > 0
+            and ac.pub_cancel.impl.get_num_connections() > 0
             and ac.status_sub.impl.get_num_connections() > 0
             and ac.result_sub.impl.get_num_connections() > 0
             and ac.feedback_sub.impl.get_num_connections() > 0)
@@ -174,10 +235,15 @@ def action_server_ready(client):
 class Participant(object):
     """A rospy script's membership of the lock-step loop (plain rospy when it is off)."""
 
-    def __init__(self, wake_topics=(), delivery_timeout=10.0):
+    def __init__(self, wake_topics=(), delivery_timeout=10.0, wake_on_participants=False):
+        """wake_topics: topics whose messages wake the script; wake_on_participants: also wake
+        when a participant joins or leaves (see participant_left)."""
         self.enabled = lockstep_enabled()
         self.name = rospy.get_name()
         self._wake_topics = [rospy.resolve_name(t) for t in wake_topics]
+        if wake_on_participants:
+            self._wake_topics.append(PARTICIPANTS_TOPIC)
+        self.participants = set()
         self._delivery_timeout = delivery_timeout
         self._jobs = []  # [period, next, fn]
         self._cond = threading.Condition()
@@ -187,6 +253,8 @@ class Participant(object):
         if not self.enabled:
             return
         self._ack_pub = rospy.Publisher(ACK_TOPIC, Ack, queue_size=100, tcp_nodelay=True)
+        self._participants_sub = rospy.Subscriber(PARTICIPANTS_TOPIC, Participants,
+                                                  self._on_participants, queue_size=10)
         self._register()
         rospy.on_shutdown(self.close)
 
@@ -224,6 +292,28 @@ class Participant(object):
             if deadline is not None and tick.stamp >= deadline:
                 return False
         return False
+
+    def wait_for_participant(self, name, process=None, wall_timeout=60.0):
+        """After starting a participant's process: wait in wall time, with sim time held where it
+        is, until `name` has joined, so it joins at the same sim time in every run. `process`
+        (a subprocess.Popen) ends the wait early if it exits. False if it did not join."""
+        name = rospy.resolve_name(name)
+        if not self.enabled:
+            return True
+        start = time.time()
+        while not rospy.is_shutdown() and name not in self.participants:
+            if process is not None and process.poll() is not None:
+                return False
+            if time.time() - start > wall_timeout:
+                return False
+            time.sleep(0.002)
+        return name in self.participants
+
+    def participant_left(self, name):
+        """Predicate for wait_for: `name` has left the loop (or was never in it). With
+        wake_on_participants=True the script is woken the quantum after it leaves."""
+        name = rospy.resolve_name(name)
+        return name not in self.participants
 
     def sleep(self, duration):
         """Let `duration` s of sim time pass."""
@@ -266,10 +356,9 @@ class Participant(object):
         self._tick_sub = rospy.Subscriber(res.tick_topic, Tick, self._on_tick, queue_size=10,
                                           tcp_nodelay=True)
         self._registered = True
-        # The first acknowledgement must reach the simulator: wait for both connections.
-        while not rospy.is_shutdown() and (self._ack_pub.get_num_connections() == 0
-                                           or self._tick_sub.get_num_connections() == 0):
-            time.sleep(0.001)
+
+    def _on_participants(self, msg):
+        self.participants = set(msg.names)
 
     def _on_tick(self, tick):
         with self._cond:
@@ -296,10 +385,31 @@ class Participant(object):
             tick, self._tick = self._tick, None
         if tick is None:
             return None
+        self._settle_connections()
         self._wait_for_delivery(tick)
         self._wait_for_clock(tick.stamp)
         self._current = tick
         return tick
+
+    def _settle_connections(self):
+        # Sim time holds while this script has a tick in hand: connections made now are made at
+        # the same sim time in every run. Asked again only when this script's topics change.
+        tm = rospy.impl.registration.get_topic_manager()
+        topics = (tuple(sorted(tm.subs)), tuple(sorted(tm.pubs)))
+        if topics == getattr(self, '_settled', None):
+            return
+        self._settled = topics
+        start = time.time()
+        while not rospy.is_shutdown():
+            missing = missing_connections()
+            if not missing:
+                return
+            if time.time() - start > self._delivery_timeout:
+                rospy.logwarn('%s: lock-step: going on without connections: %s (a node '
+                              'registered with the master that is not running?)', self.name,
+                              '; '.join(missing))
+                return
+            time.sleep(0.002)
 
     def _wait_for_delivery(self, tick):
         start = time.time()
