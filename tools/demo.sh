@@ -7,7 +7,9 @@
 #   4. print the summary table and write out/demo.png.
 #   tools/demo.sh [WORLD]
 # Environment: DEMO_X, DEMO_Y, DEMO_YAW (exploration spawn), DEMO_NAV_X, DEMO_NAV_Y, DEMO_NAV_YAW
-# (navigation start), DEMO_GOALS ("x,y,yaw ..." in the world frame), DEMO_REAL_TIME_FACTOR.
+# (navigation start), DEMO_GOALS ("x,y,yaw ..." in the world frame), DEMO_REAL_TIME_FACTOR (0: as
+# fast as the CPU allows), DEMO_LOCKSTEP (1: lock-step time, the same result on every run; 0: the
+# free-running loop).
 # For the default world all have defaults; for another world the spawn defaults to its origin and
 # the goals are sampled from the saved map.
 set -euo pipefail
@@ -28,7 +30,9 @@ else
   nyaw="${DEMO_NAV_YAW:-$(/usr/bin/python3 -c "import math; print(math.remainder($yaw + math.pi, 2 * math.pi))")}"
   goals="${DEMO_GOALS:-}"
 fi
-rtf="${DEMO_REAL_TIME_FACTOR:-5}"
+lockstep="${DEMO_LOCKSTEP:-1}"
+if [ "$lockstep" = 1 ]; then ls_arg=true; else ls_arg=false; fi
+rtf="${DEMO_REAL_TIME_FACTOR:-$([ "$lockstep" = 1 ] && echo 0 || echo 5)}"
 out="$(pwd)/out"
 mkdir -p "$out"
 rm -f "$out"/demo_explore.json "$out"/demo_nav.json
@@ -53,10 +57,11 @@ stop_stack() {
 trap stop_stack EXIT
 start=$SECONDS
 
-echo "demo: 1/4 exploring $world from ($x, $y, $yaw) with SLAM at real-time factor $rtf" \
-  "(log: out/demo_explore.log)"
+echo "demo: 1/4 exploring $world from ($x, $y, $yaw) with SLAM at real-time factor $rtf," \
+  "lock-step $ls_arg (log: out/demo_explore.log)"
 setsid roslaunch -p "$ROS_PORT" minibot3d_navigation explore.launch explore:=false world:="$world" \
-  x:="$x" y:="$y" yaw:="$yaw" real_time_factor:="$rtf" > "$out/demo_explore.log" 2>&1 &
+  x:="$x" y:="$y" yaw:="$yaw" real_time_factor:="$rtf" lockstep:="$ls_arg" \
+  lockstep_clients:=/demo_explore > "$out/demo_explore.log" 2>&1 &
 launch_pid=$!
 wait_for_master 60
 status=0
@@ -72,7 +77,8 @@ export ROS_PORT="$(ros_free_port)"
 export ROS_MASTER_URI="http://127.0.0.1:${ROS_PORT}"
 setsid roslaunch -p "$ROS_PORT" minibot3d_navigation amcl_navigation.launch world:="$world" \
   map_file:="$out/demo_map.yaml" x:="$nx" y:="$ny" yaw:="$nyaw" initial_pose_x:=0 \
-  initial_pose_y:=0 initial_pose_a:=0 real_time_factor:="$rtf" > "$out/demo_nav.log" 2>&1 &
+  initial_pose_y:=0 initial_pose_a:=0 real_time_factor:="$rtf" lockstep:="$ls_arg" \
+  lockstep_participants:="/amcl /move_base /demo_navigate" > "$out/demo_nav.log" 2>&1 &
 launch_pid=$!
 wait_for_master 60
 /usr/bin/python3 tools/demo_phase.py navigate --out "$out" --spawn="$x,$y,$yaw" --goals "$goals" \

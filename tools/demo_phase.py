@@ -9,7 +9,12 @@
       until the particle cloud has converged), then each goal with simple_navi_goals.py in the
       SLAM map's frame; writes DIR/demo_nav.json.
 Poses given on the command line are in the world frame; the SLAM map's frame is the world frame
-moved to the exploration's spawn pose (--spawn), as gmapping starts its map at the robot."""
+moved to the exploration's spawn pose (--spawn), as gmapping starts its map at the robot.
+
+Under lock-step time (/use_lockstep, as make demo runs it) this script is a participant: sim time
+moves only while it waits, each process it starts (explore, simple_navi_goals.py) joins while sim
+time is held, and it learns that one has finished from the simulator's participant list, at the
+same sim time in every run; so two runs give the same summary and the same saved map."""
 import argparse
 import json
 import math
@@ -19,6 +24,8 @@ import subprocess
 import sys
 import threading
 import time
+
+from minibot3d_lockstep import Participant  # before rospy.init_node: it counts messages
 
 import rospy
 from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
@@ -85,36 +92,42 @@ class Recorder(object):
         return path
 
 
-def wait_for(predicate, sim_timeout, what):
-    deadline = rospy.Time.now() + rospy.Duration(sim_timeout)
-    while not predicate():
-        if rospy.is_shutdown() or rospy.Time.now() > deadline:
-            raise RuntimeError('timed out waiting for ' + what)
-        rospy.rostime.wallsleep(0.05)
+def wait_for(lockstep, predicate, sim_timeout, what):
+    if not lockstep.wait_for(predicate, sim_timeout):
+        raise RuntimeError('timed out waiting for ' + what)
 
 
-def explore(args):
+def run_participant(lockstep, name, cmd, sim_timeout, **popen):
+    """Starts `cmd` (a node called `name` that joins the lock-step loop) and waits, on sim time,
+    until it has finished. Returns (finished in time, the Popen)."""
+    proc = subprocess.Popen(cmd, **popen)
+    if not lockstep.wait_for_participant(name, proc):
+        return proc.poll() is not None, proc
+    done = lockstep.wait_for(lambda: lockstep.participant_left(name, proc), sim_timeout)
+    return done, proc
+
+
+def explore(args, lockstep):
     rec = Recorder()
-    wait_for(lambda: rec.truth is not None, 60, '/ground_truth/odom')
+    wait_for(lockstep, lambda: rec.truth is not None, 60, '/ground_truth/odom')
     t0_sim, t0_wall = rospy.Time.now(), time.time()
-    proc = subprocess.Popen(['rosrun', 'minibot3d_navigation', 'explore',
-                             '_min_frontier_size:=0.5', '_clearance:=0.2'])
-    ok = True
+    finished, proc = run_participant(
+        lockstep, '/explore',
+        ['rosrun', 'minibot3d_navigation', 'explore', '_min_frontier_size:=0.5', '_clearance:=0.2'],
+        args.timeout)
+    ok = finished
     try:
-        while proc.poll() is None:
-            if (rospy.Time.now() - t0_sim).to_sec() > args.timeout:
-                ok = False
-                print('demo: exploration did not finish within %.0f s of sim time' % args.timeout,
-                      flush=True)
-                proc.send_signal(2)
-                break
-            rospy.rostime.wallsleep(0.2)
+        if not finished:
+            print('demo: exploration did not finish within %.0f s of sim time' % args.timeout,
+                  flush=True)
+            proc.send_signal(2)
         proc.wait(30)
     finally:
         if proc.poll() is None:
             proc.kill()
     ok = ok and proc.returncode == 0
     sim_s, wall_s = (rospy.Time.now() - t0_sim).to_sec(), time.time() - t0_wall
+    # Sim time holds while the map is saved: the map is the one SLAM had when explore ended.
     saved = subprocess.run(['rosrun', 'minibot3d_slam', 'map_saver', '-f',
                             os.path.join(args.out, 'demo_map')]).returncode == 0
     write_json(os.path.join(args.out, 'demo_explore.json'), dict(
@@ -123,7 +136,7 @@ def explore(args):
     return 0 if ok and saved else 1
 
 
-def localize(rec, cmd_pub, spawn, tries=4):
+def localize(lockstep, rec, cmd_pub, spawn, tries=4):
     """Global localization; returns the position error once converged (or the last one)."""
     rospy.wait_for_service('/global_localization', 60)
     rospy.ServiceProxy('/global_localization', Empty)()
@@ -135,16 +148,19 @@ def localize(rec, cmd_pub, spawn, tries=4):
         cmd.angular.z = 1.0
         while (rospy.Time.now() - start).to_sec() < 4 * math.pi / 1.0 * 1.6:
             cmd_pub.publish(cmd)
-            rospy.rostime.wallsleep(0.02)
+            lockstep.sleep(0.02)
         cmd_pub.publish(Twist())
+        lockstep.sleep(0.02)
         if rec.amcl_cov is not None and rec.amcl_cov[0] + rec.amcl_cov[1] < 0.05:
             t = world_to_map(spawn, rec.truth)
             err = math.hypot(rec.amcl[0] - t[0], rec.amcl[1] - t[1])
             print('demo: localized after %d turn(s): error %.3f m' % (2 * (attempt + 1), err),
                   flush=True)
             return err
-        subprocess.run(['rosrun', 'minibot3d_navigation', 'simple_navi_goals.py', '0.7', '1',
-                        '--timeout', '60'], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        run_participant(lockstep, '/simple_navi_goals',
+                        ['rosrun', 'minibot3d_navigation', 'simple_navi_goals.py', '0.7', '1',
+                         '--timeout', '60'], 90,
+                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)[1].wait()
     if rec.amcl is not None:
         t = world_to_map(spawn, rec.truth)
         err = math.hypot(rec.amcl[0] - t[0], rec.amcl[1] - t[1])
@@ -199,7 +215,7 @@ def sample_goals(map_yaml, spawn, count=4, clearance=0.4, seed=1):
     return goals
 
 
-def navigate(args):
+def navigate(args, lockstep):
     spawn = tuple(float(v) for v in args.spawn.split(','))
     if args.goals.strip():
         goals = [tuple(float(v) for v in g.split(',')) for g in args.goals.split()]
@@ -209,19 +225,22 @@ def navigate(args):
             '%.2f,%.2f' % g[:2] for g in goals), flush=True)
     rec = Recorder()
     cmd_pub = rospy.Publisher('/cmd_vel', Twist, queue_size=1)
-    wait_for(lambda: rec.truth is not None, 60, '/ground_truth/odom')
-    wait_for(lambda: rec.amcl is not None, 120, 'amcl_pose')
-    loc_error = localize(rec, cmd_pub, spawn)
+    wait_for(lockstep, lambda: rec.truth is not None, 60, '/ground_truth/odom')
+    wait_for(lockstep, lambda: rec.amcl is not None, 120, 'amcl_pose')
+    loc_error = localize(lockstep, rec, cmd_pub, spawn)
     rec.take_path()
     results = []
     for g in goals:
         gm = world_to_map(spawn, g)
         t0 = time.time()
-        out = subprocess.run(['rosrun', 'minibot3d_navigation', 'simple_navi_goals.py', '--frame',
-                              'map', '%.3f' % gm[0], '%.3f' % gm[1], '%.3f' % gm[2],
-                              '--timeout', str(args.timeout)],
-                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                             universal_newlines=True)
+        _, proc = run_participant(
+            lockstep, '/simple_navi_goals',
+            ['rosrun', 'minibot3d_navigation', 'simple_navi_goals.py', '--frame', 'map',
+             '%.3f' % gm[0], '%.3f' % gm[1], '%.3f' % gm[2], '--timeout', str(args.timeout)],
+            args.timeout + 30, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+            universal_newlines=True)
+        stdout, _ = proc.communicate()
+        out = subprocess.CompletedProcess(proc.args, proc.returncode, stdout)
         m = re.search(r'after ([0-9.]+) s', out.stdout)
         truth = rec.truth
         tm = world_to_map(spawn, truth)
@@ -250,11 +269,14 @@ def main():
     parser.add_argument('--goals', default='')
     args = parser.parse_args(rospy.myargv()[1:])
     rospy.init_node('demo_' + args.phase)
+    lockstep = Participant(wake_on_participants=True)
     try:
-        return explore(args) if args.phase == 'explore' else navigate(args)
+        return explore(args, lockstep) if args.phase == 'explore' else navigate(args, lockstep)
     except RuntimeError as e:
         print('demo: %s' % e, file=sys.stderr, flush=True)
         return 1
+    finally:
+        lockstep.close()
 
 
 if __name__ == '__main__':

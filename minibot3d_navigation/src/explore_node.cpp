@@ -21,6 +21,8 @@
 #include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
 
+#include <ros/topic_manager.h>
+
 #include "minibot3d_lockstep/participant.h"
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 #include <tf2_ros/buffer.h>
@@ -50,6 +52,18 @@ class ExploreNode {
   }
 
   bool Spin() { return lockstep_.Spin(); }
+
+  // actionlib's isServerConnected() waits for a status message, which move_base sends on a
+  // timer at no fixed sim time; under lock-step the connections alone decide, the same way in
+  // every run (this node's connections are settled at its first tick).
+  bool ServerReady() const {
+    if (!lockstep_.enabled()) return client_.isServerConnected();
+    const auto& tm = ros::TopicManager::instance();
+    const std::string ns = ros::names::resolve("move_base");
+    return tm->getNumSubscribers(ns + "/goal") > 0 && tm->getNumSubscribers(ns + "/cancel") > 0 &&
+           tm->getNumPublishers(ns + "/status") > 0 && tm->getNumPublishers(ns + "/result") > 0 &&
+           tm->getNumPublishers(ns + "/feedback") > 0;
+  }
 
   void Configure() {
     std::vector<std::string> problems = ros_util::LoadParams(
@@ -114,7 +128,7 @@ class ExploreNode {
   }
 
   void OnTimer() {
-    if (!map_ || !client_.isServerConnected()) {
+    if (!map_ || !ServerReady()) {
       ROS_INFO_THROTTLE(10.0, "explore: waiting for %s", !map_ ? "a map" : "move_base");
       return;
     }
@@ -163,6 +177,7 @@ class ExploreNode {
                  (now - empty_since_).toSec() > 3.0 / planner_frequency_) {
         ROS_INFO("explore: exploration complete: %.1f m^2 known free, %zu goals, %.1f s sim",
                  r.known_free_area, blacklist_.size(), (now - start_time_).toSec());
+        lockstep_.Leave();
         ros::shutdown();
       }
       return;

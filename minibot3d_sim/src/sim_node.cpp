@@ -79,6 +79,7 @@ struct NodeOptions {
   bool lockstep = false;
   minibot3d_lockstep::CoordinatorOptions lockstep_options;
   std::vector<std::string> lockstep_participants;  // waited for before time starts
+  double lockstep_start_timeout = 60.0;  // wall s to wait for them (a loaded machine starts slowly)
   std::string world_frame = "world";
   bool publish_ground_truth = true;
   double floorplan_wall_height = 1.0;
@@ -117,6 +118,13 @@ class SimNode {
     opts_.lockstep = minibot3d_lockstep::LockstepEnabled();
     pnh_.param("lockstep_quantum", opts_.lockstep_options.quantum, opts_.lockstep_options.quantum);
     pnh_.param("lockstep_timeout", opts_.lockstep_options.timeout, opts_.lockstep_options.timeout);
+    pnh_.param("lockstep_start_timeout", opts_.lockstep_start_timeout,
+               opts_.lockstep_start_timeout);
+    if (!(opts_.lockstep_start_timeout > 0.0) || !std::isfinite(opts_.lockstep_start_timeout)) {
+      ROS_FATAL("minibot3d_sim: ~lockstep_start_timeout must be > 0 wall s, got %g",
+                opts_.lockstep_start_timeout);
+      return false;
+    }
     if (pnh_.hasParam("lockstep_participants")) {
       std::string names;
       if (!pnh_.getParam("lockstep_participants", opts_.lockstep_participants)) {
@@ -245,7 +253,9 @@ class SimNode {
     // backed up past the queue size (a subscriber that reads slowly while no participant has work
     // and the simulator runs ahead). Free-running keeps today's small queues.
     const auto q = [this](int free_running) { return opts_.lockstep ? 100000 : free_running; };
-    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", q(10));
+    // Latched: a node that starts while sim time is held (lock-step, or paused) gets the current
+    // time at once; roscpp nodes wait for a first /clock (actionlib's clients, for one).
+    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", q(10), true);
     scan_pub_ = nh_.advertise<sensor_msgs::LaserScan>(robot.lidar.topic, q(5));
     odom_pub_ = nh_.advertise<nav_msgs::Odometry>(d.odometry_topic, q(20));
     tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf", q(100));
@@ -390,10 +400,10 @@ class SimNode {
       }
       if (missing.empty()) return;
       const ros::WallTime now = ros::WallTime::now();
-      if ((now - start).toSec() > opts_.lockstep_options.timeout) {
+      if ((now - start).toSec() > opts_.lockstep_start_timeout) {
         ROS_WARN("minibot3d_sim: lock-step: starting time without %s, which did not register "
-                 "within ~lockstep_timeout %g s", Join(missing).c_str(),
-                 opts_.lockstep_options.timeout);
+                 "within ~lockstep_start_timeout %g s", Join(missing).c_str(),
+                 opts_.lockstep_start_timeout);
         return;
       }
       if ((now - last_note).toSec() > 2.0) {

@@ -69,6 +69,9 @@ class Participant {
   void WakeAt(const ros::Time& t);
   // Until shutdown. Returns false if the simulator refused the registration.
   bool Spin();
+  // Leaves the loop now, at the current sim time (call before ros::shutdown() when a node decides
+  // to end: the simulator and whoever waits on this node see it go at a fixed sim time).
+  void Leave() { Unregister(); }
 
  private:
   struct Job {

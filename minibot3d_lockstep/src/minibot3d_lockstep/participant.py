@@ -309,11 +309,13 @@ class Participant(object):
             time.sleep(0.002)
         return name in self.participants
 
-    def participant_left(self, name):
-        """Predicate for wait_for: `name` has left the loop (or was never in it). With
-        wake_on_participants=True the script is woken the quantum after it leaves."""
-        name = rospy.resolve_name(name)
-        return name not in self.participants
+    def participant_left(self, name, process=None):
+        """Predicate for wait_for: `name` has left the loop. With wake_on_participants=True the
+        script is woken the quantum after it leaves, whatever its process is still doing. When
+        lock-step is off: `process` (a subprocess.Popen) has exited."""
+        if not self.enabled:
+            return process is None or process.poll() is not None
+        return rospy.resolve_name(name) not in self.participants
 
     def sleep(self, duration):
         """Let `duration` s of sim time pass."""
@@ -409,6 +411,10 @@ class Participant(object):
                               'registered with the master that is not running?)', self.name,
                               '; '.join(missing))
                 return
+            if time.time() - start > 2.0 and not getattr(self, '_noted', False):
+                self._noted = True
+                rospy.loginfo('%s: lock-step: waiting for connections: %s', self.name,
+                              '; '.join(missing))
             time.sleep(0.002)
 
     def _wait_for_delivery(self, tick):
@@ -425,6 +431,10 @@ class Participant(object):
                               'simulator\'s tick: %s (publisher gone?)', self.name,
                               tick.stamp.to_sec(), '; '.join(missing))
                 return
+            if time.time() - start > 2.0 and not getattr(self, '_noted_d', False):
+                self._noted_d = True
+                rospy.loginfo('%s: lock-step: waiting for messages: %s', self.name,
+                              '; '.join(missing))
             time.sleep(0.0001)
 
     def _wait_for_clock(self, stamp):

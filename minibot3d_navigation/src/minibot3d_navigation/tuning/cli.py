@@ -1,8 +1,10 @@
 """rosrun minibot3d_navigation tune_planner: the seed's trajectory-planner tuning experiment as a
 reproducible study.  Every trial is a full headless stack (simulator + map_server + amcl +
-move_base) on its own ROS master port, run faster than real time and driven through a route.
+move_base) on its own ROS master port, on lock-step time as fast as it goes (--rtf 0; the same
+command gives the same times), driven through a route.
 
-  tune_planner [--set NAME=v1,v2,...]... [--repeats 3] [--jobs 2] [--rtf R] [--out DIR]
+  tune_planner [--set NAME=v1,v2,...]... [--repeats 3] [--jobs 2] [--rtf R] [--no-lockstep]
+               [--out DIR]
                [--world W] [--map M] [--start X,Y,YAW] [--goals "x,y x,y ..."] [--timeout S]
   tune_planner --optimize [--set NAME=lo:hi]... [--trials 30] [--storage URL]
 
@@ -28,9 +30,13 @@ from . import params, processes, report, study
 DEFAULT_SETS = ['min_vel_x=0.01,0.1', 'max_vel_x=0.1,0.5,1.0']
 DEFAULT_GOALS = '-2.1,0.6 -0.3,2.0 0.45,0.6 2.5,-1.0'
 DEFAULT_START = '-3.0,-1.5,0.0'
-# The fastest real-time factor at which time-to-goal and collisions agree with real time within
-# the noise between repeats, with two trials in parallel on 2 cores (README, "Tuning").
-DEFAULT_RTF = 3.0
+# Under lock-step time (the default) the answer does not depend on the real-time factor: 0, as
+# fast as the participants allow.
+DEFAULT_RTF = 0.0
+# --no-lockstep (free-running): the fastest real-time factor at which time-to-goal and collisions
+# agreed with real time within the noise between repeats, with two trials in parallel on 2 cores
+# (README, "Tuning").
+DEFAULT_FREE_RTF = 3.0
 
 
 class UsageError(Exception):
@@ -81,13 +87,18 @@ def build_parser():
                    help='runs per setting, lidar noise seeds SEED..SEED+N-1 (default %(default)s)')
     p.add_argument('--seed', type=int, default=1, help='first noise seed (default %(default)s)')
     p.add_argument('--jobs', type=int, default=2, help='trials in parallel (default %(default)s)')
-    p.add_argument('--rtf', type=float, default=DEFAULT_RTF,
-                   help='simulator real-time factor (default %(default)s; 0 is not accepted: the '
-                   'nodes could not keep up)')
+    p.add_argument('--rtf', type=float, default=None,
+                   help='simulator real-time factor: 0 runs as fast as the lock-step '
+                   'participants allow (default %g); N > 0 paces sim time at N x wall time. '
+                   'With --no-lockstep the default is %g and 0 is not accepted (the nodes could '
+                   'not keep up)' % (DEFAULT_RTF, DEFAULT_FREE_RTF))
+    p.add_argument('--no-lockstep', dest='lockstep', action='store_false',
+                   help='free-running stacks (the tool before lock-step time): nodes take '
+                   'messages as they come, so results vary with the machine\'s load')
     p.add_argument('--timeout', type=float, default=300.0,
                    help='SIM seconds a trial may take for the whole route, from the first goal '
                    '(default %(default)s); a trial is also killed if it has no result after '
-                   '180 + 3 x timeout / rtf + 30 WALL seconds')
+                   '180 + 3 x timeout / rtf + 30 WALL seconds (rtf 0 counts as 3)')
     p.add_argument('--out', default='tune_planner_out',
                    help='study directory (default %(default)s)')
     p.add_argument('--trajectory-planner', help='base TrajectoryPlannerROS YAML '
@@ -112,8 +123,13 @@ def build_parser():
 
 def prepare(args):
     """Checks every argument (parameter names included) and returns (setup, sweeps)."""
-    if args.rtf <= 0:
-        raise UsageError('--rtf must be > 0 (as fast as possible starves the nodes)')
+    if args.rtf is None:
+        args.rtf = DEFAULT_RTF if args.lockstep else DEFAULT_FREE_RTF
+    if not (args.rtf >= 0 and math.isfinite(args.rtf)):
+        raise UsageError('--rtf must be >= 0 (0: as fast as possible)')
+    if args.rtf == 0 and not args.lockstep:
+        raise UsageError('--rtf 0 needs lock-step time: free-running, as fast as possible '
+                         'starves the nodes (drop --no-lockstep, or give --rtf > 0)')
     if args.repeats < 1 or args.jobs < 1 or args.timeout <= 0 or args.trials < 1:
         raise UsageError('--repeats, --jobs, --trials and --timeout must be positive')
     start = _pose(args.start, (3,), '--start')
@@ -162,7 +178,7 @@ def prepare(args):
                      for a in range(16)]
     setup = study.Setup(out, world, map_yaml, truth + '.yaml', ','.join('%g' % v for v in start),
                         ' '.join(goals), args.rtf, args.timeout, tp, mb, footprint, resolved,
-                        seed=args.seed)
+                        seed=args.seed, lockstep=args.lockstep)
     return setup, sweeps
 
 
@@ -236,9 +252,11 @@ def main(argv=None):
               'resume' % (len(results.rows), results.path), file=sys.stderr)
         return 130
     wall = time.monotonic() - t0
-    title = ('Time to goal over the route %s from %s (real-time factor %g; %d trial%s, %.0f s '
-             'wall with --jobs %d)' % (setup.goals, setup.start, setup.rtf, len(rows),
-                                       's' if len(rows) != 1 else '', wall, args.jobs))
+    title = ('Time to goal over the route %s from %s (%s, real-time factor %g%s; %d trial%s, '
+             '%.0f s wall with --jobs %d)' % (
+                 setup.goals, setup.start, 'lock-step' if setup.lockstep else 'free-running',
+                 setup.rtf, ' = as fast as possible' if setup.rtf == 0 else '', len(rows),
+                 's' if len(rows) != 1 else '', wall, args.jobs))
     print(write_report(setup, rows, names, title))
     if args.optimize:
         feasible = [t for t in st.trials if t.value is not None and

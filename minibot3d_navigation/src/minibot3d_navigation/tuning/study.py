@@ -1,11 +1,18 @@
 """Trials and studies: one trial = one headless stack (simulator + map_server + amcl + move_base,
 amcl_navigation.launch) on its own ROS master port, driven through the route by driver.py.
 
+By default the stack runs on lock-step time (lockstep:=true): the simulator advances sim time only
+once amcl, move_base and the driver (all listed in lockstep_participants, so all three join before
+time starts) have done their work for the current instant and received every message sent to
+them.  A trial's figures then do not depend on the machine's load or the real-time factor, which
+defaults to 0 (as fast as the participants allow); the same command gives the same times.
+--no-lockstep gives the free-running stack paced at a real-time factor instead.
+
 A grid study runs every (setting, repeat) that results.csv does not already hold, --jobs at a
 time; results.csv is rewritten (temp file + rename) after every trial, so an interrupted study
 resumes where it stopped.  A trial is identified by its settings, its repeat and a hash of
 everything else that changes its outcome (world, maps, start, goals, real-time factor, timeout,
-base parameter files), so changing any of these in the same --out directory reruns the trials
+base parameter files, lock-step or not), so changing any of these in the same --out directory reruns the trials
 instead of mixing old results in.  Rows with status `error` (the stack did not come up) are rerun.
 
 --optimize instead asks Optuna's TPE sampler for settings, runs --repeats trials of each and
@@ -23,7 +30,7 @@ import threading
 import time
 from concurrent import futures
 
-from . import metrics, params, processes
+from . import DRIVER_NODE, metrics, params, processes
 
 RESULT_FIELDS = ['status', 'reached', 'time_to_goal', 'path_length', 'collisions',
                  'min_clearance', 'mean_speed', 'peak_speed', 'goal_error', 'goals_reached',
@@ -40,7 +47,7 @@ class Setup(object):
 
     def __init__(self, out_dir, world, map_yaml, truth_map_yaml, start, goals, rtf, timeout,
                  base_trajectory_planner, base_move_base_params, footprint, resolved,
-                 ready_timeout=180.0, seed=1):
+                 ready_timeout=180.0, seed=1, lockstep=True):
         self.out_dir = os.path.abspath(out_dir)
         self.world, self.map_yaml = os.path.abspath(world), os.path.abspath(map_yaml)
         self.truth_map_yaml = os.path.abspath(truth_map_yaml)
@@ -52,6 +59,7 @@ class Setup(object):
         self.resolved = resolved
         self.ready_timeout = ready_timeout
         self.seed = int(seed)
+        self.lockstep = bool(lockstep)
         self._truth_map = None
         self._map_lock = threading.Lock()
 
@@ -64,7 +72,8 @@ class Setup(object):
     def config_hash(self):
         h = hashlib.sha1()
         for part in (self.world, self.map_yaml, self.start, self.goals, repr(self.rtf),
-                     repr(self.timeout), repr(self.seed)):
+                     repr(self.timeout), repr(self.seed)) + (('free-running',) if not
+                                                            self.lockstep else ()):
             h.update(part.encode() + b'\0')
         for path in (self.base_trajectory_planner, self.base_move_base_params, self.world):
             with open(path, 'rb') as f:
@@ -77,8 +86,9 @@ class Setup(object):
 
     def wall_budget(self):
         """Wall seconds a trial may take before it is killed: startup, then the sim-time budget
-        at a third of the requested real-time factor, then the teardown."""
-        return self.ready_timeout + 3.0 * self.timeout / self.rtf + 30.0
+        at a third of the requested real-time factor (at real time when it is 0, as fast as
+        possible), then the teardown."""
+        return self.ready_timeout + 3.0 * self.timeout / (self.rtf if self.rtf > 0 else 3.0) + 30.0
 
 
 def settings_slug(settings):
@@ -95,6 +105,35 @@ class TrialSpec(object):
         digest = hashlib.sha1(self.key.encode()).hexdigest()[:6]
         self.name = '%s%s_r%d_%s' % (prefix, slug.replace('=', '').replace(',', '_')[:80],
                                      repeat, digest)
+
+
+# Nodes that join the lock-step loop before sim time starts (so it starts at the same point in
+# every run): the stack's two participants and the trial's driver.
+LOCKSTEP_PARTICIPANTS = ['/amcl', '/move_base', '/' + DRIVER_NODE]
+
+
+def stack_command(setup, spec, port, trajectory_planner_yaml, move_base_params_yaml):
+    """roslaunch command line of a trial's stack."""
+    sx, sy, syaw = setup.start.split(',')
+    cmd = ['roslaunch', '-p', str(port), 'minibot3d_navigation', 'amcl_navigation.launch',
+           'world:=%s' % setup.world, 'map_file:=%s' % setup.map_yaml,
+           'x:=%s' % sx, 'y:=%s' % sy, 'yaw:=%s' % syaw,
+           'real_time_factor:=%g' % setup.rtf, 'seed:=%d' % spec.seed,
+           'trajectory_planner:=%s' % trajectory_planner_yaml,
+           'move_base_params:=%s' % move_base_params_yaml]
+    if setup.lockstep:
+        cmd += ['lockstep:=true', 'lockstep_participants:=%s' % ' '.join(LOCKSTEP_PARTICIPANTS)]
+    else:
+        cmd += ['lockstep:=false']
+    return cmd
+
+
+def driver_command(setup, trial_dir):
+    """Command line of a trial's driver (driver.py, run with the trial's ROS_MASTER_URI)."""
+    return [sys.executable, '-m', 'minibot3d_navigation.tuning.driver', '--dir=' + trial_dir,
+            '--start=' + setup.start, '--goals=' + setup.goals, '--timeout=%g' % setup.timeout,
+            '--ready-timeout=%g' % setup.ready_timeout,
+            '--lockstep' if setup.lockstep else '--no-lockstep']
 
 
 def run_trial(setup, spec, registry, stop, attempts=3):
@@ -132,15 +171,8 @@ def _run_trial_once(setup, spec, registry, stop):
     here = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     env['PYTHONPATH'] = os.pathsep.join([here] + [p for p in env.get('PYTHONPATH', '').split(
         os.pathsep) if p])
-    sx, sy, syaw = setup.start.split(',')
-    launch = ['roslaunch', '-p', str(port), 'minibot3d_navigation', 'amcl_navigation.launch',
-              'world:=%s' % setup.world, 'map_file:=%s' % setup.map_yaml,
-              'x:=%s' % sx, 'y:=%s' % sy, 'yaw:=%s' % syaw,
-              'real_time_factor:=%g' % setup.rtf, 'seed:=%d' % spec.seed,
-              'trajectory_planner:=%s' % tp_yaml, 'move_base_params:=%s' % mb_yaml]
-    drive = [sys.executable, '-m', 'minibot3d_navigation.tuning.driver', '--dir=' + trial_dir,
-             '--start=' + setup.start, '--goals=' + setup.goals, '--timeout=%g' % setup.timeout,
-             '--ready-timeout=%g' % setup.ready_timeout]
+    launch = stack_command(setup, spec, port, tp_yaml, mb_yaml)
+    drive = driver_command(setup, trial_dir)
     wall0 = time.monotonic()
     stack = processes.Group(launch, env, os.path.join(trial_dir, 'stack.log'), registry)
     driver = None
