@@ -9,7 +9,8 @@ with A* on the world's ground-truth map (inflated by --clearance) and followed b
 
 --record writes the true trajectory ("time x y theta" per line, sim time) atomically at the end.
 Exits 0 when every waypoint was reached, 1 on timeout, 2 on bad arguments or an unreachable
-waypoint (named)."""
+waypoint (named). Under lock-step time (/use_lockstep) it is a participant: it steers every
+0.05 s of sim time and sim time waits for it."""
 import argparse
 import heapq
 import math
@@ -20,6 +21,8 @@ import threading
 import time
 
 import numpy as np
+from minibot3d_lockstep import Participant  # before rospy.init_node: it counts messages
+
 import rospy
 import yaml
 from geometry_msgs.msg import Twist
@@ -143,18 +146,24 @@ def main():
 
     rospy.Subscriber('ground_truth/odom', Odometry, on_truth, queue_size=50)
     pub = rospy.Publisher('cmd_vel', Twist, queue_size=1)
-    deadline = time.time() + args.timeout
-    with lock:
-        if not lock.wait_for(lambda: state['pose'] is not None, timeout=60.0):
-            rospy.logerr('route_driver: no /ground_truth/odom')
-            return 1
-    while pub.get_num_connections() == 0:  # commands before the simulator listens are lost
-        if time.time() > deadline:
-            rospy.logerr('route_driver: nothing subscribes to cmd_vel')
-            return 1
-        rospy.rostime.wallsleep(0.01)
+    lockstep = Participant()
+    try:
+        return drive(args, waypoints, blocked, cell, origin, res, lock, state, pub, lockstep)
+    finally:
+        pub.publish(Twist())
+        lockstep.close()
 
-    rate = rospy.Rate(20)
+
+def drive(args, waypoints, blocked, cell, origin, res, lock, state, pub, lockstep):
+    deadline = time.time() + args.timeout
+    if not lockstep.wait_for(lambda: state['pose'] is not None, 60.0):
+        rospy.logerr('route_driver: no /ground_truth/odom')
+        return 1
+    # Commands before the simulator listens are lost.
+    if not lockstep.wait_for(lambda: pub.get_num_connections() > 0, 60.0):
+        rospy.logerr('route_driver: nothing subscribes to cmd_vel')
+        return 1
+
     route = waypoints * args.laps
     for index, goal in enumerate(route):
         with lock:
@@ -190,7 +199,7 @@ def main():
                 cmd.linear.x = args.speed * max(0.2, math.cos(err))
                 cmd.angular.z = 2.5 * err
             pub.publish(cmd)
-            rate.sleep()
+            lockstep.sleep(0.05)
     pub.publish(Twist())
     if args.record:
         with lock:

@@ -1,0 +1,81 @@
+#!/usr/bin/env python3
+"""Test participant for test_lockstep_loop.py.
+
+  lockstep_probe.py hold HOLD_S          joins, lets 0.5 s of sim time pass, then works for HOLD_S
+                                         wall seconds in one tick; prints the sim time before and
+                                         after ("held T0 T1"), then lets 0.5 s more pass ("after T")
+  lockstep_probe.py route OUT.json       two move_base goals across the default world; writes the
+                                         goal results, times and the whole true trajectory
+Prints "holding" (flushed) when it starts working, so a test can kill it then."""
+import json
+import math
+import os
+import sys
+import time
+
+from minibot3d_lockstep import Participant, action_server_ready  # before rospy.init_node
+
+import actionlib
+import rospy
+from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
+from nav_msgs.msg import Odometry
+
+
+def hold(seconds):
+    lockstep = Participant()
+    lockstep.sleep(0.5)
+    t0 = rospy.get_rostime().to_sec()
+
+    def work():
+        print('holding', flush=True)
+        time.sleep(seconds)  # the work itself: wall time spent inside one tick, on purpose
+        return True
+    lockstep.wait_for(work)
+    t1 = rospy.get_rostime().to_sec()
+    print('held %.3f %.3f' % (t0, t1), flush=True)
+    lockstep.sleep(0.5)
+    print('after %.3f' % rospy.get_rostime().to_sec(), flush=True)
+    lockstep.close()
+
+
+def route(out):
+    path = []
+    rospy.Subscriber('/ground_truth/odom', Odometry, lambda m: path.append(
+        (m.header.stamp.to_sec(), m.pose.pose.position.x, m.pose.pose.position.y)),
+        queue_size=1000)
+    client = actionlib.SimpleActionClient('move_base', MoveBaseAction)
+    lockstep = Participant(wake_topics=['move_base/result'])
+    if not lockstep.wait_for(lambda: action_server_ready(client), 30.0):
+        print('no move_base', flush=True)
+        return 1
+    goals = []
+    for x, y, yaw in ((-2.1, 0.6, 1.57), (-0.3, 2.0, 0.0)):
+        g = MoveBaseGoal()
+        g.target_pose.header.frame_id = 'map'
+        g.target_pose.pose.position.x, g.target_pose.pose.position.y = x, y
+        g.target_pose.pose.orientation.z = math.sin(yaw / 2.0)
+        g.target_pose.pose.orientation.w = math.cos(yaw / 2.0)
+        start = rospy.get_rostime()
+        client.send_goal(g)
+        lockstep.wait_for(lambda: client.simple_state == actionlib.SimpleGoalState.DONE, 120.0)
+        goals.append((client.get_state(), (rospy.get_rostime() - start).to_sec()))
+    trajectory = list(path)  # up to the last result: once this leaves, time runs on without it
+    lockstep.close()
+    tmp = out + '.tmp'
+    with open(tmp, 'w') as f:
+        json.dump({'goals': goals, 'path': trajectory}, f)
+    os.replace(tmp, out)
+    return 0
+
+
+def main():
+    mode = sys.argv[1]
+    rospy.init_node('probe_' + mode)
+    if mode == 'hold':
+        hold(float(sys.argv[2]))
+        return 0
+    return route(sys.argv[2])
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,180 @@
+"""Lock-step time with real processes (issue 13 item 7): the simulator, real nodes and test
+participants (lockstep_probe.py), each run on a private ROS master.
+
+- a participant that works for a while stops sim time, and one that stops answering for
+  ~lockstep_timeout is dropped with a warning naming it, after which time goes on;
+- a participant killed while it holds a tick is dropped and the loop goes on;
+- the closed loop (simulator + amcl + move_base + a goal client) gives the same trajectory and
+  times twice at real_time_factor 0, and again at real_time_factor 1.
+Every wait is on a condition (a line of output, a file, a process exit) with a time limit."""
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+
+import pytest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+PROBE = os.path.join(HERE, 'lockstep_probe.py')
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(('127.0.0.1', 0))
+        return s.getsockname()[1]
+
+
+class Stack(object):
+    """roslaunch (with its own master) plus processes on the same master."""
+
+    def __init__(self, tmp_path, launch, args):
+        self.tmp = tmp_path
+        self.env = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:%d' % free_port(),
+                        ROS_HOSTNAME='127.0.0.1', ROS_HOME=str(tmp_path))
+        self.env.pop('ROS_IP', None)
+        self.port = self.env['ROS_MASTER_URI'].rsplit(':', 1)[1]
+        self.log_path = tmp_path / 'launch.log'
+        self.log = open(self.log_path, 'w')
+        self.launch = subprocess.Popen(['roslaunch', '-p', self.port] + launch + args,
+                                       env=self.env, stdout=self.log, stderr=subprocess.STDOUT,
+                                       start_new_session=True)
+        self.procs = []
+        # Nodes read /use_sim_time and /use_lockstep when they start: start them once roslaunch
+        # has set its parameters and started the simulator.
+        assert self.wait_service('/minibot3d_sim/lockstep/register', 60), self.launch_log()[-3000:]
+
+    def probe(self, *args):
+        p = subprocess.Popen([sys.executable, PROBE] + list(args), env=self.env,
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                             universal_newlines=True, start_new_session=True)
+        self.procs.append(p)
+        return p
+
+    def wait_service(self, name, timeout):
+        import rosgraph
+        master = rosgraph.Master('/test_lockstep_loop', master_uri=self.env['ROS_MASTER_URI'])
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            try:
+                master.lookupService(name)
+                return True
+            except Exception:  # noqa: BLE001 - master not up yet, or no such service yet
+                time.sleep(0.2)
+        return False
+
+    def launch_log(self):
+        self.log.flush()
+        return self.log_path.read_text()
+
+    def wait_log(self, text, timeout):
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            if text in self.launch_log():
+                return True
+            time.sleep(0.2)  # polling a log file: the condition is the text appearing
+        return False
+
+    def close(self):
+        for p in self.procs + [self.launch]:
+            if p.poll() is None:
+                os.killpg(p.pid, signal.SIGINT)
+        for p in self.procs + [self.launch]:
+            try:
+                p.wait(30)
+            except subprocess.TimeoutExpired:
+                os.killpg(p.pid, signal.SIGKILL)
+                p.wait()
+        self.log.close()
+
+
+def read_line(proc, prefix, timeout):
+    """The first line of proc's output starting with `prefix` (others are skipped)."""
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        line = proc.stdout.readline()
+        if not line:
+            return None
+        if line.startswith(prefix):
+            return line.strip()
+    return None
+
+
+def sim_stack(tmp_path, participant, timeout):
+    return Stack(tmp_path, ['minibot3d_sim', 'minibot3d_gazebo.launch'],
+                 ['lockstep:=true', 'real_time_factor:=0', 'physics:=kinematic',
+                  'lockstep_participants:=' + participant, 'lockstep_timeout:=%g' % timeout])
+
+
+def test_a_working_participant_holds_time_and_a_stalled_one_is_dropped(tmp_path):
+    stack = sim_stack(tmp_path, '/probe_hold', 4.0)
+    try:
+        short = stack.probe('hold', '1.5')
+        held = read_line(short, 'held', 90)
+        assert held, stack.launch_log()[-3000:]
+        t0, t1 = (float(v) for v in held.split()[1:])
+        assert t0 == pytest.approx(t1, abs=1e-9), 'sim time moved while the participant worked'
+        after = read_line(short, 'after', 30)
+        assert after and float(after.split()[1]) >= t1 + 0.5 - 1e-6
+        assert short.wait(30) == 0
+        assert 'dropped participant' not in stack.launch_log()
+
+        # Longer than ~lockstep_timeout (4 s): dropped by name, and time goes on without it.
+        stalled = stack.probe('hold', '8')
+        assert read_line(stalled, 'holding', 60)
+        assert stack.wait_log('dropped participant /probe_hold', 20), stack.launch_log()[-3000:]
+        assert 'no acknowledgement within ~lockstep_timeout' in stack.launch_log()
+        held = read_line(stalled, 'held', 30)
+        t0, t1 = (float(v) for v in held.split()[1:])
+        assert t1 > t0, 'sim time did not go on after the stalled participant was dropped'
+    finally:
+        stack.close()
+
+
+def test_a_killed_participant_is_dropped_and_the_loop_goes_on(tmp_path):
+    stack = sim_stack(tmp_path, '/probe_hold', 30.0)
+    try:
+        victim = stack.probe('hold', '60')
+        assert read_line(victim, 'holding', 90), stack.launch_log()[-3000:]
+        os.killpg(victim.pid, signal.SIGKILL)
+        victim.wait(10)
+        # Detected by its vanished connection, long before the 30 s time-out.
+        assert stack.wait_log('its process is gone', 15), stack.launch_log()[-3000:]
+        assert 'dropped participant /probe_hold' in stack.launch_log()
+        # Time goes on: a new participant joins and sees 0.5 s pass.
+        again = stack.probe('hold', '0')
+        held = read_line(again, 'held', 60)
+        assert held
+        after = read_line(again, 'after', 30)
+        assert after and float(after.split()[1]) >= float(held.split()[2]) + 0.5 - 1e-6
+    finally:
+        stack.close()
+
+
+def closed_loop(tmp_path, rtf):
+    tmp_path.mkdir(parents=True, exist_ok=True)
+    stack = Stack(tmp_path, ['minibot3d_navigation', 'amcl_navigation.launch'],
+                  ['lockstep:=true', 'real_time_factor:=%s' % rtf,
+                   'lockstep_participants:=/amcl /move_base /probe_route'])
+    out = str(tmp_path / 'route.json')
+    try:
+        client = stack.probe('route', out)
+        assert client.wait(300) == 0, client.stdout.read() + stack.launch_log()[-3000:]
+    finally:
+        stack.close()
+    with open(out) as f:
+        return json.load(f)
+
+
+def test_two_closed_loop_runs_are_identical_at_any_real_time_factor(tmp_path):
+    first = closed_loop(tmp_path / 'a', 0)
+    assert [g[0] for g in first['goals']] == [3, 3], first['goals']  # SUCCEEDED
+    assert len(first['path']) > 500
+    second = closed_loop(tmp_path / 'b', 0)
+    assert second['goals'] == first['goals']
+    assert second['path'] == first['path']
+    paced = closed_loop(tmp_path / 'c', 1)
+    assert paced['goals'] == first['goals']
+    assert paced['path'] == first['path']
