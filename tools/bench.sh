@@ -40,6 +40,8 @@ for physics in kinematic kinematic kinematic bullet bullet bullet; do
   wait "$pid" 2>/dev/null || true
 done
 
+tools/lockstep_bench.sh
+
 echo "== AMCL core: one filter update (motion + 60-beam correction + resampling + clustering)"
 devel/lib/minibot3d_navigation/amcl_bench --benchmark_min_time=0.2 2>/dev/null | grep -E "^(BM_|Benchmark)" || true
 

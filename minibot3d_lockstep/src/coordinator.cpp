@@ -126,6 +126,13 @@ bool Coordinator::Ack(const std::string& name, std::uint64_t seq, double next_wa
   return true;
 }
 
+bool Coordinator::Heartbeat(const std::string& name, std::uint64_t seq, double wall) {
+  auto it = participants_.find(name);
+  if (it == participants_.end() || !it->second.waiting || it->second.seq != seq) return false;
+  it->second.tick_wall = wall;
+  return true;
+}
+
 std::vector<std::string> Coordinator::Waiting() const {
   std::vector<std::string> w;
   for (const auto& kv : participants_) {

@@ -132,6 +132,18 @@ TEST(CoordinatorTest, AStalledParticipantIsOverdueAfterTheTimeoutAndRemovalForge
   EXPECT_EQ(c.Participants(), Names({"/b"}));
 }
 
+TEST(CoordinatorTest, AHeartbeatRestartsTheTimeoutButIsNotAnAcknowledgement) {
+  Coordinator c = Make();  // timeout 2 s
+  c.Register("/a", {});
+  c.MarkTicked("/a", 1, 0.0, 10.0);
+  EXPECT_FALSE(c.Heartbeat("/a", 2, 11.5));  // not the tick it holds
+  EXPECT_TRUE(c.Heartbeat("/a", 1, 11.5));
+  EXPECT_TRUE(c.Overdue(13.0).empty());  // 1.5 s since the heartbeat
+  EXPECT_EQ(c.Overdue(13.6), Names({"/a"}));
+  EXPECT_EQ(c.Waiting(), Names({"/a"}));
+  EXPECT_FALSE(c.Heartbeat("/b", 1, 11.0));
+}
+
 TEST(CoordinatorTest, ARestartedParticipantStartsAfresh) {
   Coordinator c = Make();
   c.Register("/a", {});

@@ -8,7 +8,9 @@ ground-truth map (map frame = world frame):
     amcl re-converges to the truth;
  3. global localization: after the global_localization service and a drive, amcl_pose is within
     0.3 m of the truth.
-Every wait is on a condition (a message, a process) with a timeout, never a fixed sleep."""
+Every wait is on a condition (a message, a process) with a timeout, never a fixed sleep.
+The stack runs on lock-step time at full speed (amcl_sim.test): this test, route_driver.py and amcl
+are participants, so the run is the same on any machine load and timeouts are in sim seconds."""
 import bisect
 import importlib.util
 import math
@@ -17,6 +19,8 @@ import subprocess
 import threading
 import time
 import unittest
+
+from minibot3d_lockstep import Participant  # before rospy.init_node: it counts messages
 
 import rospkg
 import rospy
@@ -45,7 +49,8 @@ def load_route_driver():
 class Recorder(object):
     """Keeps /ground_truth/odom (by stamp) and amcl_pose messages."""
 
-    def __init__(self):
+    def __init__(self, lockstep):
+        self.lockstep = lockstep
         self.cond = threading.Condition()
         self.truth_t, self.truth = [], []
         self.poses = []  # (stamp, x, y, yaw)
@@ -87,26 +92,23 @@ class Recorder(object):
             return len(self.poses)
 
     def wait_for(self, predicate, timeout):
-        """Waits (wall time) until predicate(list of poses) holds; returns it."""
-        end = time.time() + timeout
-        with self.cond:
-            while not rospy.is_shutdown():
-                if predicate(self.poses):
-                    return True
-                left = end - time.time()
-                if left <= 0:
-                    return False
-                self.cond.wait(min(left, 0.5))
-        return False
+        """Waits (sim time, the loop moving on) until predicate(list of poses) holds."""
+        return self.lockstep.wait_for(lambda: predicate(self.poses), timeout)
 
 
 class AmclSim(unittest.TestCase):
     def drive(self, waypoints, timeout=400):
-        out = subprocess.run(
+        """route_driver.py joins the loop while sim time is held, and is done when it leaves."""
+        proc = subprocess.Popen(
             ['rosrun', 'minibot3d_sim', 'route_driver.py', '--map', self.map_yaml,
              '--waypoints', waypoints, '--speed', '0.3', '--timeout', str(timeout)],
-            capture_output=True, text=True)
-        self.assertEqual(out.returncode, 0, out.stdout + out.stderr)
+            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        if self.lockstep.wait_for_participant('/route_driver', proc):
+            self.assertTrue(self.lockstep.wait_for(
+                lambda: self.lockstep.participant_left('/route_driver', proc), timeout),
+                'route_driver.py did not finish within %g s of sim time' % timeout)
+        out, _ = proc.communicate(timeout=60)
+        self.assertEqual(proc.returncode, 0, out)
 
     def settle(self, rec, updates=5):
         """Forces `updates` filter updates while standing still; returns the last pose."""
@@ -121,10 +123,12 @@ class AmclSim(unittest.TestCase):
     def test_amcl_in_sim(self):
         rospy.init_node('amcl_sim_test')
         self.map_yaml = rospy.get_param('~map_yaml')
-        rec = Recorder()
+        self.lockstep = Participant(wake_topics=['/amcl_pose'], wake_on_participants=True)
+        rec = Recorder(self.lockstep)
         # amcl publishes its first pose once it has the map and a scan (forced first update).
         self.assertTrue(rec.wait_for(lambda p: len(p) > 0, 120.0), 'no amcl_pose')
-        rospy.wait_for_message('/ground_truth/odom', Odometry, timeout=60.0)
+        self.assertTrue(self.lockstep.wait_for(lambda: rec.latest_truth() is not None, 60.0),
+                        'no /ground_truth/odom')
 
         # 1. tracking along the route
         start = rec.count()
@@ -171,7 +175,6 @@ class AmclSim(unittest.TestCase):
         self.assertLess(reloc_err, 0.15)
 
         # 3. global localization
-        rospy.wait_for_service('/global_localization', timeout=10.0)
         rospy.ServiceProxy('/global_localization', Empty)()
         # One lap of the route (about 9 m) is usually enough; a filter still split between
         # look-alike rooms gets one more lap, as a robot would drive on.  (One that has locked

@@ -600,6 +600,10 @@ class SimNode {
   }
 
   void OnAck(const minibot3d_lockstep::Ack::ConstPtr& ack) {
+    if (ack->working) {
+      coordinator_->Heartbeat(ack->name, ack->seq, ros::WallTime::now().toSec());
+      return;
+    }
     std::vector<minibot3d_lockstep::LinkCount> sent;
     for (const auto& l : ack->sent) sent.push_back({l.topic, l.peer, l.count});
     const double wake = ack->next_wake.isZero() ? 0.0 : ack->next_wake.toSec();

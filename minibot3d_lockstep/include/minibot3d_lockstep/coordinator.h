@@ -80,6 +80,10 @@ class Coordinator {
   bool Ack(const std::string& name, std::uint64_t seq, double next_wake,
            const std::vector<LinkCount>& sent);
 
+  // `name` is still working on tick `seq` at wall time `wall`: its time-out starts again.
+  // False if it is not waiting on that tick.
+  bool Heartbeat(const std::string& name, std::uint64_t seq, double wall);
+
   // Participants ticked and not yet acknowledged, in name order.
   std::vector<std::string> Waiting() const;
   // Waiting participants whose tick is older than options().timeout at wall time `wall`.

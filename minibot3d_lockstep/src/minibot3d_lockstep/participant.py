@@ -269,6 +269,11 @@ class Participant(object):
 
     def wait_for(self, predicate, timeout=None):
         """Wait until predicate() is true (True) or `timeout` s of sim time pass (False)."""
+        if self.enabled and self._current is None and not rospy.is_shutdown():
+            # Not at a tick yet (just joined): sim time is only defined once one arrives.
+            if self._next_tick(None) is None:
+                return False
+            self._run_jobs(self._current.stamp)
         start = rospy.get_rostime()
         deadline = None if timeout is None or timeout <= 0 else start + rospy.Duration(timeout)
         if not self.enabled:
@@ -300,14 +305,23 @@ class Participant(object):
         name = rospy.resolve_name(name)
         if not self.enabled:
             return True
-        start = time.time()
+        start = beat = time.time()
         while not rospy.is_shutdown() and name not in self.participants:
             if process is not None and process.poll() is not None:
                 return False
             if time.time() - start > wall_timeout:
                 return False
+            if time.time() - beat > 1.0:  # a slow start is not a stalled participant
+                beat = time.time()
+                self.still_working()
             time.sleep(0.002)
         return name in self.participants
+
+    def still_working(self):
+        """Tells the simulator this script is alive though not done with its tick (long work,
+        waiting for a process): restarts its ~lockstep_timeout."""
+        if self.enabled and self._current is not None:
+            self._ack_pub.publish(Ack(name=self.name, seq=self._current.seq, working=True))
 
     def participant_left(self, name, process=None):
         """Predicate for wait_for: `name` has left the loop. With wake_on_participants=True the
