@@ -24,7 +24,9 @@ stop "$pid"
 echo "== the full loop on lock-step time, real_time_factor 0: simulator (Bullet) + map_server +"
 echo "   amcl + move_base + a Python goal client, two goals across the default world; 3 runs"
 for run in 1 2 3; do
-  export ROS_PORT="$(ros_free_port)" ROS_MASTER_URI="http://127.0.0.1:${ROS_PORT}"
+  ROS_PORT="$(ros_free_port)"
+  export ROS_PORT
+  export ROS_MASTER_URI="http://127.0.0.1:${ROS_PORT}"
   setsid roslaunch -p "$ROS_PORT" minibot3d_navigation amcl_navigation.launch lockstep:=true \
     real_time_factor:=0 lockstep_participants:="/amcl /move_base /probe_route" \
     > "build/bench/lockstep_loop$run.log" 2>&1 &
