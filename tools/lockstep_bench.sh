@@ -8,6 +8,8 @@ mkdir -p build/bench
 probe=minibot3d_lockstep/test/lockstep_probe.py
 
 stop() { kill -INT -- -"$1" 2>/dev/null || true; wait "$1" 2>/dev/null || true; }
+pid=
+trap '[ -n "$pid" ] && stop "$pid"' EXIT
 
 echo "== /clock seen by a listening rospy node: free-running simulator, real_time_factor 0"
 echo "   (kinematic physics, a constant arc; /clock throttled to ~pub_clock_frequency 1000 Hz wall)"

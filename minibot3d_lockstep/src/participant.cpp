@@ -108,7 +108,9 @@ void Participant::SettleConnections() {
   if (topics == settled_topics_) return;
   settled_topics_ = topics;
   const ros::WallTime start = ros::WallTime::now();
+  ros::WallTime beat = start;
   while (ros::ok()) {
+    Heartbeat(&beat);
     const auto missing = MissingConnections();
     if (missing.empty()) return;
     if ((ros::WallTime::now() - start).toSec() > options_.delivery_timeout) {
@@ -121,6 +123,16 @@ void Participant::SettleConnections() {
     WaitForPollIteration(0.005);
     service_queue_.callAvailable();
   }
+}
+
+void Participant::Heartbeat(ros::WallTime* last) {
+  if (!current_ || (ros::WallTime::now() - *last).toSec() < 1.0) return;
+  *last = ros::WallTime::now();
+  Ack ack;
+  ack.name = name_;
+  ack.seq = current_->seq;
+  ack.working = true;
+  ack_pub_.publish(ack);
 }
 
 void Participant::ServeBetweenTicks() { service_queue_.callAvailable(ros::WallDuration(0.001)); }
@@ -136,7 +148,9 @@ void Participant::WaitForDelivery(const Tick& tick) {
   const ros::WallTime start = ros::WallTime::now();
   std::map<std::pair<std::string, std::string>, std::uint64_t> want;
   for (const auto& l : tick.expected) want[{l.topic, l.peer}] = l.count;
+  ros::WallTime beat = start;
   while (ros::ok()) {
+    Heartbeat(&beat);
     std::vector<std::string> missing;
     std::map<std::pair<std::string, std::string>, std::uint64_t> have;
     for (const auto& l : ReceivedCounts()) have[{l.topic, l.peer}] = l.count;
@@ -189,6 +203,7 @@ bool Participant::Spin() {
   while (ros::ok()) {
     TickConstPtr tick;
     if (!WaitForTick(&tick)) break;
+    current_ = tick;
     SettleConnections();
     WaitForDelivery(*tick);
     WaitForClock(tick->stamp);

@@ -44,7 +44,10 @@ class Stack(object):
         self.procs = []
         # Nodes read /use_sim_time and /use_lockstep when they start: start them once roslaunch
         # has set its parameters and started the simulator.
-        assert self.wait_service('/minibot3d_sim/lockstep/register', 60), self.launch_log()[-3000:]
+        if not self.wait_service('/minibot3d_sim/lockstep/register', 60):
+            log = self.launch_log()[-3000:]
+            self.close()
+            pytest.fail('the simulator did not come up:\n' + log)
 
     def probe(self, *args):
         p = subprocess.Popen([sys.executable, PROBE] + list(args), env=self.env,

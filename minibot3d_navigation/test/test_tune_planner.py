@@ -1,5 +1,6 @@
-"""tune_planner end to end: a small sweep in the simulator (CSV, table, plots, resume), a trial
-that runs out of time, Ctrl-C mid-trial, and an unknown parameter name.  Every process a study
+"""tune_planner end to end: a small sweep in the simulator (CSV, table, plots, resume), the same
+sweep again giving the same figures (lock-step time), a trial that runs out of time, Ctrl-C
+mid-trial, and an unknown parameter name.  Every process a study
 starts carries TUNE_PLANNER_RUN=<its out dir> in its environment, which is how these tests find
 (only) their own processes."""
 import csv
@@ -78,6 +79,34 @@ def test_small_sweep_writes_csv_table_and_plots_and_resumes(tmp_path):
     assert again.returncode == 0, again.stdout
     assert 'resuming: 2 of 2 trials already in' in again.stdout
     assert [row['wall_time'] for row in read_rows(tmp_path)] == [row['wall_time'] for row in rows]
+
+
+def test_same_command_gives_the_same_figures(tmp_path):
+    """Lock-step time (the default): the driver joins before sim time starts, and two runs of one
+    command agree to the last digit, trajectories included."""
+    cmd = ['--set', 'max_vel_x=0.3,0.6', '--repeats', '1', '--jobs', '2', '--timeout', '120',
+           *SHORT_ROUTE]
+    runs = []
+    for name in ('a', 'b'):
+        r = tool(tmp_path / name, *cmd, timeout=300)
+        assert r.returncode == 0, r.stdout
+        assert 'lock-step, real-time factor 0' in r.stdout
+        runs.append({row['key']: row for row in read_rows(tmp_path / name)})
+    a, b = runs
+    assert sorted(a) == sorted(b) and len(a) == 2
+    for key in a:
+        for field in ('status', 'time_to_goal', 'sim_elapsed', 'path_length', 'collisions',
+                      'min_clearance', 'peak_speed', 'goal_error'):
+            assert a[key][field] == b[key][field], (key, field, a[key][field], b[key][field])
+        trial = a[key]['trial']
+        traj = [open(str(tmp_path / n / 'trials' / trial / 'trajectory.csv')).read()
+                for n in ('a', 'b')]
+        assert traj[0] == traj[1] and traj[0].count('\n') > 50
+        stack = open(str(tmp_path / 'a' / 'trials' / trial / 'stack.log')).read()
+        assert '/tune_planner_driver joined at sim time 0.001' in stack  # before time started
+        assert 'starting time without' not in stack
+    assert_nothing_left(tmp_path / 'a')
+    assert_nothing_left(tmp_path / 'b')
 
 
 def test_trial_over_its_time_budget_is_recorded_as_timeout(tmp_path):

@@ -1,5 +1,6 @@
 """tune_planner's ROS-free parts: parameter names and grids, per-trial YAML files, the clearance
-and speed figures, results.csv, the table.  No master, no simulator."""
+and speed figures, results.csv, the table, the trial command lines (lock-step time), and the
+driver's recording and output files.  No master, no simulator."""
 import collections
 import math
 import os
@@ -10,7 +11,8 @@ import pytest
 import yaml
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'src'))
-from minibot3d_navigation.tuning import metrics, params, report, study  # noqa: E402
+from minibot3d_navigation.tuning import (  # noqa: E402
+    DRIVER_NODE, cli, metrics, params, report, study)
 
 NAMES = params.parse_parameter_names('\n'.join([
     'TrajectoryPlannerROS/max_vel_x', 'TrajectoryPlannerROS/sim_time',
@@ -196,3 +198,152 @@ def test_optimize_records_trials_and_resumes_from_its_storage(tmp_path, monkeypa
     st = study.run_optuna(setup, sweeps, 2, results, 1, None, threading.Event(), storage, 's',
                           8, progress=False)
     assert len(st.trials) == 8
+
+
+def _setup(tmp_path, **kw):
+    foot = [[0.1, 0.1], [-0.1, 0.1], [-0.1, -0.1]]
+    tp = tmp_path / 'tp.yaml'
+    tp.write_text('TrajectoryPlannerROS: {max_vel_x: 0.5}\n')
+    return study.Setup(str(tmp_path), str(tp), str(tp), str(tp), '-3,-1.5,0', '-2.1,0.6 1,2',
+                       kw.pop('rtf', 0.0), 300.0, str(tp), str(tp), foot, {}, **kw)
+
+
+def test_trials_run_on_lockstep_time_as_fast_as_possible_by_default():
+    args = cli.build_parser().parse_args([])
+    assert args.lockstep and cli.real_time_factor(args) == 0.0
+    args = cli.build_parser().parse_args(['--rtf', '2'])
+    assert args.lockstep and cli.real_time_factor(args) == 2.0
+    # The escape hatch: free-running at the old default, where 0 would starve the nodes.
+    args = cli.build_parser().parse_args(['--no-lockstep'])
+    assert not args.lockstep and cli.real_time_factor(args) == cli.DEFAULT_FREE_RTF == 3.0
+    with pytest.raises(cli.UsageError):
+        cli.real_time_factor(cli.build_parser().parse_args(['--no-lockstep', '--rtf', '0']))
+    with pytest.raises(cli.UsageError):
+        cli.real_time_factor(cli.build_parser().parse_args(['--rtf', '-1']))
+
+
+def test_stack_requests_lockstep_with_the_driver_as_a_participant(tmp_path):
+    setup = _setup(tmp_path)
+    spec = study.TrialSpec({'max_vel_x': 0.5}, 1, setup)
+    cmd = study.stack_command(setup, spec, 11311, 'tp.yaml', 'mb.yaml')
+    assert cmd[:5] == ['roslaunch', '-p', '11311', 'minibot3d_navigation', 'amcl_navigation.launch']
+    args = dict(a.split(':=', 1) for a in cmd[5:])
+    assert args['lockstep'] == 'true' and args['real_time_factor'] == '0'
+    # Every participant is listed, so sim time starts only once all have joined: the driver under
+    # the very name it takes.
+    assert args['lockstep_participants'].split() == ['/amcl', '/move_base', '/' + DRIVER_NODE]
+    drive = study.driver_command(setup, str(tmp_path))
+    assert drive[1:3] == ['-m', 'minibot3d_navigation.tuning.driver'] and '--lockstep' in drive
+    from minibot3d_navigation.tuning import driver
+    assert driver.NODE_NAME == DRIVER_NODE
+    assert setup.wall_budget() < 1e4  # rtf 0 is not a division by zero
+
+    free = _setup(tmp_path, rtf=3.0, lockstep=False)
+    args = dict(a.split(':=', 1) for a in study.stack_command(free, spec, 1, 'a', 'b')[5:])
+    assert args['lockstep'] == 'false' and 'lockstep_participants' not in args
+    assert args['real_time_factor'] == '3'
+    assert '--no-lockstep' in study.driver_command(free, str(tmp_path))
+    # Lock-step and free-running results are different trials (not resumed from one another).
+    assert free.config_hash() != _setup(tmp_path, rtf=3.0).config_hash()
+
+
+def test_a_trial_whose_driver_was_dropped_from_the_loop_is_run_again(tmp_path, monkeypatch):
+    from minibot3d_navigation.tuning import driver
+    assert driver.DROPPED == study.DRIVER_DROPPED
+    setup = _setup(tmp_path)
+    spec = study.TrialSpec({'max_vel_x': 0.5}, 1, setup)
+    outcomes = [(dict(status='error', reason='dropped'), study.DRIVER_DROPPED),
+                (dict(status='reached', reason=''), 0)]
+    monkeypatch.setattr(study, '_run_trial_once', lambda *a: outcomes.pop(0))
+    assert study.run_trial(setup, spec, None, None)['status'] == 'reached' and not outcomes
+    # Any other error (the stack did not come up) is not retried here.
+    outcomes = [(dict(status='error', reason='the stack exited'), 3),
+                (dict(status='reached', reason=''), 0)]
+    assert study.run_trial(setup, spec, None, None)['status'] == 'error'
+
+
+def _truth(t, x, y=0.0):
+    from nav_msgs.msg import Odometry
+    import rospy
+    m = Odometry()
+    m.header.stamp = rospy.Time.from_sec(t)
+    m.pose.pose.position.x, m.pose.pose.position.y = x, y
+    m.pose.pose.orientation.w = 1.0
+    return m
+
+
+def test_driver_records_the_truth_itself_and_writes_whole_files(tmp_path, monkeypatch):
+    """The driver keeps what its subscriber callbacks got (no bag read back while another process
+    still writes it) and writes trajectory.csv, then result.json, each as a temp file renamed
+    into place: whoever sees result.json sees the whole trajectory."""
+    import json
+    from move_base_msgs.msg import MoveBaseActionResult
+    from geometry_msgs.msg import PoseStamped
+    from minibot3d_navigation.tuning import driver
+    import rospy
+    rec = driver.Recorder()
+    for i in range(0, 1001):  # 10 s of ground truth at 100 Hz, 0.5 m/s along x
+        rec.on_truth(_truth(i * 0.01, 0.005 * i))
+    goal = PoseStamped()
+    goal.header.stamp = rospy.Time.from_sec(1.0)
+    rec.on_goal(goal)
+    res = MoveBaseActionResult()
+    res.header.stamp = rospy.Time.from_sec(9.0)
+    res.status.status = 3
+    rec.on_result(res)
+    accepted, results, rows = rec.snapshot()
+    assert len(rows) == 201 and rows[1][0] == pytest.approx(0.05)  # every RECORD_PERIOD
+    _, route = driver.parse_route('0,0,0', '4,0')
+    result, rows = driver.summarize(dict(status='reached', reason='', goals_reached=1), route,
+                                    accepted, results, rows, 0.9, 2, 2, 0.5)
+    assert result['time_to_goal'] == pytest.approx(8.0) and result['collisions'] == 0
+    assert result['achieved_rtf'] == pytest.approx(16.0)
+
+    replaced = []
+    real_replace = os.replace
+
+    def spying_replace(src, dst):
+        # Nothing is visible under its final name before it is complete.
+        assert not os.path.exists(dst)
+        replaced.append(os.path.basename(dst))
+        real_replace(src, dst)
+    monkeypatch.setattr(driver.os, 'replace', spying_replace)
+    driver.write_outputs(str(tmp_path), result, rows)
+    monkeypatch.undo()
+    assert replaced == ['trajectory.csv', 'result.json']
+    assert sorted(os.listdir(str(tmp_path))) == ['result.json', 'trajectory.csv']  # no temp files
+    traj = metrics.read_trajectory(str(tmp_path / 'trajectory.csv'))
+    assert len(traj['t']) == len(rows) == 163  # 0.95 .. 9.05 s
+    assert traj['t'][0] == pytest.approx(0.95) and traj['t'][-1] == pytest.approx(9.05)
+    assert json.load(open(str(tmp_path / 'result.json')))['time_to_goal'] == pytest.approx(8.0)
+
+
+def test_driver_leaves_no_result_when_writing_fails(tmp_path, monkeypatch):
+    from minibot3d_navigation.tuning import driver
+    _, route = driver.parse_route('0,0,0', '4,0')
+    result, rows = driver.summarize(dict(status='reached', reason='', goals_reached=1), route,
+                                    [1.0], [(2.0, 3)], [(1.0, 0.0, 0.0, 0.0), (2.0, 1.0, 0.0, 0.0)],
+                                    1.0, 0, 0, 1.0)
+
+    def full_disk(*a, **kw):
+        raise OSError(28, 'No space left on device')
+    monkeypatch.setattr(driver.json, 'dumps', full_disk)
+    with pytest.raises(OSError):
+        driver.write_outputs(str(tmp_path), result, rows)
+    assert os.listdir(str(tmp_path)) == ['trajectory.csv']  # no result.json, no temp file
+
+
+def test_driver_does_not_record_with_rosbag():
+    """The old driver read run.bag while `rosbag record` could still be writing run.bag.active."""
+    import ast
+    import inspect
+    from minibot3d_navigation.tuning import driver
+    source = inspect.getsource(driver)
+    imported = set()
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Import):
+            imported.update(a.name.split('.')[0] for a in node.names)
+        elif isinstance(node, ast.ImportFrom) and node.module:
+            imported.add(node.module.split('.')[0])
+    assert not imported & {'rosbag', 'subprocess'}
+    assert 'rosbag' not in source

@@ -265,7 +265,7 @@ class SimNode {
       truth_pub_ = nh_.advertise<nav_msgs::Odometry>("ground_truth/odom", q(20));
     }
     collision_pub_ = pnh_.advertise<Collision>("collisions", q(50));
-    status_pub_ = pnh_.advertise<SimStatus>("status", 5, true);
+    status_pub_ = pnh_.advertise<SimStatus>("status", q(5), true);
     // Commands have their own queue: in lock-step they are applied once every participant's
     // messages have arrived, never in the middle of a round.
     ros::NodeHandle cmd_nh(nh_);
@@ -278,7 +278,7 @@ class SimNode {
       ack_sub_ = nh_.subscribe(minibot3d_lockstep::kAckTopic, 100, &SimNode::OnAck, this,
                                ros::TransportHints().tcpNoDelay());
       participants_pub_ = nh_.advertise<minibot3d_lockstep::Participants>(
-          minibot3d_lockstep::kParticipantsTopic, 1, true);
+          minibot3d_lockstep::kParticipantsTopic, q(1), true);
       services_.push_back(nh_.advertiseService(minibot3d_lockstep::kRegisterService,
                                                &SimNode::OnRegister, this));
       services_.push_back(nh_.advertiseService(minibot3d_lockstep::kUnregisterService,

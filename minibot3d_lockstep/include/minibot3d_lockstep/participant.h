@@ -87,6 +87,8 @@ class Participant {
   void WaitForClock(const ros::Time& stamp);
   void ServeBetweenTicks();
   void SettleConnections();
+  // While a long wait holds the tick: tells the simulator this node is alive (once a second).
+  void Heartbeat(ros::WallTime* last);
 
   ros::NodeHandle nh_;
   ParticipantOptions options_;
@@ -97,7 +99,7 @@ class Participant {
   ros::NodeHandle tf_nh_, service_nh_, tick_nh_;
   ros::Publisher ack_pub_;
   ros::Subscriber tick_sub_;
-  TickConstPtr pending_tick_;
+  TickConstPtr pending_tick_, current_;
   std::vector<std::unique_ptr<Job>> jobs_;
   std::vector<double> wake_at_;
   std::vector<std::string> settled_topics_;

@@ -244,6 +244,7 @@ class Participant(object):
         if wake_on_participants:
             self._wake_topics.append(PARTICIPANTS_TOPIC)
         self.participants = set()
+        self._joined = False
         self._delivery_timeout = delivery_timeout
         self._jobs = []  # [period, next, fn]
         self._cond = threading.Condition()
@@ -317,6 +318,12 @@ class Participant(object):
             time.sleep(0.002)
         return name in self.participants
 
+    def _beat(self, state):
+        """Heartbeat at most once a wall second while a tick is held in a long wait."""
+        if time.time() - state[0] > 1.0:
+            state[0] = time.time()
+            self.still_working()
+
     def still_working(self):
         """Tells the simulator this script is alive though not done with its tick (long work,
         waiting for a process): restarts its ~lockstep_timeout."""
@@ -375,6 +382,8 @@ class Participant(object):
 
     def _on_participants(self, msg):
         self.participants = set(msg.names)
+        if self.name in self.participants:
+            self._joined = True
 
     def _on_tick(self, tick):
         with self._cond:
@@ -398,13 +407,19 @@ class Participant(object):
         with self._cond:
             while self._tick is None and not rospy.is_shutdown():
                 self._cond.wait(0.5)
+                if self._tick is None and self._joined and self.name not in self.participants:
+                    rospy.logerr('%s: the simulator dropped this participant from the lock-step '
+                                 'loop (it answered too slowly, see the simulator\'s log)',
+                                 self.name)
+                    self._registered = False
+                    return None
             tick, self._tick = self._tick, None
         if tick is None:
             return None
+        self._current = tick  # held from here: heartbeats name it
         self._settle_connections()
         self._wait_for_delivery(tick)
         self._wait_for_clock(tick.stamp)
-        self._current = tick
         return tick
 
     def _settle_connections(self):
@@ -416,7 +431,9 @@ class Participant(object):
             return
         self._settled = topics
         start = time.time()
+        beat = [start]
         while not rospy.is_shutdown():
+            self._beat(beat)
             missing = missing_connections()
             if not missing:
                 return
@@ -433,7 +450,9 @@ class Participant(object):
 
     def _wait_for_delivery(self, tick):
         start = time.time()
+        beat = [start]
         while not rospy.is_shutdown():
+            self._beat(beat)
             have = handled_counts()
             missing = ['%s from %s (%d of %d)' % (l.topic, l.peer, have.get((l.topic, l.peer), 0),
                                                    l.count)

@@ -121,15 +121,23 @@ def build_parser():
     return p
 
 
-def prepare(args):
-    """Checks every argument (parameter names included) and returns (setup, sweeps)."""
-    if args.rtf is None:
-        args.rtf = DEFAULT_RTF if args.lockstep else DEFAULT_FREE_RTF
-    if not (args.rtf >= 0 and math.isfinite(args.rtf)):
+def real_time_factor(args):
+    """The trials' real-time factor: --rtf, else 0 (as fast as possible) on lock-step time and
+    DEFAULT_FREE_RTF with --no-lockstep, where 0 is refused."""
+    rtf = args.rtf
+    if rtf is None:
+        rtf = DEFAULT_RTF if args.lockstep else DEFAULT_FREE_RTF
+    if not (rtf >= 0 and math.isfinite(rtf)):
         raise UsageError('--rtf must be >= 0 (0: as fast as possible)')
-    if args.rtf == 0 and not args.lockstep:
+    if rtf == 0 and not args.lockstep:
         raise UsageError('--rtf 0 needs lock-step time: free-running, as fast as possible '
                          'starves the nodes (drop --no-lockstep, or give --rtf > 0)')
+    return float(rtf)
+
+
+def prepare(args):
+    """Checks every argument (parameter names included) and returns (setup, sweeps)."""
+    args.rtf = real_time_factor(args)
     if args.repeats < 1 or args.jobs < 1 or args.timeout <= 0 or args.trials < 1:
         raise UsageError('--repeats, --jobs, --trials and --timeout must be positive')
     start = _pose(args.start, (3,), '--start')

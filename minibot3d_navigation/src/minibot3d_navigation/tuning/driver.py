@@ -6,11 +6,11 @@ rename, and only once the run is over) into the trial directory.
   python3 -m minibot3d_navigation.tuning.driver --dir=TRIAL_DIR --start=X,Y,YAW
       --goals="x,y[,yaw] ..." --timeout=SIM_S [--ready-timeout=WALL_S] [--lockstep|--no-lockstep]
 
-The node is /tune_planner_driver (tuning.DRIVER_NODE).  Under lock-step time (/use_lockstep, which the tool
-sets by default) it is a participant of the simulator's loop (minibot3d_lockstep), listed in the
-stack's lockstep_participants so that it joins before sim time starts: sim time moves only while
-it waits (Participant.wait_for), and every message sent to it before a tick has been handled by
-its callbacks when it looks, so the same trial gives the same figures in every run.  Without
+The node is /tune_planner_driver (tuning.DRIVER_NODE).  Under lock-step time (/use_lockstep, which
+the tool sets by default) it is a participant of the simulator's loop (minibot3d_lockstep), listed
+in the stack's lockstep_participants so that it joins before sim time starts: sim time moves only
+while it waits (Participant.wait_for), and every message sent to it before a tick has been handled
+by its callbacks when it looks, so the same trial gives the same figures in every run.  Without
 lock-step the same waits fall back to rospy on sim time.
 
 Ready means: the simulator publishes its status, move_base's action server is connected, and
@@ -22,7 +22,8 @@ first goal (its acceptance) to the stamp of the last result; the trajectory is /
 (every RECORD_PERIOD sim s), appended by a subscriber callback; collisions are the change of the
 simulator's status count from the first goal to one sim second after the last result.  --timeout
 is in sim seconds for the whole route, from the first goal.  Exit status 0 whatever the outcome
-(it is in result.json), 3 if the stack never became ready (the reason is printed).
+(it is in result.json), 3 if the stack never became ready, 4 if the simulator dropped the driver
+from its lock-step loop (DROPPED; the tool reruns the trial); the reason is printed.
 """
 import argparse
 import json
@@ -33,13 +34,15 @@ import threading
 import time
 
 # Before rospy.init_node: counts messages on the connections made after it (lock-step delivery).
-from minibot3d_lockstep import LOCKSTEP_PARAM, Participant, action_server_ready  # noqa: I100
+from minibot3d_lockstep import (LOCKSTEP_PARAM, PARTICIPANTS_TOPIC, Participant,  # noqa: I100
+                                action_server_ready)
 
 import actionlib
 import rosgraph
 import rospy
 from actionlib_msgs.msg import GoalStatus
 from geometry_msgs.msg import PoseStamped
+from minibot3d_lockstep.msg import Participants
 from minibot3d_sim.msg import SimStatus
 from move_base_msgs.msg import MoveBaseAction, MoveBaseActionResult, MoveBaseGoal
 from nav_msgs.msg import Odometry
@@ -47,6 +50,7 @@ from nav_msgs.srv import GetPlan
 
 from minibot3d_navigation.tuning import DRIVER_NODE as NODE_NAME  # in lockstep_participants
 
+DROPPED = 4  # exit status: dropped from the lock-step loop (study.DRIVER_DROPPED)
 RECORD_PERIOD = 0.05  # sim s between recorded poses
 READY_SIM_TIMEOUT = 120.0  # sim s after time starts for the stack to plan to the first goal
 PLAN_RETRY = 0.5  # sim s between make_plan attempts while waiting for the stack
@@ -201,6 +205,31 @@ def wait_for_simulator(wall_deadline):
     return what
 
 
+class Membership(object):
+    """Under lock-step: notices the simulator dropping this driver from its loop (no answer within
+    its ~lockstep_timeout: a starved or stalled process).  No tick comes after that, and
+    Participant.wait_for would wait for one for ever; this shuts rospy down instead, which ends
+    the wait, and `dropped` says why."""
+
+    def __init__(self):
+        self.dropped = None
+        self._joined = self._leaving = False
+        self._sub = rospy.Subscriber(PARTICIPANTS_TOPIC, Participants, self._on_participants,
+                                     queue_size=10)  # as Participant's own subscription
+
+    def leaving(self):
+        self._leaving = True
+
+    def _on_participants(self, msg):
+        if rospy.get_name() in msg.names:
+            self._joined = True
+        elif self._joined and not self._leaving and self.dropped is None:
+            self.dropped = ('the simulator dropped this driver from its lock-step loop at sim '
+                            'time %.3f (no answer within ~lockstep_timeout: the process was '
+                            'starved or stalled; see stack.log)' % msg.stamp.to_sec())
+            rospy.signal_shutdown(self.dropped)
+
+
 class Readiness(object):
     """wait_for predicate: the stack can take the first goal.  `missing` says what is not there
     yet; make_plan is asked at most every PLAN_RETRY sim s."""
@@ -246,6 +275,9 @@ def drive(route, client, lockstep, timeout):
         client.send_goal(goal)
         remaining = (end - rospy.get_rostime()).to_sec()
         if remaining <= 0 or not lockstep.wait_for(done, remaining):
+            if rospy.is_shutdown():  # not a timeout: the wait was cut short (see run)
+                outcome.update(status='error', reason='shut down at goal %d' % (i + 1))
+                break
             client.cancel_goal()
             if not lockstep.wait_for(done, CANCEL_TIMEOUT):
                 log('move_base did not confirm the cancelled goal within %g sim s'
@@ -283,11 +315,18 @@ def run(args):
     recorder.subscribe()
     client = actionlib.SimpleActionClient('move_base', MoveBaseAction)
     ready = Readiness(recorder, client, route[0])
+    membership = Membership() if lockstep_on else None
+
+    def dropped():
+        return membership is not None and membership.dropped is not None
     # Woken by results (a goal is done) and by the simulator's 1 Hz status (collision counts, and
     # the pace of the readiness checks); every other wait has a sim-time deadline.
     lockstep = Participant(wake_topics=['/move_base/result', '/minibot3d_sim/status'])
     try:
         if not lockstep.wait_for(ready, READY_SIM_TIMEOUT):
+            if dropped():
+                log(membership.dropped)
+                return DROPPED
             log('the stack was not ready within %g sim s: %s' % (READY_SIM_TIMEOUT, ready.missing))
             return 3
         sim0 = rospy.get_rostime().to_sec()
@@ -301,12 +340,21 @@ def run(args):
         _, results, _ = recorder.snapshot()
         t_end = (results[-1][0] if results else rospy.get_rostime().to_sec()) + COLLISION_MARGIN
         if not lockstep.wait_for(lambda: recorder.latest_status().sim_time >= t_end - 1e-9,
-                                 t_end - rospy.get_rostime().to_sec() + 2.0):
+                                 t_end - rospy.get_rostime().to_sec() + 2.0) \
+                and not rospy.is_shutdown():
             log('no simulator status %g sim s after the last result: collisions counted up to '
                 '%.2f' % (COLLISION_MARGIN, recorder.latest_status().sim_time))
         collisions1 = recorder.latest_status().collisions
         accepted, results, rows = recorder.snapshot()
+        if rospy.is_shutdown():  # the waits above ended early: no result rather than a wrong one
+            if dropped():
+                log(membership.dropped)
+                return DROPPED
+            log('rospy shut down before the route was over')
+            return 3
     finally:
+        if membership is not None:
+            membership.leaving()
         lockstep.close()  # leave the loop: the stack's time no longer waits for this script
     result, rows = summarize(outcome, route, accepted, results, rows, sim0, collisions0,
                              collisions1, wall)

@@ -12,8 +12,9 @@ A grid study runs every (setting, repeat) that results.csv does not already hold
 time; results.csv is rewritten (temp file + rename) after every trial, so an interrupted study
 resumes where it stopped.  A trial is identified by its settings, its repeat and a hash of
 everything else that changes its outcome (world, maps, start, goals, real-time factor, timeout,
-base parameter files, lock-step or not), so changing any of these in the same --out directory reruns the trials
-instead of mixing old results in.  Rows with status `error` (the stack did not come up) are rerun.
+base parameter files, lock-step or not), so changing any of these in the same --out directory
+reruns the trials instead of mixing old results in.  Rows with status `error` (the stack did not
+come up) are rerun.
 
 --optimize instead asks Optuna's TPE sampler for settings, runs --repeats trials of each and
 reports the mean time-to-goal, with the number of collisions plus unreached runs as a constraint
@@ -136,19 +137,31 @@ def driver_command(setup, trial_dir):
             '--lockstep' if setup.lockstep else '--no-lockstep']
 
 
+# The driver's exit status when the simulator dropped it from the lock-step loop (it did not
+# answer within ~lockstep_timeout wall seconds: a starved process on a loaded machine).
+DRIVER_DROPPED = 4
+
+
 def run_trial(setup, spec, registry, stop, attempts=3):
     """Runs one trial; returns its results.csv row, or raises Interrupted.  A stack that could
     not start because its master port was taken in the meantime (the port is chosen free, then
-    bound by roslaunch a moment later) is retried on a new port."""
+    bound by roslaunch a moment later) is retried on a new port; so is a trial whose driver the
+    simulator dropped from the lock-step loop (a lock-step trial's figures do not depend on how
+    often it was tried)."""
     for attempt in range(attempts):
-        row = _run_trial_once(setup, spec, registry, stop)
+        row, driver_status = _run_trial_once(setup, spec, registry, stop)
         log = os.path.join(setup.out_dir, 'trials', spec.name, 'stack.log')
         port_taken = False
         if row['status'] == 'error' and os.path.exists(log):
             with open(log, errors='replace') as f:
                 port_taken = 'Address already in use' in f.read()
-        if not port_taken:
+        dropped = row['status'] == 'error' and driver_status == DRIVER_DROPPED
+        if not (port_taken or dropped):
             return row
+        if dropped and attempt + 1 < attempts:
+            from tqdm import tqdm
+            tqdm.write('%s r%d: %s; running it again' % (settings_slug(spec.settings), spec.repeat,
+                                                          row['reason']), file=sys.stderr)
     return row
 
 
@@ -195,6 +208,7 @@ def _run_trial_once(setup, spec, registry, stop):
             if g is not None:
                 g.stop()
     wall = time.monotonic() - wall0
+    driver_status = driver.proc.returncode if driver is not None else None
 
     row = collections.OrderedDict(key=spec.key, trial=spec.name)
     row.update(spec.settings)
@@ -220,13 +234,24 @@ def _run_trial_once(setup, spec, registry, stop):
                    '%.0f s' % setup.wall_budget())
     else:
         why = 'the stack exited' if stack_died else 'the driver gave up'
-        row.update(status='error', reason='%s before a result (see %s)' % (
-            why, os.path.relpath(trial_dir, setup.out_dir)))
+        said = _driver_said(trial_dir)
+        row.update(status='error', reason='%s before a result%s (see %s)' % (
+            why, ': ' + said if said else '', os.path.relpath(trial_dir, setup.out_dir)))
     row['reached'] = int(row['status'] == 'reached')
     row['wall_time'] = round(wall, 1)
     if row['status'] in FINISHED:
         shutil.rmtree(os.path.join(trial_dir, 'ros_log'), ignore_errors=True)
-    return row
+    return row, driver_status
+
+
+def _driver_said(trial_dir):
+    """The driver's last message (why it gave up), or ''."""
+    try:
+        with open(os.path.join(trial_dir, 'driver.log'), errors='replace') as f:
+            lines = [l.strip() for l in f if l.startswith('driver: ')]
+    except OSError:
+        return ''
+    return lines[-1][len('driver: '):] if lines else ''
 
 
 class ResultsFile(object):
