@@ -15,11 +15,15 @@ import subprocess
 import threading
 import unittest
 
+from minibot3d_lockstep import Participant, action_server_ready  # before rospy.init_node
+
 import actionlib
 import rospy
 import rostest
+import tf2_ros
 from actionlib_msgs.msg import GoalStatus
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
+from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav_msgs.msg import Odometry
 
 GOALS = [(-2.1, 0.6, math.pi / 2), (0.45, 0.6, 0.0), (2.5, -1.0, -math.pi / 2)]
@@ -44,7 +48,8 @@ def make_goal(x, y, yaw, frame='map'):
 class Truth(object):
     """Latest /ground_truth/odom and the simulator's collision count."""
 
-    def __init__(self):
+    def __init__(self, lockstep):
+        self.lockstep = lockstep
         self.cond = threading.Condition()
         self.pose = None
         self.speed = 0.0
@@ -66,40 +71,60 @@ class Truth(object):
             self.collision_count = m.collisions
 
     def wait(self, predicate, timeout):
-        deadline = rospy.Time.now() + rospy.Duration(timeout)
-        with self.cond:
-            while not predicate():
-                if rospy.is_shutdown() or rospy.Time.now() > deadline:
-                    return False
-                self.cond.wait(0.5)
-        return True
+        """Sim time moves on (checked every 0.05 s of it) until predicate() holds."""
+        return self.lockstep.wait_for(predicate, timeout)
 
 
 class MoveBaseSim(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('move_base_sim_test')
-        cls.truth = Truth()
+        # A lock-step participant (move_base_sim.test): woken by results, by the participant
+        # list (simple_navi_goals.py leaving) and every 0.05 s of sim time to check the truth.
+        cls.lockstep = Participant(wake_topics=['move_base/result', '/amcl_pose'],
+                                   wake_on_participants=True)
+        cls.lockstep.add_periodic(0.05, lambda now: None)
+        cls.truth = Truth(cls.lockstep)
+        localized = []
+        rospy.Subscriber('/amcl_pose', PoseWithCovarianceStamped, localized.append, queue_size=5)
         cls.client = actionlib.SimpleActionClient('move_base', MoveBaseAction)
-        assert cls.client.wait_for_server(rospy.Duration(120.0)), 'no move_base action server'
+        assert cls.lockstep.wait_for(lambda: action_server_ready(cls.client), 120.0), \
+            'no move_base action server'
         assert cls.truth.wait(lambda: cls.truth.pose is not None, 60.0), 'no ground truth'
+        # Goals in base_link need map -> base_link now: amcl publishes map -> odom with its
+        # first pose (first scan), and the lookup needs it to cover the latest odometry.
+        assert cls.lockstep.wait_for(lambda: bool(localized), 60.0), 'no amcl_pose'
+        tf_buffer = tf2_ros.Buffer()
+        cls.tf_listener = tf2_ros.TransformListener(tf_buffer)
+        assert cls.lockstep.wait_for(
+            lambda: tf_buffer.can_transform('map', 'base_link', rospy.Time(0)), 60.0), \
+            'no map -> base_link transform'
+
+    def result(self, timeout):
+        return self.lockstep.wait_for(
+            lambda: self.client.simple_state == actionlib.SimpleGoalState.DONE, timeout)
 
     def send_and_wait(self, goal, timeout):
         self.client.send_goal(goal)
-        finished = self.client.wait_for_result(rospy.Duration(timeout))
+        finished = self.result(timeout)
         if not finished:
             self.client.cancel_goal()
         return finished, self.client.get_state(), self.client.get_goal_status_text()
 
     def test_1_seed_client_moves_one_metre(self):
         start = self.truth.pose
-        proc = subprocess.run(['rosrun', 'minibot3d_sim', 'simple_navi_goals.py', '1', '1'],
-                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                              universal_newlines=True, timeout=600)
-        self.assertEqual(proc.returncode, 0, proc.stdout)
+        # The seed's client joins the loop while sim time is held, and is done when it leaves.
+        proc = subprocess.Popen(['rosrun', 'minibot3d_sim', 'simple_navi_goals.py', '1', '1'],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                universal_newlines=True)
+        if self.lockstep.wait_for_participant('/simple_navi_goals', proc):
+            self.assertTrue(self.lockstep.wait_for(
+                lambda: self.lockstep.participant_left('/simple_navi_goals', proc), 600.0))
+        stdout, _ = proc.communicate(timeout=60)
+        self.assertEqual(proc.returncode, 0, stdout)
         for text in ('Set X = 1.0', 'Set W = 1.0', 'Waiting for server', 'Sending Goals',
                      'SUCCEEDED'):
-            self.assertIn(text, proc.stdout)
+            self.assertIn(text, stdout)
         end = self.truth.pose
         forward = (end[0] - start[0]) * math.cos(start[2]) + (end[1] - start[1]) * math.sin(start[2])
         sideways = -(end[0] - start[0]) * math.sin(start[2]) + (end[1] - start[1]) * math.cos(start[2])
@@ -128,7 +153,7 @@ class MoveBaseSim(unittest.TestCase):
         self.assertTrue(self.truth.wait(lambda: self.truth.speed > 0.1, 60.0),
                         'robot never started moving')
         self.client.cancel_goal()
-        self.assertTrue(self.client.wait_for_result(rospy.Duration(10.0)))
+        self.assertTrue(self.result(10.0))
         self.assertEqual(self.client.get_state(), GoalStatus.PREEMPTED)
         self.assertTrue(self.truth.wait(lambda: self.truth.speed < 0.02, 5.0),
                         'robot still moving at %.2f m/s after cancel' % self.truth.speed)
@@ -147,7 +172,7 @@ class MoveBaseSim(unittest.TestCase):
         good = make_goal(-2.0, -1.5, 0.0)
         good.target_pose.pose.orientation.w = 2.0
         self.client.send_goal(good, feedback_cb=feedback.append)
-        self.assertTrue(self.client.wait_for_result(rospy.Duration(300.0)))
+        self.assertTrue(self.result(300.0))
         self.assertEqual(self.client.get_state(), GoalStatus.SUCCEEDED,
                          self.client.get_goal_status_text())
         self.assertTrue(feedback, 'no feedback published')
