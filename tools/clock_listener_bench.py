@@ -54,10 +54,14 @@ def main():
         return 1
     med = data[len(data) // 2]
     p99 = data[min(len(data) - 1, int(0.99 * len(data)))]
+    rate = (sim1 - sim0) / wall
+    # A lag of L s of sim time at R x real time is L / R s of wall time: how late the node's /clock
+    # thread ran (rospy's threads share the GIL, which changes hands every 5 ms by default).
     print('%s: /clock %.0f msgs/wall s, sim rate %.1fx real time, lag of rospy.Time.now() behind '
-          '/ground_truth/odom stamps: median %.1f ms, p99 %.1f ms, max %.1f ms (over %d messages)'
-          % (args.label, n_clock / wall, (sim1 - sim0) / wall, 1000 * med, 1000 * p99,
-             1000 * data[-1], len(data)), flush=True)
+          '/ground_truth/odom stamps: median %.1f ms, p99 %.1f ms, max %.1f ms of sim time '
+          '(p99 %.1f ms of wall time; over %d messages)'
+          % (args.label, n_clock / wall, rate, 1000 * med, 1000 * p99, 1000 * data[-1],
+             1000 * p99 / rate if rate > 0 else float('nan'), len(data)), flush=True)
     return 0
 
 

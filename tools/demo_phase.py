@@ -97,22 +97,12 @@ def wait_for(lockstep, predicate, sim_timeout, what):
         raise RuntimeError('timed out waiting for ' + what)
 
 
-def run_participant(lockstep, name, cmd, sim_timeout, **popen):
-    """Starts `cmd` (a node called `name` that joins the lock-step loop) and waits, on sim time,
-    until it has finished. Returns (finished in time, the Popen)."""
-    proc = subprocess.Popen(cmd, **popen)
-    if not lockstep.wait_for_participant(name, proc):
-        return proc.poll() is not None, proc
-    done = lockstep.wait_for(lambda: lockstep.participant_left(name, proc), sim_timeout)
-    return done, proc
-
-
 def explore(args, lockstep):
     rec = Recorder()
     wait_for(lockstep, lambda: rec.truth is not None, 60, '/ground_truth/odom')
     t0_sim, t0_wall = rospy.Time.now(), time.time()
-    finished, proc = run_participant(
-        lockstep, '/explore',
+    finished, proc = lockstep.run(
+        '/explore',
         ['rosrun', 'minibot3d_navigation', 'explore', '_min_frontier_size:=0.5', '_clearance:=0.2'],
         args.timeout)
     ok = finished
@@ -157,10 +147,10 @@ def localize(lockstep, rec, cmd_pub, spawn, tries=4):
             print('demo: localized after %d turn(s): error %.3f m' % (2 * (attempt + 1), err),
                   flush=True)
             return err
-        run_participant(lockstep, '/simple_navi_goals',
-                        ['rosrun', 'minibot3d_navigation', 'simple_navi_goals.py', '0.7', '1',
-                         '--timeout', '60'], 90,
-                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)[1].wait()
+        lockstep.run('/simple_navi_goals',
+                     ['rosrun', 'minibot3d_navigation', 'simple_navi_goals.py', '0.7', '1',
+                      '--timeout', '60'], 90,
+                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)[1].wait()
     if rec.amcl is not None:
         t = world_to_map(spawn, rec.truth)
         err = math.hypot(rec.amcl[0] - t[0], rec.amcl[1] - t[1])
@@ -233,8 +223,8 @@ def navigate(args, lockstep):
     for g in goals:
         gm = world_to_map(spawn, g)
         t0 = time.time()
-        _, proc = run_participant(
-            lockstep, '/simple_navi_goals',
+        _, proc = lockstep.run(
+            '/simple_navi_goals',
             ['rosrun', 'minibot3d_navigation', 'simple_navi_goals.py', '--frame', 'map',
              '%.3f' % gm[0], '%.3f' % gm[1], '%.3f' % gm[2], '--timeout', str(args.timeout)],
             args.timeout + 30, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,

@@ -11,17 +11,24 @@ stop() { kill -INT -- -"$1" 2>/dev/null || true; wait "$1" 2>/dev/null || true; 
 pid=
 trap '[ -n "$pid" ] && stop "$pid"' EXIT
 
-echo "== /clock seen by a listening rospy node: free-running simulator, real_time_factor 0"
+echo "== /clock seen by a listening rospy node: free-running simulator at real_time_factor 5, 20, 0"
 echo "   (kinematic physics, a constant arc; /clock throttled to ~pub_clock_frequency 1000 Hz wall)"
-setsid roslaunch -p "$ROS_PORT" minibot3d_sim minibot3d_gazebo.launch physics:=kinematic \
-  real_time_factor:=0 cmd_timeout:=1000000 > build/bench/lockstep_free.log 2>&1 &
-pid=$!
-wait_for_master 60
-rostopic pub /cmd_vel geometry_msgs/Twist '{linear: {x: 0.2}, angular: {z: 0.4}}' > /dev/null 2>&1 &
-pub=$!
-/usr/bin/python3 tools/clock_listener_bench.py "free-running, RTF 0" --seconds 10 || true
-kill "$pub" 2>/dev/null || true
-stop "$pid"
+for rtf in 5 20 0; do
+  ROS_PORT="$(ros_free_port)"
+  export ROS_PORT
+  export ROS_MASTER_URI="http://127.0.0.1:${ROS_PORT}"
+  setsid roslaunch -p "$ROS_PORT" minibot3d_sim minibot3d_gazebo.launch physics:=kinematic \
+    real_time_factor:="$rtf" cmd_timeout:=1000000 > "build/bench/lockstep_free$rtf.log" 2>&1 &
+  pid=$!
+  wait_for_master 60
+  rostopic pub /cmd_vel geometry_msgs/Twist '{linear: {x: 0.2}, angular: {z: 0.4}}' \
+    > /dev/null 2>&1 &
+  pub=$!
+  /usr/bin/python3 tools/clock_listener_bench.py "free-running, RTF $rtf" --seconds 10 || true
+  kill "$pub" 2>/dev/null || true
+  stop "$pid"
+  pid=
+done
 
 echo "== the full loop on lock-step time, real_time_factor 0: simulator (Bullet) + map_server +"
 echo "   amcl + move_base + a Python goal client, two goals across the default world; 3 runs"

@@ -171,10 +171,6 @@ void SyncWithPollThread() {
   }
 }
 
-}  // namespace minibot3d_lockstep
-
-namespace minibot3d_lockstep {
-
 bool WaitForPollIteration(double timeout) {
   PollCounter& poll = Poll();
   std::unique_lock<std::mutex> lock(poll.mutex);
@@ -183,10 +179,6 @@ bool WaitForPollIteration(double timeout) {
   return poll.cv.wait_for(lock, std::chrono::duration<double>(timeout),
                           [&] { return poll.iterations > start; });
 }
-
-}  // namespace minibot3d_lockstep
-
-namespace minibot3d_lockstep {
 
 namespace {
 

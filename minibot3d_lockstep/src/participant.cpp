@@ -226,6 +226,10 @@ bool Participant::Spin() {
                                   [&](double w) { return w <= t + eps; }),
                    wake_at_.end());
     for (double w : wake_at_) next_wake = std::min(next_wake, w);
+    // Topics advertised or subscribed during this tick connect before the ack, sim time still
+    // held: a latched message published at once is counted now, not delivered at a later tick
+    // that depends on how fast the master and the peer answered.
+    SettleConnections();
     Ack ack;
     ack.name = name_;
     ack.seq = tick->seq;

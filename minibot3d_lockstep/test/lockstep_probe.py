@@ -4,6 +4,12 @@
   lockstep_probe.py hold HOLD_S          joins, lets 0.5 s of sim time pass, then works for HOLD_S
                                          wall seconds in one tick; prints the sim time before and
                                          after ("held T0 T1"), then lets 0.5 s more pass ("after T")
+  lockstep_probe.py latch_pub            joins, lets 0.5 s of sim time pass, then advertises a new
+                                         latched topic /probe_latched and publishes its sim time
+                                         on it at once ("published T")
+  lockstep_probe.py latch_sub            waits for /probe_latched (a wake topic); prints the sim
+                                         time of the tick at which it first had it, and the
+                                         message ("seen T DATA")
   lockstep_probe.py route OUT.json       two move_base goals across the default world; writes the
                                          goal results, times and the whole true trajectory
 Prints "holding" (flushed) when it starts working, so a test can kill it then."""
@@ -19,6 +25,7 @@ import actionlib
 import rospy
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from nav_msgs.msg import Odometry
+from std_msgs.msg import Float64
 
 
 def hold(seconds):
@@ -35,6 +42,26 @@ def hold(seconds):
     print('held %.3f %.3f' % (t0, t1), flush=True)
     lockstep.sleep(0.5)
     print('after %.3f' % rospy.get_rostime().to_sec(), flush=True)
+    lockstep.close()
+
+
+def latch_pub():
+    lockstep = Participant()
+    lockstep.sleep(0.5)
+    t = rospy.get_rostime().to_sec()
+    pub = rospy.Publisher('/probe_latched', Float64, queue_size=1, latch=True)
+    pub.publish(Float64(t))  # before any subscriber has connected to this new publisher
+    print('published %.3f' % t, flush=True)
+    lockstep.sleep(0.5)
+    lockstep.close()
+
+
+def latch_sub():
+    got = []
+    rospy.Subscriber('/probe_latched', Float64, lambda m: got.append(m.data), queue_size=1)
+    lockstep = Participant(wake_topics=['/probe_latched'])
+    if lockstep.wait_for(lambda: got, 30.0):
+        print('seen %.3f %.3f' % (rospy.get_rostime().to_sec(), got[0]), flush=True)
     lockstep.close()
 
 
@@ -73,6 +100,12 @@ def main():
     rospy.init_node('probe_' + mode)
     if mode == 'hold':
         hold(float(sys.argv[2]))
+        return 0
+    if mode == 'latch_pub':
+        latch_pub()
+        return 0
+    if mode == 'latch_sub':
+        latch_sub()
         return 0
     return route(sys.argv[2])
 

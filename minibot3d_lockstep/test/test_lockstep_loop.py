@@ -136,6 +136,28 @@ def test_a_working_participant_holds_time_and_a_stalled_one_is_dropped(tmp_path)
         stack.close()
 
 
+def test_a_latched_message_from_a_new_publisher_arrives_in_the_tick_it_was_sent(tmp_path):
+    """A participant advertises a latched topic mid-tick and publishes at once, before anyone has
+    connected; the subscribing participant has the message at its next tick (the next quantum),
+    not whenever the connection happened to be made in wall time."""
+    stack = sim_stack(tmp_path, '/probe_latch_pub /probe_latch_sub', 10.0)
+    try:
+        sub = stack.probe('latch_sub')
+        pub = stack.probe('latch_pub')
+        published = read_line(pub, 'published', 60)
+        seen = read_line(sub, 'seen', 60)
+        assert published and seen, (published, seen, stack.launch_log()[-3000:])
+        t_pub = float(published.split()[1])
+        t_seen, data = (float(v) for v in seen.split()[1:])
+        assert data == pytest.approx(t_pub, abs=1e-6)
+        # Mail makes it due at the next quantum (5 ms): the round's ticks are chosen at its start.
+        assert t_seen == pytest.approx(t_pub + 0.005, abs=1e-6), (
+            'published at %.3f, seen at %.3f' % (t_pub, t_seen))
+        assert pub.wait(30) == 0 and sub.wait(30) == 0
+    finally:
+        stack.close()
+
+
 def test_a_killed_participant_is_dropped_and_the_loop_goes_on(tmp_path):
     stack = sim_stack(tmp_path, '/probe_hold', 30.0)
     try:

@@ -62,15 +62,6 @@ class AmclNode {
 
   bool Spin() { return lockstep_.Spin(); }
 
-  // A tf lookup that may wait `seconds` for data when free-running. Under lock-step sim time
-  // stands still while this node works and every transform it can get is already in the buffer:
-  // it does not wait (tf2's waiting lookups also insist on a tf thread, which there is not).
-  geometry_msgs::TransformStamped Lookup(const std::string& target, const std::string& source,
-                                         const ros::Time& time, double seconds) const {
-    if (lockstep_.enabled()) return tf_buffer_.lookupTransform(target, source, time);
-    return tf_buffer_.lookupTransform(target, source, time, ros::Duration(seconds));
-  }
-
   // Reads and validates the parameters; false (after ROS_FATAL) on error.
   bool Configure() {
     for (const std::string& name : amcl::AmclOptionNames()) {
@@ -292,12 +283,12 @@ class AmclNode {
   }
 
   void PublishCloud(const ros::Time& stamp, bool force) {
-    const ros::WallTime now = ros::WallTime::now();
-    if (!force && gui_publish_rate_ > 0.0 &&
-        (now - last_cloud_).toSec() < 1.0 / gui_publish_rate_) {
+    // Throttled on sim time (the scan's stamp), as ROS amcl does: the same clouds in every run.
+    if (!force && gui_publish_rate_ > 0.0 && !last_cloud_.isZero() && stamp >= last_cloud_ &&
+        (stamp - last_cloud_).toSec() < 1.0 / gui_publish_rate_) {
       return;
     }
-    last_cloud_ = now;
+    last_cloud_ = stamp;
     geometry_msgs::PoseArray a;
     a.header.stamp = stamp;
     a.header.frame_id = global_frame_;
@@ -325,7 +316,7 @@ class AmclNode {
     if (frame != global_frame_) {
       try {
         geometry_msgs::TransformStamped t =
-            Lookup(global_frame_, frame, msg->header.stamp, 0.5);
+            lockstep_.LookupTransform(tf_buffer_, global_frame_, frame, msg->header.stamp, 0.5);
         tf2::Transform tr;
         tf2::fromMsg(t.transform, tr);
         pose = tr * pose;
@@ -411,7 +402,7 @@ class AmclNode {
   bool have_odom_tf_ = false;
   geometry_msgs::PoseWithCovarianceStamped last_pose_;
   bool have_last_pose_ = false;
-  ros::WallTime last_cloud_;
+  ros::Time last_cloud_;
 
   ros::Publisher pose_pub_, cloud_pub_;
   ros::Subscriber initial_sub_, map_sub_;

@@ -153,15 +153,6 @@ class MoveBaseNode {
   // Until shutdown: ros::spin(), or the lock-step loop under /use_lockstep.
   bool Spin() { return lockstep_.Spin(); }
 
-  // A tf lookup that may wait `seconds` for data when free-running. Under lock-step sim time
-  // stands still while this node works and every transform it can get is already in the buffer:
-  // it does not wait (tf2's waiting lookups also insist on a tf thread, which there is not).
-  geometry_msgs::TransformStamped Lookup(const std::string& target, const std::string& source,
-                                         const ros::Time& time, double seconds) const {
-    if (lockstep_.enabled()) return tf_.lookupTransform(target, source, time);
-    return tf_.lookupTransform(target, source, time, ros::Duration(seconds));
-  }
-
  private:
   void BuildRecoveries() {
     std::vector<std::string> names = mb_.recovery_behaviors;
@@ -231,8 +222,9 @@ class MoveBaseNode {
     try {
       geometry_msgs::PoseStamped g;
       tf2::doTransform(normalized, g,
-                       Lookup(global_costmap_.options().global_frame,
-                              normalized.header.frame_id, normalized.header.stamp, 0.5));
+                       lockstep_.LookupTransform(tf_, global_costmap_.options().global_frame,
+                                                 normalized.header.frame_id,
+                                                 normalized.header.stamp, 0.5));
       out->x = g.pose.position.x;
       out->y = g.pose.position.y;
       out->yaw = tf2::getYaw(g.pose.orientation);

@@ -99,14 +99,13 @@ class Recorder(object):
 class AmclSim(unittest.TestCase):
     def drive(self, waypoints, timeout=400):
         """route_driver.py joins the loop while sim time is held, and is done when it leaves."""
-        proc = subprocess.Popen(
+        finished, proc = self.lockstep.run(
+            '/route_driver',
             ['rosrun', 'minibot3d_sim', 'route_driver.py', '--map', self.map_yaml,
              '--waypoints', waypoints, '--speed', '0.3', '--timeout', str(timeout)],
-            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        if self.lockstep.wait_for_participant('/route_driver', proc):
-            self.assertTrue(self.lockstep.wait_for(
-                lambda: self.lockstep.participant_left('/route_driver', proc), timeout),
-                'route_driver.py did not finish within %g s of sim time' % timeout)
+            timeout, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.assertTrue(finished, 'route_driver.py did not finish within %g s of sim time'
+                        % timeout)
         out, _ = proc.communicate(timeout=60)
         self.assertEqual(proc.returncode, 0, out)
 

@@ -114,12 +114,10 @@ class MoveBaseSim(unittest.TestCase):
     def test_1_seed_client_moves_one_metre(self):
         start = self.truth.pose
         # The seed's client joins the loop while sim time is held, and is done when it leaves.
-        proc = subprocess.Popen(['rosrun', 'minibot3d_sim', 'simple_navi_goals.py', '1', '1'],
-                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                universal_newlines=True)
-        if self.lockstep.wait_for_participant('/simple_navi_goals', proc):
-            self.assertTrue(self.lockstep.wait_for(
-                lambda: self.lockstep.participant_left('/simple_navi_goals', proc), 600.0))
+        finished, proc = self.lockstep.run(
+            '/simple_navi_goals', ['rosrun', 'minibot3d_sim', 'simple_navi_goals.py', '1', '1'],
+            600.0, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
+        self.assertTrue(finished, 'simple_navi_goals.py did not finish within 600 s of sim time')
         stdout, _ = proc.communicate(timeout=60)
         self.assertEqual(proc.returncode, 0, stdout)
         for text in ('Set X = 1.0', 'Set W = 1.0', 'Waiting for server', 'Sending Goals',

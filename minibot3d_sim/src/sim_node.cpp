@@ -364,9 +364,9 @@ class SimNode {
     // the first joint states with the latched tf_static that participants wait for.
     PublishStaticTransforms();
     Publish(true);
-    coordinator_->SetSent(ros::this_node::getName(), ToCounts());
+    coordinator_->SetSent(ros::this_node::getName(), minibot3d_lockstep::SentCounts());
     Round();
-    coordinator_->SetSent(ros::this_node::getName(), ToCounts());
+    coordinator_->SetSent(ros::this_node::getName(), minibot3d_lockstep::SentCounts());
     Anchor();
     while (ros::ok()) {
       if (paused_) {
@@ -376,15 +376,11 @@ class SimNode {
       }
       Round();
       for (std::uint64_t i = 0; i < steps_per_quantum && ros::ok(); ++i) StepOnce();
-      coordinator_->SetSent(ros::this_node::getName(), ToCounts());
+      coordinator_->SetSent(ros::this_node::getName(), minibot3d_lockstep::SentCounts());
       Pace();
       // Non-participants (rviz, a user's script) still see time go by, throttled in wall time.
       MaybePublishClock();
     }
-  }
-
-  std::vector<minibot3d_lockstep::LinkCount> ToCounts() const {
-    return minibot3d_lockstep::SentCounts();
   }
 
   // Time does not start until the participants a launch file names have joined (each joins at a
@@ -464,8 +460,10 @@ class SimNode {
       coordinator_->MarkTicked(name, tick.seq, t, ros::WallTime::now().toSec());
       it->second.pub.publish(tick);
       WaitForAck(name);
+      // What it sent the simulator is queued before the next participant works: commands from
+      // two participants on one topic (cmd_vel) are applied in tick order, not arrival order.
+      WaitForDeliveryToSim();
     }
-    WaitForDeliveryToSim();
     cmd_queue_.callAvailable();
   }
 

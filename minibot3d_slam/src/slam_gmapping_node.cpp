@@ -70,15 +70,6 @@ class SlamGmappingNode {
 
   bool Spin() { return lockstep_.Spin(); }
 
-  // A tf lookup that may wait `seconds` for data when free-running. Under lock-step sim time
-  // stands still while this node works and every transform it can get is already in the buffer:
-  // it does not wait (tf2's waiting lookups also insist on a tf thread, which there is not).
-  geometry_msgs::TransformStamped Lookup(const std::string& target, const std::string& source,
-                                         const ros::Time& time, double seconds) const {
-    if (lockstep_.enabled()) return tf_buffer_.lookupTransform(target, source, time);
-    return tf_buffer_.lookupTransform(target, source, time, ros::Duration(seconds));
-  }
-
   bool Init() {
     // gmapping's parameters, read into the core's options and validated in one place.
     GmappingOptions o;
@@ -199,8 +190,10 @@ class SlamGmappingNode {
     if (++scan_count_ % node_.throttle_scans != 0) return;
     geometry_msgs::TransformStamped odom_base, base_laser;
     try {
-      odom_base = Lookup(node_.odom_frame, node_.base_frame, msg->header.stamp, 0.1);
-      base_laser = Lookup(node_.base_frame, msg->header.frame_id, msg->header.stamp, 0.1);
+      odom_base = lockstep_.LookupTransform(tf_buffer_, node_.odom_frame, node_.base_frame,
+                                            msg->header.stamp, 0.1);
+      base_laser = lockstep_.LookupTransform(tf_buffer_, node_.base_frame, msg->header.frame_id,
+                                             msg->header.stamp, 0.1);
     } catch (const tf2::TransformException& e) {
       ReportFrameOnce(msg->header.frame_id, std::string("cannot place scan frame '") +
                                                 msg->header.frame_id + "' relative to " +

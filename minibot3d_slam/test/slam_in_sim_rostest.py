@@ -2,7 +2,11 @@
 """rostest: mapping the default world. Drives a loop through its rooms (route_driver.py), saves
 the map with map_saver, and checks it against the world's ground-truth map: at least 90 % of the
 occupied cells of the saved map lie within 0.1 m of an occupied ground-truth cell, and the map
-covers most of what the route could see."""
+covers most of what the route could see.
+
+Under lock-step time (as slam_in_sim.test runs it) this node and route_driver.py are participants:
+the route starts and ends at fixed sim times, and sim time holds while the map is saved, so every
+run saves the same map."""
 import importlib.util
 import math
 import os
@@ -13,6 +17,8 @@ import unittest
 
 import numpy as np
 import rospkg
+from minibot3d_lockstep import Participant  # before rospy.init_node: it counts messages
+
 import rospy
 import rostest
 from nav_msgs.msg import OccupancyGrid
@@ -39,20 +45,30 @@ class SlamInSim(unittest.TestCase):
         truth_yaml = rospy.get_param('~ground_truth_map')
         sx, sy, syaw = (rospy.get_param('~spawn_x'), rospy.get_param('~spawn_y'),
                         rospy.get_param('~spawn_yaw'))
-        # The map is published once slam_gmapping has processed its first scan.
-        rospy.wait_for_message('/map', OccupancyGrid, timeout=120.0)
-        drive = subprocess.run(
-            ['rosrun', 'minibot3d_sim', 'route_driver.py', '--map', truth_yaml,
-             '--waypoints', WAYPOINTS, '--speed', '0.3', '--timeout', '400'],
-            capture_output=True, text=True)
-        self.assertEqual(drive.returncode, 0, drive.stdout + drive.stderr)
-        out = tempfile.mkdtemp(prefix='slam_in_sim_')
-        # A map published after the drive ended: wait for the next update, then save it.
-        rospy.wait_for_message('/map', OccupancyGrid, timeout=120.0)
-        save = subprocess.run(['rosrun', 'minibot3d_slam', 'map_saver', '-f',
-                               os.path.join(out, 'map'), '--timeout', '60'],
-                              capture_output=True, text=True)
-        self.assertEqual(save.returncode, 0, save.stdout + save.stderr)
+        maps = []
+        rospy.Subscriber('/map', OccupancyGrid, lambda m: maps.append(m.header.stamp),
+                         queue_size=2)
+        lockstep = Participant(wake_topics=['/map'], wake_on_participants=True)
+        try:
+            # The map is published once slam_gmapping has processed its first scan.
+            self.assertTrue(lockstep.wait_for(lambda: maps, 120.0), 'no /map within 120 s')
+            finished, drive = lockstep.run(
+                '/route_driver',
+                ['rosrun', 'minibot3d_sim', 'route_driver.py', '--map', truth_yaml,
+                 '--waypoints', WAYPOINTS, '--speed', '0.3', '--timeout', '400'],
+                400.0, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+            out_text, _ = drive.communicate(timeout=60)
+            self.assertTrue(finished, 'route_driver.py did not finish within 400 s of sim time')
+            self.assertEqual(drive.returncode, 0, out_text)
+            # slam_gmapping's latest map (it maps only while the robot moves), saved while sim
+            # time holds.
+            out = tempfile.mkdtemp(prefix='slam_in_sim_')
+            save = subprocess.run(['rosrun', 'minibot3d_slam', 'map_saver', '-f',
+                                   os.path.join(out, 'map'), '--timeout', '60'],
+                                  capture_output=True, text=True)
+            self.assertEqual(save.returncode, 0, save.stdout + save.stderr)
+        finally:
+            lockstep.close()
         rd = load_route_driver()
         saved, res, origin = rd.load_map(os.path.join(out, 'map.yaml'))
         truth, tres, torigin = rd.load_map(truth_yaml)

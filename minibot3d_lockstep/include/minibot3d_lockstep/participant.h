@@ -22,8 +22,10 @@
 #include <string>
 #include <vector>
 
+#include <geometry_msgs/TransformStamped.h>
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
+#include <tf2_ros/buffer.h>
 
 #include "minibot3d_lockstep/Tick.h"
 
@@ -58,6 +60,16 @@ class Participant {
   bool enabled() const { return enabled_; }
   // For tf2_ros::TransformListener(buffer, tf_node_handle(), /*spin_thread=*/!enabled()).
   ros::NodeHandle& tf_node_handle() { return tf_nh_; }
+  // A tf lookup that may wait `seconds` for data when free-running. Under lock-step sim time
+  // stands still while this node works and every transform it can get is already in the buffer:
+  // it does not wait (tf2's waiting lookups also insist on a tf thread, which there is not).
+  geometry_msgs::TransformStamped LookupTransform(const tf2_ros::Buffer& buffer,
+                                                  const std::string& target,
+                                                  const std::string& source, const ros::Time& time,
+                                                  double seconds) const {
+    if (enabled_) return buffer.lookupTransform(target, source, time);
+    return buffer.lookupTransform(target, source, time, ros::Duration(seconds));
+  }
   // For service servers other participants call while they work.
   ros::NodeHandle& service_node_handle() { return service_nh_; }
   // `nh` (e.g. a private "~" handle) with the same service queue.

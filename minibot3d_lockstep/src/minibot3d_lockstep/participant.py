@@ -27,6 +27,7 @@ time, so a script written this way runs both ways.
 """
 import math
 import socket
+import subprocess
 import threading
 import time
 import xmlrpc.client
@@ -48,6 +49,9 @@ PARTICIPANTS_TOPIC = '/minibot3d_sim/lockstep/participants'
 
 _patch_lock = threading.Lock()
 _patched = False
+# Under lock-step a subscriber's queue_size drops nothing (set by Participant): rospy applies it to
+# whatever one socket read returned, so what it kept would depend on how TCP batched the bytes.
+_keep_all = False
 
 
 def lockstep_enabled():
@@ -85,12 +89,13 @@ def _install_counting():
             self.__dict__['_lockstep_counted'] = True  # its callbacks are counted (below)
         rospy.impl.tcpros_base.TCPROSTransport.__init__ = marking_init
 
-        # A subscriber with queue_size discards all but the newest messages of a batch before its
-        # callbacks see them (and before rospy counts them); count those as handled too.
+        # A subscriber with queue_size discards all but the newest messages of a socket read
+        # before its callbacks see them (and before rospy counts them); count those as handled
+        # too. Which ones a read holds depends on TCP timing, so under lock-step none is dropped.
         protocol = rospy.impl.tcpros_base.TCPROSTransportProtocol
 
         def counting_read(self, b, msg_queue, sock):
-            if self.queue_size is None:
+            if self.queue_size is None or _keep_all:
                 return rospy.impl.tcpros_base.deserialize_messages(b, msg_queue,
                                                                    self.recv_data_class)
             parsed = []
@@ -253,6 +258,8 @@ class Participant(object):
         self._registered = False
         if not self.enabled:
             return
+        global _keep_all
+        _keep_all = True
         self._ack_pub = rospy.Publisher(ACK_TOPIC, Ack, queue_size=100, tcp_nodelay=True)
         self._participants_sub = rospy.Subscriber(PARTICIPANTS_TOPIC, Participants,
                                                   self._on_participants, queue_size=10)
@@ -317,6 +324,17 @@ class Participant(object):
                 self.still_working()
             time.sleep(0.002)
         return name in self.participants
+
+    def run(self, name, args, sim_timeout=None, **popen):
+        """Starts `args` (subprocess.Popen's arguments; `popen` its keywords), a process whose node
+        `name` joins the loop; waits, sim time held, until it has joined, then, sim time moving,
+        until it has left or `sim_timeout` s of sim time have passed. Returns (finished, the
+        Popen): the process may still be exiting, so wait() or communicate() on it. Lock-step
+        off: waits for the process to exit."""
+        proc = subprocess.Popen(args, **popen)
+        if not self.wait_for_participant(name, proc):
+            return proc.poll() is not None, proc
+        return self.wait_for(lambda: self.participant_left(name, proc), sim_timeout), proc
 
     def _beat(self, state):
         """Heartbeat at most once a wall second while a tick is held in a long wait."""
@@ -391,9 +409,13 @@ class Participant(object):
             self._cond.notify_all()
 
     def _ack(self, next_wake):
-        tick, self._current = self._current, None
-        if tick is None:
+        if self._current is None:
             return
+        # A publisher or subscriber made during this tick connects now, sim time still held: a
+        # latched message published at once is counted in this ack, not delivered at some later
+        # tick that depends on how fast the master and the peer answered.
+        self._settle_connections()
+        tick, self._current = self._current, None
         wake = next_wake
         for job in self._jobs:
             if job[1] is not None and (wake is None or job[1] < wake):
