@@ -109,6 +109,7 @@ struct SimResult {
   Pose2D pose;
   Twist2D velocity;
   std::vector<Pose2D> track;
+  std::vector<double> speeds;  // |vx| at each track pose
   std::vector<Twist2D> commands;
 };
 
@@ -158,6 +159,7 @@ SimResult Simulate(DwaPlanner* planner, const Costmap2D& map, Pose2D pose,
       r.max_speed = std::max(r.max_speed, std::fabs(vel.vx));
     }
     r.track.push_back(pose);
+    r.speeds.push_back(std::fabs(vel.vx));
     r.time = t + period;
   }
   r.pose = pose;
@@ -340,17 +342,18 @@ TEST(DwaPlannerTest, ErrorsSayWhy) {
               std::string::npos)
         << e.what();
   }
-  // Wedged: a slot so narrow that the footprint's sides already touch the
-  // inscribed band, a wall right behind.  Every pose after the start is
-  // illegal, backing up hits the wall.
-  Costmap2D slot = EmptyMap(4.0, 4.0);
-  AddBox(&slot, 0.0, 0.0, 4.0, 1.8);
-  AddBox(&slot, 0.0, 2.2, 4.0, 4.0);
-  AddBox(&slot, 0.0, 0.0, 1.8, 4.0);
+  // Wedged: in a slot 0.30 m wide (too narrow to turn in), the front half a
+  // centimetre from its end, a wall touching the rear.  Every pose after the
+  // start touches a lethal cell, backing up hits the wall.
+  Costmap2D slot = EmptyMap(4.0, 2.0);
+  AddBox(&slot, 0.0, 0.0, 4.0, 0.85);
+  AddBox(&slot, 0.0, 1.15, 4.0, 2.0);
+  AddBox(&slot, 2.5, 0.0, 2.6, 2.0);
+  AddBox(&slot, 2.1, 0.0, 2.23, 2.0);
   Inflate(&slot);
-  const Path plan2 = PolylinePlan({{2.0, 2.0}, {3.5, 2.0}}, 0.0);
+  const Path plan2 = PolylinePlan({{2.3, 1.0}, {3.5, 1.0}}, 0.0);
   try {
-    planner.ComputeVelocity({2.0, 2.0, 0.0}, Twist2D(), plan2, slot);
+    planner.ComputeVelocity({2.365, 1.0, 0.0}, Twist2D(), plan2, slot);
     FAIL() << "wedged robot got a command";
   } catch (const ControlError& e) {
     const std::string msg = e.what();
@@ -360,10 +363,11 @@ TEST(DwaPlannerTest, ErrorsSayWhy) {
     EXPECT_NE(msg.find("escape_vel -0.10 m/s collides too"), std::string::npos)
         << msg;
   }
-  // At the goal in a slot too narrow to turn in.
+  // At the goal in a slot too narrow to turn in: 0.30 m, wider than the
+  // robot (0.25 m) but narrower than the circle its corners sweep (0.36 m).
   Costmap2D narrow = EmptyMap(4.0, 2.0);
-  AddBox(&narrow, 0.0, 0.0, 4.0, 0.74);
-  AddBox(&narrow, 0.0, 1.26, 4.0, 2.0);
+  AddBox(&narrow, 0.0, 0.0, 4.0, 0.85);
+  AddBox(&narrow, 0.0, 1.15, 4.0, 2.0);
   Inflate(&narrow);
   const Path plan3 = PolylinePlan({{1.0, 1.0}, {2.0, 1.0}}, kPi / 2);
   try {
@@ -424,31 +428,24 @@ TEST(DwaPlannerTest, LatchedGoalToleranceKeepsRotating) {
 }
 
 TEST(DwaPlannerTest, EscapesBackwardsWhenNothingForwardIsLegal) {
-  // Dead-end slot just wider than the robot, the robot off-centre so that
-  // its side is already in the inscribed band: every forward or turning
-  // pose is illegal; backing up only has to stay off lethal cells.
+  // Dead-end slot 0.30 m wide (the robot is 0.25 m: it fits, but cannot turn
+  // in it), the robot's front half a centimetre from the end wall; the plan
+  // goes on through the wall (made before the wall was seen).  Every forward
+  // or turning pose touches a lethal cell; backing up does not.
   Costmap2D map = EmptyMap(4.0, 2.0);
-  AddBox(&map, 0.0, 0.0, 4.0, 0.74);
-  AddBox(&map, 0.0, 1.26, 4.0, 2.0);
-  AddBox(&map, 2.5, 0.0, 4.0, 2.0);
+  AddBox(&map, 0.0, 0.0, 4.0, 0.85);
+  AddBox(&map, 0.0, 1.15, 4.0, 2.0);
+  AddBox(&map, 2.5, 0.0, 2.6, 2.0);
   Inflate(&map);
+  const Path plan = PolylinePlan({{2.0, 1.0}, {3.5, 1.0}}, 0.0);
+  const Pose2D pose{2.365, 1.0, 0.0};
+  ASSERT_LT(FootprintCost(map, kFootprint, pose), kLethalObstacle);
   DwaPlanner planner(DwaOptions(), kFootprint);
-  const Path plan = PolylinePlan({{2.2, 1.0}, {2.35, 1.0}}, 0.0);
-  ASSERT_EQ(FootprintCost(map, kFootprint, {2.2, 0.96, 0.0}),
-            kInscribedInflatedObstacle);
-  // Centred, the footprint is clear, but every trajectory enters the band
-  // at once (the slot is barely wider than the robot): that is stuck too.
-  {
-    DwaPlanner centred(DwaOptions(), kFootprint);
-    // It backs out (straight, or on an arc of the way-out pass).
-    const Twist2D back = centred.ComputeVelocity({2.2, 1.0, 0.0}, Twist2D(), plan, map);
-    EXPECT_LT(back.vx, 0.0);
-    EXPECT_GE(back.vx, -0.1 - 1e-9);
-  }
-  // Off-centre, the side already in the band: it never drives forward (it
-  // backs out, or turns in place clear of lethal cells).
-  const Twist2D cmd = planner.ComputeVelocity({2.2, 0.96, 0.0}, Twist2D(), plan, map);
-  EXPECT_LE(cmd.vx, 0.0);
+  const Twist2D back = planner.ComputeVelocity(pose, Twist2D(), plan, map);
+  EXPECT_EQ(planner.last_stats().mode, DwaPlanner::Mode::kEscape);
+  EXPECT_LT(back.vx, 0.0);
+  EXPECT_GE(back.vx, -0.1 - 1e-9);
+  EXPECT_EQ(back.vtheta, 0.0);
 }
 
 TEST(DwaPlannerTest, CentripetalLimitKeepsFastArcsWide) {
@@ -628,7 +625,7 @@ void ExpectStopsInFrontOfWall(const DwaOptions& o, const char* label) {
   Costmap2D map = EmptyMap(8.0, 3.0);
   AddBox(&map, 0.0, 0.0, 8.0, 0.3);
   AddBox(&map, 0.0, 2.7, 8.0, 3.0);
-  AddBox(&map, 5.0, 0.0, 5.2, 3.0);  // the wall; its face at x = 4.975
+  AddBox(&map, 5.0, 0.0, 5.2, 3.0);  // the wall: its cells start at x = 5.0
   Inflate(&map);
   DwaPlanner planner(o, kFootprint);
   const Path plan = PolylinePlan({{0.5, 1.5}, {7.0, 1.5}}, 0.0);
@@ -637,15 +634,21 @@ void ExpectStopsInFrontOfWall(const DwaOptions& o, const char* label) {
   EXPECT_FALSE(r.reached);
   EXPECT_LT(r.max_cost, kLethalObstacle) << "the footprint touched the wall";
   EXPECT_GT(r.max_speed, 0.9) << "never got fast, the test proves nothing";
+  // The outline never enters a wall cell; at speed it keeps out of the
+  // inscribed band (0.125 m), only creeping may come closer.
   double closest = 0.0;
-  for (const Pose2D& p : r.track) {
-    EXPECT_LT(p.x + 0.13, 4.975);
+  for (size_t i = 0; i < r.track.size(); ++i) {
+    const Pose2D& p = r.track[i];
+    EXPECT_LT(p.x + 0.13, 5.0);
+    if (r.speeds[i] > 0.1 + 1e-6) {
+      EXPECT_LT(p.x + 0.13, 5.0 - kInscribed + 0.025) << "at " << r.speeds[i] << " m/s";
+    }
     closest = std::max(closest, p.x + 0.13);
   }
   // It went up to the wall (not stopping miles before it).  Then either it
   // says why it cannot go on, or it turns away along the wall (the second,
   // way-out pass); what it may never do is touch the wall.
-  EXPECT_GT(closest, 4.975 - 0.4);
+  EXPECT_GT(closest, 5.0 - 0.4);
   if (r.control_error) {
     EXPECT_NE(r.error.find("no admissible command"), std::string::npos) << r.error;
     EXPECT_NE(r.error.find("nearest obstacle"), std::string::npos) << r.error;
@@ -691,6 +694,119 @@ TEST(DwaClosedLoopTest, TurnsThroughADoorway) {
   EXPECT_TRUE(passed_door);
   EXPECT_NEAR(r.pose.x, 3.0, 0.1);
   EXPECT_NEAR(r.pose.y, 4.8, 0.1);
+}
+
+// The shipped settings (config/trajectory_planner.yaml, controller_frequency
+// of config/move_base_params.yaml), with max_vel_x varied.
+DwaOptions ShippedOptions(double max_vel_x) {
+  DwaOptions o;
+  o.controller_frequency = 10.0;
+  o.max_vel_x = max_vel_x;
+  o.min_vel_x = std::min(0.1, max_vel_x);
+  o.max_vel_theta = 2.5;
+  o.min_vel_theta = -2.5;
+  o.min_in_place_vel_theta = 1.0;
+  o.acc_lim_x = 2.5;
+  o.acc_lim_theta = 4.0;
+  o.max_centripetal_acc = 1.0;
+  o.escape_vel = -0.1;
+  o.sim_time = 1.5;
+  o.sim_granularity = 0.025;
+  o.vx_samples = 10;
+  o.vtheta_samples = 20;
+  o.path_distance_bias = 1.2;
+  o.goal_distance_bias = 0.8;
+  o.occdist_scale = 0.02;
+  o.xy_goal_tolerance = 0.15;
+  o.yaw_goal_tolerance = 0.15;
+  o.latch_xy_goal_tolerance = true;
+  o.meter_scoring = true;
+  return o;
+}
+
+// A tight scene: the robot (0.26 m x 0.25 m with padding) must get through
+// and reach the plan's end at every max_vel_x in 0.1-1.0, its outline never
+// on a lethal cell.
+void ExpectGetsThrough(const Costmap2D& map, const Pose2D& start, const Path& plan,
+                       const char* scene) {
+  for (double v : {0.1, 0.25, 0.5, 1.0}) {
+    SCOPED_TRACE(std::string(scene) + ", max_vel_x " + std::to_string(v));
+    DwaPlanner planner(ShippedOptions(v), kFootprint);
+    const SimResult r = Simulate(&planner, map, start, plan, 120.0);
+    EXPECT_TRUE(r.reached) << r.error << " at (" << r.pose.x << ", " << r.pose.y << ", "
+                           << r.pose.yaw << ") after " << r.time << " s";
+    EXPECT_LT(r.max_cost, kLethalObstacle) << "the footprint touched an obstacle";
+  }
+}
+
+TEST(DwaTightSpacesTest, ThroughADoorFortyCentimetresWide) {
+  // Two rooms, a wall across y = 3 with a door of 0.40 m at x in [2.8, 3.2].
+  Costmap2D map = EmptyMap(6.0, 6.0);
+  AddBox(&map, 0.0, 0.0, 6.0, 0.1);
+  AddBox(&map, 0.0, 5.9, 6.0, 6.0);
+  AddBox(&map, 0.0, 0.0, 0.1, 6.0);
+  AddBox(&map, 5.9, 0.0, 6.0, 6.0);
+  AddBox(&map, 0.0, 2.9, 2.8, 3.1);
+  AddBox(&map, 3.2, 2.9, 6.0, 3.1);
+  Inflate(&map);
+  ExpectGetsThrough(map, {1.5, 1.5, 0.0},
+                    PolylinePlan({{1.5, 1.5}, {3.0, 1.8}, {3.0, 4.2}, {4.5, 4.8}}, 0.0),
+                    "0.40 m door");
+}
+
+TEST(DwaTightSpacesTest, IntoAHalfMetreGapBetweenAShelfAndAWall) {
+  // A wall at x = 0.1, a shelf 0.5 m from it (x in [0.6, 1.4], y in [2, 4]):
+  // the goal is inside the gap, facing along it.
+  Costmap2D map = EmptyMap(5.0, 5.0);
+  AddBox(&map, 0.0, 0.0, 5.0, 0.1);
+  AddBox(&map, 0.0, 4.9, 5.0, 5.0);
+  AddBox(&map, 0.0, 0.0, 0.1, 5.0);
+  AddBox(&map, 4.9, 0.0, 5.0, 5.0);
+  AddBox(&map, 0.6, 2.0, 1.4, 4.0);
+  Inflate(&map);
+  ExpectGetsThrough(map, {2.5, 1.0, kPi},
+                    PolylinePlan({{2.5, 1.0}, {0.35, 1.5}, {0.35, 3.0}}, kPi / 2),
+                    "0.50 m gap beside a shelf");
+}
+
+TEST(DwaTightSpacesTest, BetweenTableLegsFortyTwoCentimetresApart) {
+  // A table 0.52 m x 0.70 m on four legs (0.05 m square); the legs 0.42 m
+  // apart along x (0.40 m between their cells); the robot drives under it.
+  Costmap2D map = EmptyMap(6.0, 6.0);
+  for (double y : {2.5, 3.2}) {
+    AddBox(&map, 2.75, y, 2.8, y + 0.05);
+    AddBox(&map, 3.2, y, 3.25, y + 0.05);
+  }
+  Inflate(&map);
+  ExpectGetsThrough(map, {3.0, 1.0, kPi / 2},
+                    PolylinePlan({{3.0, 1.0}, {3.0, 4.8}}, kPi / 2),
+                    "table legs 0.42 m apart");
+}
+
+TEST(DwaPlannerTest, ARobotTouchingAWallSlidesAwayInsteadOfFreezing) {
+  // Localization error has put the robot's right side on a wall cell, parallel
+  // to the wall; the plan runs along it.  Every move touches a wall cell in
+  // the grid, but sliding along (or edging away) gets no closer: it may.
+  Costmap2D map = EmptyMap(8.0, 3.0);
+  AddBox(&map, 0.0, 0.0, 8.0, 0.5);
+  Inflate(&map);
+  const Pose2D start{1.0, 0.62, 0.0};
+  ASSERT_EQ(FootprintCost(map, kFootprint, start), kLethalObstacle);
+  const Path plan = PolylinePlan({{1.0, 0.62}, {4.0, 0.9}, {7.0, 0.9}}, 0.0);
+  DwaPlanner planner(ShippedOptions(0.5), kFootprint);
+  Twist2D cmd;
+  ASSERT_NO_THROW(cmd = planner.ComputeVelocity(start, Twist2D(), plan, map));
+  EXPECT_GE(cmd.vx, 0.0);
+  EXPECT_GE(cmd.vtheta, 0.0) << "turned its nose into the wall";
+  EXPECT_GT(std::fabs(cmd.vx) + std::fabs(cmd.vtheta), 0.0);
+  const SimResult r = Simulate(&planner, map, start, plan, 60.0);
+  EXPECT_TRUE(r.reached) << r.error << " at (" << r.pose.x << ", " << r.pose.y << ", "
+                         << r.pose.yaw << ") after " << r.time << " s";
+  double lowest = 1e9;
+  for (const Pose2D& p : r.track) lowest = std::min(lowest, p.y);
+  // Turning away swings the rear corner towards the wall by at most a quarter
+  // cell; the outline never reaches a wall cell's centre (y = 0.475).
+  EXPECT_GE(lowest - 0.125, 0.475) << "got closer to the wall than allowed";
 }
 
 void ExpectRotatesToGoalYaw(double controller_frequency) {

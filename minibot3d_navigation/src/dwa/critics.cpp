@@ -31,6 +31,14 @@ bool InsidePolygon(const Footprint& poly, double x, double y) {
   return inside;
 }
 
+double PointSegmentDistance(double x, double y, const Point2D& a, const Point2D& b) {
+  const double dx = b.x - a.x, dy = b.y - a.y;
+  const double len2 = dx * dx + dy * dy;
+  double t = len2 > 0.0 ? ((x - a.x) * dx + (y - a.y) * dy) / len2 : 0.0;
+  t = std::clamp(t, 0.0, 1.0);
+  return std::hypot(x - (a.x + t * dx), y - (a.y + t * dy));
+}
+
 // Length of the polyline poses[0..index].
 double ArcLength(const std::vector<Pose2D>& poses, size_t index) {
   double len = 0.0;
@@ -198,26 +206,133 @@ bool ObstacleCostCritic::Prepare(const Pose2D& /*pose*/,
                                  const Twist2D& /*velocity*/,
                                  const Path& /*plan*/,
                                  const Costmap2D& costmap) {
-  costmap_ = &costmap;
-  nearest_collision_ = std::numeric_limits<double>::infinity();
+  SetCostmap(costmap);
   return true;
 }
 
-int ObstacleCostCritic::Check(const Trajectory& traj,
-                              double* collision_distance) const {
-  // The footprint's outline must stay out of the inscribed band (cost 253:
-  // within the inscribed radius of an obstacle), which keeps a margin of one
-  // inscribed radius between the robot and what it can see, whatever the cell
-  // quantisation.  Base_local_planner only rejects lethal outline cells,
-  // which lets a robot scrape walls; an escape (backing out of the band) only
-  // has to avoid lethal cells.
-  const int limit = traj.kind == TrajectoryKind::kEscape || lethal_only_
+void ObstacleCostCritic::SetCostmap(const Costmap2D& costmap) {
+  costmap_ = &costmap;
+  nearest_collision_ = std::numeric_limits<double>::infinity();
+  // Two-pass chamfer distance transform (Borgefors 1986) of the lethal cells.
+  const int nx = costmap.size_x(), ny = costmap.size_y();
+  const float res = static_cast<float>(costmap.resolution());
+  const float big = 1e9f, diag = res * static_cast<float>(std::sqrt(2.0));
+  lethal_distance_.assign(static_cast<size_t>(nx) * ny, big);
+  const uint8_t* cost = costmap.data();
+  for (int i = 0; i < nx * ny; ++i) {
+    if (cost[i] == kLethalObstacle) lethal_distance_[i] = 0.0f;
+  }
+  auto relax = [&](int x, int y, int dx, int dy, float step) {
+    const int xx = x + dx, yy = y + dy;
+    if (xx < 0 || yy < 0 || xx >= nx || yy >= ny) return;
+    float& d = lethal_distance_[static_cast<size_t>(y) * nx + x];
+    d = std::min(d, lethal_distance_[static_cast<size_t>(yy) * nx + xx] + step);
+  };
+  for (int y = 0; y < ny; ++y) {
+    for (int x = 0; x < nx; ++x) {
+      relax(x, y, -1, 0, res);
+      relax(x, y, 0, -1, res);
+      relax(x, y, -1, -1, diag);
+      relax(x, y, 1, -1, diag);
+    }
+  }
+  band_width_ = 0.0;
+  for (int y = ny - 1; y >= 0; --y) {
+    for (int x = nx - 1; x >= 0; --x) {
+      relax(x, y, 1, 0, res);
+      relax(x, y, 0, 1, res);
+      relax(x, y, 1, 1, diag);
+      relax(x, y, -1, 1, diag);
+      const size_t i = static_cast<size_t>(y) * nx + x;
+      if (cost[i] == kInscribedInflatedObstacle && lethal_distance_[i] < big) {
+        band_width_ = std::max(band_width_, static_cast<double>(lethal_distance_[i]));
+      }
+    }
+  }
+}
+
+double ObstacleCostCritic::ContinuousClearance(const Pose2D& pose, bool centre) const {
+  const Footprint poly = TransformFootprint(footprint_, pose);
+  double reach = 0.0;
+  for (const Point2D& p : footprint_) reach = std::max(reach, std::hypot(p.x, p.y));
+  reach += 2.0 * costmap_->resolution();
+  int mx0, my0, mx1, my1;
+  costmap_->WorldToMapNoBounds(pose.x - reach, pose.y - reach, &mx0, &my0);
+  costmap_->WorldToMapNoBounds(pose.x + reach, pose.y + reach, &mx1, &my1);
+  mx0 = std::max(mx0, 0);
+  my0 = std::max(my0, 0);
+  mx1 = std::min(mx1, costmap_->size_x() - 1);
+  my1 = std::min(my1, costmap_->size_y() - 1);
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int my = my0; my <= my1; ++my) {
+    for (int mx = mx0; mx <= mx1; ++mx) {
+      if (costmap_->cost(mx, my) != kLethalObstacle) continue;
+      double wx, wy;
+      costmap_->MapToWorld(mx, my, &wx, &wy);
+      if (centre) {
+        nearest = std::min(nearest, std::hypot(wx - pose.x, wy - pose.y));
+        continue;
+      }
+      double d = std::numeric_limits<double>::infinity();
+      for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+        d = std::min(d, PointSegmentDistance(wx, wy, poly[j], poly[i]));
+      }
+      nearest = std::min(nearest, InsidePolygon(poly, wx, wy) ? -d : d);
+    }
+  }
+  return nearest;
+}
+
+double ObstacleCostCritic::Clearance(const Pose2D& pose) const {
+  PolygonOutlineCells(*costmap_, TransformFootprint(footprint_, pose), &outline_);
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const auto& c : outline_) {
+    if (!costmap_->InBounds(c.first, c.second)) continue;
+    nearest = std::min(nearest, static_cast<double>(
+                                    lethal_distance_[costmap_->Index(c.first, c.second)]));
+  }
+  return nearest;
+}
+
+int ObstacleCostCritic::Check(const Trajectory& traj, double* collision_distance,
+                              double* band_depth) const {
+  // The outline must not touch a lethal or unknown cell. It may enter the
+  // inscribed band (cost 253: within one inscribed radius of an obstacle)
+  // only at creeping speed: through a door the robot fits through it slows
+  // down, and at speed it keeps a margin of one inscribed radius for slip
+  // and for obstacles the costmap shows late.  An escape (backing out of the
+  // band) and turns on the spot only have to avoid lethal cells.
+  const bool creeping = std::max(std::fabs(traj.command.vx), std::fabs(traj.start_vx)) <=
+                        tight_speed_ + 1e-9;
+  const int limit = traj.kind == TrajectoryKind::kEscape || lethal_only_ || creeping
                         ? kLethalObstacle
                         : kInscribedInflatedObstacle;
+  // A robot already within a cell of a lethal cell (a few centimetres of
+  // localization error or slip beside a wall it passed at a cell's distance)
+  // has every move touch one in the cell grid.  There a pose may touch lethal
+  // cells if its outline stays within a quarter cell of the start's distance
+  // to their centres (turning away from a wall swings the rear corner towards
+  // it first), never nearer than a quarter cell, and the rollout must end with
+  // its centre no nearer to them than at the start: the robot slides along
+  // the wall or edges away, never turns or creeps into it.
+  const double res = costmap_->resolution();
+  const double start_clearance = ContinuousClearance(traj.poses.front(), false);
+  const bool near_lethal = start_clearance < res;
+  const double floor = std::max(0.25 * res, start_clearance - 0.25 * res);
+  bool relaxed = false;
+  auto cost_at = [&](const Pose2D& pose) {
+    int c = FootprintCost(*costmap_, footprint_, pose);
+    if (c == kLethalObstacle && near_lethal && ContinuousClearance(pose, false) >= floor) {
+      c = kInscribedInflatedObstacle;
+      relaxed = true;
+    }
+    return c;
+  };
   int worst = 0;
+  double depth = 0.0;
   // The start pose is where the robot already is: not checked.
   for (size_t i = 1; i < traj.poses.size(); ++i) {
-    const int c = FootprintCost(*costmap_, footprint_, traj.poses[i]);
+    const int c = cost_at(traj.poses[i]);
     if (c < 0 || c >= limit) {
       if (collision_distance != nullptr) {
         *collision_distance = ArcLength(traj.poses, i);
@@ -225,9 +340,21 @@ int ObstacleCostCritic::Check(const Trajectory& traj,
       return -1;
     }
     worst = std::max(worst, c);
+    if (c == kInscribedInflatedObstacle && band_depth != nullptr && band_width_ > 0.0) {
+      depth = std::max(depth, std::clamp(1.0 - Clearance(traj.poses[i]) / band_width_, 0.0,
+                                         0.99));
+    }
   }
+  if (relaxed && ContinuousClearance(traj.poses.back(), true) <
+                     ContinuousClearance(traj.poses.front(), true) - 1e-4) {
+    if (collision_distance != nullptr) {
+      *collision_distance = ArcLength(traj.poses, traj.poses.size() - 1);
+    }
+    return -1;
+  }
+  if (band_depth != nullptr) *band_depth = depth;
   for (size_t i = 0; i < traj.braking_poses.size(); ++i) {
-    const int c = FootprintCost(*costmap_, footprint_, traj.braking_poses[i]);
+    const int c = cost_at(traj.braking_poses[i]);
     if (c < 0 || c >= limit) {
       if (collision_distance != nullptr) {
         *collision_distance = traj.braking_start_distance +
@@ -240,13 +367,15 @@ int ObstacleCostCritic::Check(const Trajectory& traj,
 }
 
 double ObstacleCostCritic::Score(const Trajectory& traj) {
-  double distance = 0.0;
-  const int worst = Check(traj, &distance);
+  double distance = 0.0, band = 0.0;
+  const int worst = Check(traj, &distance, &band);
   if (worst < 0) {
     nearest_collision_ = std::min(nearest_collision_, distance);
     return -1.0;
   }
-  return worst;
+  // Within the band every rollout's worst cost is 253: the closest approach
+  // to a lethal cell orders them, below 254.
+  return worst + band;
 }
 
 // --- OscillationCritic ---

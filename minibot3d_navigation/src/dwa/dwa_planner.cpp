@@ -112,6 +112,7 @@ DwaPlanner::DwaPlanner(const DwaOptions& options, const Footprint& footprint)
       critics_{&oscillation_critic_, &path_critic_, &goal_critic_,
                &obstacle_critic_} {
   oscillation_critic_.set_scale(0.0);
+  obstacle_critic_.set_tight_speed(CreepSpeed());
 }
 
 void DwaPlanner::Reset() {
@@ -331,8 +332,9 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
 
   bool have_best = false;
   double best_cost = kInf;
-  // Two passes: first keeping the footprint's outline out of the inscribed
-  // band (a margin of one inscribed radius); then, only if nothing passed, a
+  // Two passes: first the rule of ObstacleCostCritic (the outline off lethal
+  // cells, and out of the inscribed band unless creeping); then, only if
+  // nothing passed, a
   // way out: any trajectory (arc or turn on the spot) that touches no lethal
   // cell, brakes in time, and ends with the outline back out of the band.  A
   // robot that drifted to the edge of the band (slip, localization, a
@@ -671,8 +673,7 @@ Twist2D DwaPlanner::ComputeVelocity(const Pose2D& pose, const Twist2D& velocity,
           "DWA local planner: cannot rotate in place to the goal yaw " +
           Fixed(goal.yaw * 180.0 / kPi, 1) + " deg (now " +
           Fixed(pose.yaw * 180.0 / kPi, 1) +
-          " deg): turning, the footprint would enter the inscribed band or "
-          "an obstacle (" +
+          " deg): turning, the footprint would touch an obstacle (" +
           NearestObstacle(pose, costmap) +
           "); the goal is too close to obstacles to turn there");
     }

@@ -79,6 +79,7 @@ void TrajectoryGenerator::Generate(const Pose2D& start, const Twist2D& current,
   traj->Clear();
   traj->command = command;
   traj->kind = kind;
+  traj->start_vx = current.vx;
   const double acc_x = options_.acc_lim_x;
   const double acc_th = options_.acc_lim_theta;
   const double t_sim = options_.sim_time;

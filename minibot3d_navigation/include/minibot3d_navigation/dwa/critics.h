@@ -11,13 +11,27 @@
 //                      the local goal (MapGrid::FindLocalGoal); illegal if any
 //                      rollout cell cannot reach it.
 //  ObstacleCostCritic  occ_cost: the worst FootprintCost along the rollout.
+//                      Within the inscribed band the costmap is flat (253),
+//                      so there the score goes on rising, below 254, as the
+//                      outline nears a lethal cell (a distance transform of
+//                      the lethal cells): of two creeping rollouts the one
+//                      keeping further from the wall is cheaper.
 //                      Illegal if any pose after the start, on the rollout or
 //                      on its braking tail (trajectory.h), is off the map or
-//                      has cost >= 253 (the outline touches the inscribed
-//                      band, is on an obstacle or on unknown space).  The
-//                      escape trajectory only has to stay off lethal (254)
-//                      and unknown cells, so a robot already inside the
-//                      inscribed band can back out of it.
+//                      its outline touches a lethal (254) or unknown cell, as
+//                      base_local_planner's CostmapModel decides.  The
+//                      inscribed band (253: the outline within one inscribed
+//                      radius of an obstacle) is a cost, not a wall, but
+//                      only at creeping speed: a rollout whose outline enters
+//                      it must have |vx| <= tight_speed (turns on the spot
+//                      always may), so the robot slows to get through a door
+//                      it fits through and keeps its margin at speed, where
+//                      slip and a late costmap matter.  A robot already
+//                      within a cell of a lethal cell (localization error)
+//                      may touch lethal cells on poses within a quarter cell
+//                      of its distance to them (never nearer than a quarter
+//                      cell), its centre ending no closer: it can edge away
+//                      or slide along, not turn or creep into the wall.
 //  OscillationCritic   TrajectoryPlanner's oscillation flags: after an
 //                      in-place rotation one way and then the other, the
 //                      first direction is forbidden; after switching between
@@ -93,25 +107,38 @@ class ObstacleCostCritic : public TrajectoryCritic {
                const Costmap2D& costmap) override;
   double Score(const Trajectory& traj) override;
   // Prepare without a plan (for checking a single command).
-  void SetCostmap(const Costmap2D& costmap) {
-    costmap_ = &costmap;
-    nearest_collision_ = std::numeric_limits<double>::infinity();
-  }
+  void SetCostmap(const Costmap2D& costmap);
   // Smallest distance travelled before a collision over the trajectories
   // rejected since Prepare (infinity if none).
   double nearest_collision_distance() const { return nearest_collision_; }
-  // false (default): the outline must stay below the inscribed band (253);
-  // true: only lethal cells (254) collide.
+  // false (default): the outline may enter the inscribed band (253) only at
+  // |vx| <= tight_speed; true: only lethal cells (254) collide, at any speed.
   void set_lethal_only(bool lethal_only) { lethal_only_ = lethal_only; }
+  // The fastest |vx| at which the outline may enter the inscribed band.
+  void set_tight_speed(double tight_speed) { tight_speed_ = tight_speed; }
 
  private:
-  // Worst cost, or -1 with *collision_distance set (if non-null).
-  int Check(const Trajectory& traj, double* collision_distance) const;
+  // Worst cost, or -1 with *collision_distance set (if non-null); in
+  // *band_depth (0..1) how far into the inscribed band the outline gets.
+  int Check(const Trajectory& traj, double* collision_distance, double* band_depth) const;
+  // Smallest distance (m) from the outline at `pose` to a lethal cell.
+  double Clearance(const Pose2D& pose) const;
+  // Distance (m) from the footprint polygon at `pose` (or, with `centre`,
+  // from the pose's centre) to the nearest lethal cell centre within reach of
+  // the footprint (negative inside the polygon; infinity if none).
+  double ContinuousClearance(const Pose2D& pose, bool centre) const;
 
   Footprint footprint_;
   const Costmap2D* costmap_ = nullptr;
   double nearest_collision_ = 0.0;
   bool lethal_only_ = false;
+  double tight_speed_ = 0.0;
+  // Distance (m, cell centres, 8-neighbour chamfer) from each cell to the
+  // nearest lethal cell, and the inscribed band's width: the largest such
+  // distance among cells of cost 253.
+  std::vector<float> lethal_distance_;
+  double band_width_ = 0.0;
+  mutable std::vector<std::pair<int, int>> outline_;
 };
 
 class OscillationCritic : public TrajectoryCritic {

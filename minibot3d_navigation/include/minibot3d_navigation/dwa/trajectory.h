@@ -51,6 +51,8 @@ const char* TrajectoryKindName(TrajectoryKind kind);
 struct Trajectory {
   Twist2D command;  // the velocity command this trajectory simulates
   TrajectoryKind kind = TrajectoryKind::kSampled;
+  // The forward velocity the rollout starts from (the robot's, now).
+  double start_vx = 0.0;
   // Rollout over sim_time; poses[0] is the start pose.
   std::vector<Pose2D> poses;
   // Braking tail: the state after applying `command` for one control period,
