@@ -58,6 +58,8 @@ void ValidateOptions(const GmappingOptions& o) {
   p.Check(o.lsigma > 0.0 && Finite(o.lsigma), "lsigma", o.lsigma, "> 0");
   p.Check(o.ogain > 0.0 && Finite(o.ogain), "ogain", o.ogain, "> 0");
   p.Check(o.lskip >= 0, "lskip", o.lskip, ">= 0");
+  p.Check(o.subcellMatch == 0 || o.subcellMatch == 1, "subcellMatch", o.subcellMatch, "0 or 1");
+  p.Check(o.sampleProposal == 0 || o.sampleProposal == 1, "sampleProposal", o.sampleProposal, "0 or 1");
   p.Check(Finite(o.minimumScore), "minimumScore", o.minimumScore, "finite");
   p.Check(o.llsamplerange >= 0.0 && Finite(o.llsamplerange), "llsamplerange", o.llsamplerange, ">= 0");
   p.Check(o.lasamplerange >= 0.0 && Finite(o.lasamplerange), "lasamplerange", o.lasamplerange, ">= 0");
@@ -152,6 +154,8 @@ void SetOption(GmappingOptions* o, const std::string& name, const std::string& v
       {"ogain", &GmappingOptions::ogain, nullptr},
       {"lskip", nullptr, &GmappingOptions::lskip},
       {"minimumScore", &GmappingOptions::minimumScore, nullptr},
+      {"subcellMatch", nullptr, &GmappingOptions::subcellMatch},
+      {"sampleProposal", nullptr, &GmappingOptions::sampleProposal},
       {"llsamplerange", &GmappingOptions::llsamplerange, nullptr},
       {"llsamplestep", &GmappingOptions::llsamplestep, nullptr},
       {"lasamplerange", &GmappingOptions::lasamplerange, nullptr},

@@ -8,11 +8,16 @@
 //   2. A scan is processed when the odometry has travelled linearUpdate (path length) or turned
 //      angularUpdate since the last processed scan, when temporalUpdate seconds passed (if ≥ 0), or
 //      when it is the first scan (which only initialises the maps).
-//   3. Improved proposal, per particle: the scan is matched against the particle's own map by hill
-//      climbing from the particle's predicted pose; when the match score exceeds minimumScore, the
-//      likelihood is sampled on a small grid around the match, a Gaussian is fitted to it and the
-//      new pose is drawn from that Gaussian; the weight is multiplied by the mean likelihood of the
-//      grid (η of the paper). Otherwise the predicted pose is kept and weighted by its likelihood.
+//   3. Scan matching, per particle, as gmapping's code does it: the scan is matched against the
+//      particle's own map by hill climbing from the particle's predicted pose and (subcellMatch)
+//      refined to sub-cell precision; when the match score exceeds minimumScore the particle moves
+//      to the matched pose, else it keeps the prediction, and its weight is multiplied by the scan
+//      likelihood at that pose. The motion model's spread and the matcher's basin of attraction
+//      make this a proposal centred on the match. With sampleProposal = 1 the paper's form is used
+//      instead: the likelihood is sampled on a small grid around the match, a Gaussian is fitted
+//      to it and the new pose drawn from it, weighted by the mean likelihood of the grid (η). On
+//      the Intel log the draw adds up to a centimetre of noise to every pose and the map, and
+//      scores 0.0461 m against 0.0444 m for the matched pose (5 seeds, without refinement).
 //   4. The scan is integrated into each particle's map at its new pose (ray-traced free space).
 //   5. Adaptive resampling: weights are normalised as gmapping does, w ∝ exp((log w - max) /
 //      (ogain·N)) — the ogain smoothing keeps the very peaked beam likelihoods from collapsing the
@@ -158,12 +163,17 @@ void RbpfSlam::Impl::Process(const LaserScan& scan) {
     Pose2 mode;
     const double score = matcher_.Optimize(p.grid, prepared, p.pose, &mode);
     double log_likelihood;
-    if (score > options_.minimumScore) {
+    if (score <= options_.minimumScore) {
+      // The match is not trusted: keep the odometry prediction.
+      log_likelihood = matcher_.LogLikelihood(p.grid, prepared, p.pose);
+    } else if (options_.sampleProposal != 0) {
+      if (options_.subcellMatch != 0) mode = matcher_.Refine(p.grid, prepared, mode);
       const ProposalFit fit = matcher_.SampleAround(p.grid, prepared, mode);
       p.pose = SampleGaussian(fit.mean, fit.covariance, &rng_);
       log_likelihood = fit.log_weight;
     } else {
-      // The match is not trusted: keep the odometry prediction.
+      if (options_.subcellMatch != 0) mode = matcher_.Refine(p.grid, prepared, mode);
+      p.pose = mode;
       log_likelihood = matcher_.LogLikelihood(p.grid, prepared, p.pose);
     }
     p.weight += log_likelihood;

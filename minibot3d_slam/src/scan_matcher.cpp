@@ -180,12 +180,19 @@ void ScanMatcher::ForEachBeam(const Grid& grid, const PreparedScan& scan, const 
       return ex * ex + ey * ey;
     };
     // Nearest admissible mean endpoint in the window, window cells visited row by row.
+    int best_cx = 0, best_cy = 0;  // the cell of the nearest admissible mean endpoint
     auto nearest = [&](const auto& at) {
       double best = kNone;
       if (!patches) {  // a kernel too wide for a patch
         for (int cy = iy - k; cy <= iy + k; ++cy) {
           for (int cx = ix - k; cx <= ix + k; ++cx) {
-            if (admissible(at, cx, cy)) best = std::min(best, d2_to(at(cx, cy), cx, cy));
+            if (!admissible(at, cx, cy)) continue;
+            const double d2 = d2_to(at(cx, cy), cx, cy);
+            if (d2 < best) {
+              best = d2;
+              best_cx = cx;
+              best_cy = cy;
+            }
           }
         }
         return best;
@@ -212,7 +219,12 @@ void ScanMatcher::ForEachBeam(const Grid& grid, const PreparedScan& scan, const 
       for (std::uint64_t m = patch->admissible & window; m != 0; m &= m - 1) {
         const int b = __builtin_ctzll(m);
         const int cx = patch->x0 + (b & (kSide - 1)), cy = patch->y0 + b / kSide;
-        best = std::min(best, d2_to(at(cx, cy), cx, cy));
+        const double d2 = d2_to(at(cx, cy), cx, cy);
+        if (d2 < best) {
+          best = d2;
+          best_cx = cx;
+          best_cy = cy;
+        }
       }
       return best;
     };
@@ -238,7 +250,11 @@ void ScanMatcher::ForEachBeam(const Grid& grid, const PreparedScan& scan, const 
     } else {
       best = nearest([&grid](int cx, int cy) -> const GridCell& { return grid.At(cx, cy); });
     }
-    f(best == kNone ? -1.0 : best);
+    if (best == kNone) {
+      f(-1.0, BeamMatch{});
+    } else {
+      f(best, BeamMatch{px, py, best_cx, best_cy});
+    }
   }
 }
 
@@ -251,7 +267,7 @@ double ScanMatcher::ScoreCached(const Grid& grid, const PreparedScan& scan, cons
   double score = 0.0;
   const double inv_sigma = 1.0 / options_.sigma;  // gmapping: exp(-d² / sigma)
   const NegExpTable& neg_exp = NegExp();
-  ForEachBeam(grid, scan, pose, cache, [&](double d2) {
+  ForEachBeam(grid, scan, pose, cache, [&](double d2, const BeamMatch&) {
     if (d2 >= 0.0) score += neg_exp(d2 * inv_sigma);
   });
   return score;
@@ -267,7 +283,7 @@ double ScanMatcher::LogLikelihoodCached(const Grid& grid, const PreparedScan& sc
   double l = 0.0;
   int found = 0;
   const double inv_lsigma = 1.0 / options_.lsigma;
-  ForEachBeam(grid, scan, pose, cache, [&](double d2) {
+  ForEachBeam(grid, scan, pose, cache, [&](double d2, const BeamMatch&) {
     if (d2 >= 0.0) {
       l -= d2 * inv_lsigma;
       ++found;
@@ -324,6 +340,88 @@ double ScanMatcher::Optimize(const Grid& grid, const PreparedScan& scan, const P
   }
   *best = current;
   return current_score;
+}
+
+Pose2 ScanMatcher::Refine(const Grid& grid, const PreparedScan& scan, const Pose2& initial) const {
+  // Residual of a beam: its endpoint minus the nearest admissible mean endpoint, in world
+  // coordinates; weighted by a Gaussian of one cell so that beams far from any wall (people,
+  // glass, a wrong correspondence) hardly pull. Re-associated at every iteration.
+  const double inv_two_s2 = 1.0 / (2.0 * options_.delta * options_.delta);
+  Pose2 pose = initial;
+  for (int iteration = 0; iteration < kRefineIterations; ++iteration) {
+    Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    int used = 0;
+    ForEachBeam(grid, scan, pose, nullptr, [&](double d2, const BeamMatch& m) {
+      if (d2 < 0.0) return;
+      const GridCell& cell = grid.At(m.cx, m.cy);
+      const double mx = grid.MeanX(m.cx, cell), my = grid.MeanY(m.cy, cell);
+      const double w = std::exp(-d2 * inv_two_s2);
+      // d(endpoint)/dθ: the endpoint's offset from the base, turned by 90°.
+      const double jx = -(m.py - pose.y), jy = m.px - pose.x;
+      // The wall through the mean endpoint: towards the nearest occupied neighbour's mean. With
+      // one, the residual is the distance to that line (point-to-line: sliding along a wall costs
+      // nothing, so the spacing of the means does not pull), else to the mean itself.
+      double nx = 0.0, ny = 0.0, best_n = std::numeric_limits<double>::infinity();
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          if (dx == 0 && dy == 0) continue;
+          const GridCell& c = grid.At(m.cx + dx, m.cy + dy);
+          if (!c.Occupied()) continue;
+          const double ox = grid.MeanX(m.cx + dx, c) - m.px, oy = grid.MeanY(m.cy + dy, c) - m.py;
+          const double o2 = ox * ox + oy * oy;
+          if (o2 >= best_n) continue;
+          const double tx = grid.MeanX(m.cx + dx, c) - mx, ty = grid.MeanY(m.cy + dy, c) - my;
+          const double t = std::hypot(tx, ty);
+          if (t < 0.3 * options_.delta) continue;  // too close for a direction
+          best_n = o2;
+          nx = -ty / t;
+          ny = tx / t;
+        }
+      }
+      auto add = [&](double ax, double ay, double r) {  // one residual r with gradient (ax, ay) in x, y
+        const double at = ax * jx + ay * jy;
+        h(0, 0) += w * ax * ax;
+        h(0, 1) += w * ax * ay;
+        h(1, 1) += w * ay * ay;
+        h(0, 2) += w * ax * at;
+        h(1, 2) += w * ay * at;
+        h(2, 2) += w * at * at;
+        g(0) += w * ax * r;
+        g(1) += w * ay * r;
+        g(2) += w * at * r;
+      };
+      const double rx = m.px - mx, ry = m.py - my;
+      if (best_n < std::numeric_limits<double>::infinity()) {
+        add(nx, ny, nx * rx + ny * ry);
+      } else {
+        add(1.0, 0.0, rx);
+        add(0.0, 1.0, ry);
+      }
+      ++used;
+    });
+    if (used < kRefineMinBeams) return initial;  // too little to constrain three unknowns
+    h(1, 0) = h(0, 1);
+    h(2, 0) = h(0, 2);
+    h(2, 1) = h(1, 2);
+    // A little damping: along a corridor point-to-line leaves a direction unconstrained.
+    h(0, 0) += 1e-3 * used;
+    h(1, 1) += 1e-3 * used;
+    h(2, 2) += 1e-3 * h(2, 2);
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(h);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return initial;
+    const Eigen::Vector3d step = -ldlt.solve(g);
+    if (!step.allFinite()) return initial;
+    pose = Pose2{pose.x + step(0), pose.y + step(1), NormalizeAngle(pose.theta + step(2))};
+    if (std::hypot(step(0), step(1)) < 1e-5 && std::fabs(step(2)) < 1e-5) break;
+  }
+  // A refinement, not a search: a result more than a cell or astep away from the climber's pose
+  // means the least-squares problem was degenerate (a corridor) or badly associated.
+  if (std::hypot(pose.x - initial.x, pose.y - initial.y) > options_.delta ||
+      std::fabs(NormalizeAngle(pose.theta - initial.theta)) > options_.astep) {
+    return initial;
+  }
+  return pose;
 }
 
 ProposalFit ScanMatcher::SampleAround(const Grid& grid, const PreparedScan& scan,

@@ -17,6 +17,24 @@
 // in θ, moves to the best improving neighbour, and halves the steps when none improves, stopping
 // after `iterations` halvings.
 //
+// Refine (subcellMatch = 1) continues from the climber's pose with a continuous optimisation, in
+// the spirit of Hector SLAM's Gauss-Newton on the map gradient (Kohlbrecher et al., "A flexible and
+// scalable SLAM system with full 3D motion estimation", SSRR 2011) but on a distance field instead
+// of a bilinear occupancy field. Each beam is associated with the nearest admissible mean endpoint
+// found as above; the wall through it runs to the mean of its nearest occupied neighbour cell, and
+// the residual is the endpoint's distance to that line (point-to-line; to the mean itself when no
+// neighbour is occupied). The mean endpoints are kept to 1/65536 cell, so this field is continuous
+// and sub-cell; an interpolated occupancy grid would pull endpoints towards cell centres, and the
+// cells just behind a wall (hit by range noise, never passed through) read as fully occupied there.
+// Gauss-Newton with re-association and a one-cell Gaussian weight per beam (iteratively reweighted
+// least squares, lightly damped for corridors) minimises the weighted squared distances over
+// (x, y, θ). The climber ends on a grid of poses lstep/2^iterations apart on a score that is flat
+// near its top and jumps as endpoints change cells (in scan_matcher_test it ends up to 0.9 cell
+// off from a fractional-cell start, the refinement within 0.2 cell). A result more than a cell or
+// astep from the climber's pose is discarded.
+// On the Intel log (30 particles, 5 seeds) it brings the relations error from 0.0444 to 0.0378 m,
+// for about a quarter more time (point-to-point residuals instead: 0.0387 m).
+//
 // SampleAround is the improved proposal of the paper (Sec. IV): around the mode x̂ found by the
 // matcher it evaluates the likelihood on a grid of poses (±llsamplerange step llsamplestep in x and
 // y, ±lasamplerange step lasamplestep in θ), fits a Gaussian N(μ, Σ) to it — the proposal the new
@@ -70,6 +88,10 @@ class ScanMatcher {
   // Hill climbing from `initial`; writes the best pose and returns its score.
   double Optimize(const Grid& grid, const PreparedScan& scan, const Pose2& initial,
                   Pose2* best) const;
+  // Sub-cell refinement of a matched pose (subcellMatch): Gauss-Newton on the distance field of
+  // the map's mean endpoints (see the header comment). Returns `initial` when the problem is
+  // degenerate or the result strays more than a cell (or astep) from it.
+  Pose2 Refine(const Grid& grid, const PreparedScan& scan, const Pose2& initial) const;
   ProposalFit SampleAround(const Grid& grid, const PreparedScan& scan, const Pose2& mode) const;
 
   // Integrates the scan at `pose` into the grid (ray-traced free space, hits at endpoints).
@@ -80,8 +102,13 @@ class ScanMatcher {
   // poses of one Optimize or SampleAround call (see scan_matcher.cpp).
   class WindowCache;
 
+  // Where a beam's endpoint fell and the cell of its closest admissible mean hit.
+  struct BeamMatch {
+    double px = 0.0, py = 0.0;
+    int cx = 0, cy = 0;
+  };
   // Squared distance of each match beam's endpoint to its closest admissible mean hit, or -1 when
-  // there is none; calls f(d2) per beam. `cache` (may be null) must belong to this grid and scan.
+  // there is none; calls f(d2, match) per beam. `cache` (may be null) must belong to this grid and scan.
   template <class F>
   void ForEachBeam(const Grid& grid, const PreparedScan& scan, const Pose2& pose, WindowCache* cache,
                    F&& f) const;
@@ -89,6 +116,9 @@ class ScanMatcher {
                      WindowCache* cache) const;
   double LogLikelihoodCached(const Grid& grid, const PreparedScan& scan, const Pose2& pose,
                              WindowCache* cache, int* matched) const;
+
+  static constexpr int kRefineIterations = 10;
+  static constexpr int kRefineMinBeams = 10;
 
   GmappingOptions options_;
   double free_back_;  // how far back along the beam the free cell is looked for (√2·δ)

@@ -65,6 +65,23 @@ TEST(GmappingOptionsTest, RangesAndExtents) {
   EXPECT_NE(m.find("llsamplestep = 0"), std::string::npos) << m;
 }
 
+TEST(GmappingOptionsTest, SubcellMatchAndSampleProposalAreSwitches) {
+  GmappingOptions o;
+  EXPECT_EQ(o.subcellMatch, 1);    // on: it lowers the Intel log's error (scan_matcher.h)
+  EXPECT_EQ(o.sampleProposal, 0);  // gmapping's code: the matched pose, not a draw around it
+  SetOption(&o, "subcellMatch", "0");
+  SetOption(&o, "sampleProposal", "1");
+  EXPECT_EQ(o.subcellMatch, 0);
+  EXPECT_EQ(o.sampleProposal, 1);
+  EXPECT_NO_THROW(ValidateOptions(o));
+  o.subcellMatch = 2;
+  o.sampleProposal = -1;
+  const std::string m = ValidationMessage(o);
+  EXPECT_NE(m.find("subcellMatch = 2 (must be 0 or 1)"), std::string::npos) << m;
+  EXPECT_NE(m.find("sampleProposal = -1 (must be 0 or 1)"), std::string::npos) << m;
+  EXPECT_THROW(SetOption(&o, "subcellMatch", "true"), std::invalid_argument);
+}
+
 TEST(GmappingOptionsTest, SetOptionByGmappingName) {
   GmappingOptions o;
   SetOption(&o, "particles", "80");

@@ -81,7 +81,9 @@ std::vector<Pose2> Tour() {
   return truth;
 }
 
-TEST(RbpfSlamTest, NoisyOdometryTourGivesTrajectoryAndMapCloseToTheTruth) {
+// The tour with odometry that drifts by decimetres; the filter must stay close to the truth with
+// every combination of the matcher's refinement and the paper's sampled proposal.
+void CheckNoisyOdometryTour(int subcell_match, int sample_proposal) {
   const World world = Office();
   const std::vector<Pose2> truth = Tour();
   // Odometry with a systematic rotation bias (3 %) and a scale error (2 %) plus noise, so that it
@@ -101,6 +103,8 @@ TEST(RbpfSlamTest, NoisyOdometryTourGivesTrajectoryAndMapCloseToTheTruth) {
   o.linearUpdate = 0.3;
   o.angularUpdate = 0.25;
   o.seed = 5;
+  o.subcellMatch = subcell_match;
+  o.sampleProposal = sample_proposal;
   RbpfSlam slam(o);
   for (std::size_t i = 0; i < truth.size(); ++i) {
     slam.AddScan(world.Scan(truth[i], 181, M_PI, 30.0, 0.1 * static_cast<double>(i)), odom[i]);
@@ -151,6 +155,17 @@ TEST(RbpfSlamTest, NoisyOdometryTourGivesTrajectoryAndMapCloseToTheTruth) {
   EXPECT_GT(hits, 0.9 * samples);
   for (double x = -4.0; x <= 4.0; x += 0.5) EXPECT_EQ(value(x, -2.8), 0) << x;
   EXPECT_EQ(value(0.0, 0.0), -1);  // inside the inner block: never seen
+}
+
+TEST(RbpfSlamTest, NoisyOdometryTourGivesTrajectoryAndMapCloseToTheTruth) {
+  CheckNoisyOdometryTour(1, 0);  // the defaults
+}
+
+TEST(RbpfSlamTest, NoisyOdometryTourWithoutSubcellRefinement) { CheckNoisyOdometryTour(0, 0); }
+
+TEST(RbpfSlamTest, NoisyOdometryTourWithTheSampledProposal) {
+  CheckNoisyOdometryTour(1, 1);
+  CheckNoisyOdometryTour(0, 1);
 }
 
 LaserScan WallScan(double time, int beams = 91) {

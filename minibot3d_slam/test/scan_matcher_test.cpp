@@ -46,6 +46,48 @@ TEST(ScanMatcherTest, RecoversKnownOffset) {
   }
 }
 
+// Sub-cell matching: scans taken at poses a fraction of a cell (and of a degree) away from the
+// guess are recovered to a fifth of a cell and 0.23° by Refine alone and after the hill climber
+// (which alone ends up to 0.9 cell off here). The office's walls lie off the cell boundaries (see
+// synthetic_world.h); its map holds six scans, so its mean endpoints leave a bias of a few
+// millimetres at some poses.
+TEST(ScanMatcherTest, RefineRecoversFractionalCellOffsets) {
+  GmappingOptions o;
+  const ScanMatcher matcher(o);
+  const World world = Office();
+  const Grid grid = MappedOffice(matcher, world);
+  const double cell = o.delta;
+  for (const Pose2& truth : {Pose2{-3.0, -1.8, 0.7}, Pose2{2.5, 2.8, -2.5}, Pose2{-1.0, 2.4, 0.1}}) {
+    const PreparedScan scan = matcher.Prepare(world.Scan(truth));
+    for (const Pose2& off : {Pose2{0.37 * cell, -0.21 * cell, 0.004},
+                             Pose2{-0.62 * cell, 0.45 * cell, -0.006}, Pose2{0.08 * cell, 0.71 * cell, 0.0}}) {
+      SCOPED_TRACE(::testing::Message() << "truth " << truth.x << " " << truth.y << " " << truth.theta
+                                        << ", offset " << off.x << " " << off.y << " " << off.theta);
+      const Pose2 guess{truth.x + off.x, truth.y + off.y, truth.theta + off.theta};
+      const Pose2 refined = matcher.Refine(grid, scan, guess);
+      EXPECT_LT(std::hypot(refined.x - truth.x, refined.y - truth.y), 0.2 * cell);
+      EXPECT_LT(AngleDiff(refined.theta, truth.theta), 0.004);
+      Pose2 climbed;
+      matcher.Optimize(grid, scan, guess, &climbed);
+      const Pose2 both = matcher.Refine(grid, scan, climbed);
+      EXPECT_LT(std::hypot(both.x - truth.x, both.y - truth.y), 0.2 * cell);
+      EXPECT_LT(AngleDiff(both.theta, truth.theta), 0.004);
+    }
+  }
+}
+
+TEST(ScanMatcherTest, RefineKeepsThePoseWithoutEnoughMatches) {
+  GmappingOptions o;
+  const ScanMatcher matcher(o);
+  const Grid empty(0.05);
+  const PreparedScan scan = matcher.Prepare(Office().Scan(Pose2{0.0, 2.5, 0.0}));
+  const Pose2 start{0.01, 2.49, 0.02};
+  const Pose2 out = matcher.Refine(empty, scan, start);
+  EXPECT_EQ(out.x, start.x);
+  EXPECT_EQ(out.y, start.y);
+  EXPECT_EQ(out.theta, start.theta);
+}
+
 TEST(ScanMatcherTest, ScoreAndLikelihoodPeakAtTheTruth) {
   GmappingOptions o;
   const ScanMatcher matcher(o);

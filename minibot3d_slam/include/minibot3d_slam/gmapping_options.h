@@ -28,7 +28,15 @@ struct GmappingOptions {
   double ogain = 3.0;         // gain smoothing the likelihood
   int lskip = 0;              // use every (lskip+1)-th beam for the likelihood
   double minimumScore = 0.0;  // below it, the scan match is not trusted (odometry used)
-  // Sampling around the matched pose.
+  // Sub-cell refinement of each matched pose (1) or the hill climber's pose as is (0); see
+  // scan_matcher.h. Not a gmapping parameter.
+  int subcellMatch = 1;
+  // The improved proposal as the paper describes it (1): the new pose is drawn from a Gaussian
+  // fitted to the likelihood around the match, weighted by the mean likelihood there. 0: as
+  // gmapping's code does it — the matched pose itself, weighted by its likelihood. Not a gmapping
+  // parameter.
+  int sampleProposal = 0;
+  // Sampling around the matched pose (sampleProposal = 1).
   double llsamplerange = 0.01, llsamplestep = 0.01;
   double lasamplerange = 0.005, lasamplestep = 0.005;
   // Map.
