@@ -31,3 +31,95 @@ def test_launch_file_loads(path):
 def test_launch_file_nodes_exist(path):
     error = check_roslaunch(path)
     assert error is None, 'roslaunch-check %s: %s' % (path, error)
+
+
+# ---- what the launch files set ------------------------------------------------------------------
+
+import roslaunch.config  # noqa: E402
+import roslaunch.xmlloader  # noqa: E402
+
+CONFIG_FILES = sorted(glob.glob(os.path.join(ROOT, 'config', '*.yaml')))
+# Launch files whose default is wall time, with the reason (see the file).
+WALL_TIME_DEFAULT = {'minibot3d_description/launch/view_mobile_robot.launch'}
+
+
+class _RecordingLoader(roslaunch.xmlloader.XmlLoader):
+    """Notes every file a <rosparam command="load"> reads."""
+
+    def __init__(self):
+        super().__init__()
+        self.files = set()
+
+    def load_rosparam(self, context, ros_config, cmd, param, file_, text, **kwargs):
+        if file_:
+            self.files.add(os.path.realpath(file_))
+        return super().load_rosparam(context, ros_config, cmd, param, file_, text, **kwargs)
+
+
+def load(path, *args):
+    loader = _RecordingLoader()
+    config = roslaunch.config.load_config_default([(path, list(args))], None, loader=loader,
+                                                  verbose=False)
+    return config, loader.files
+
+
+@pytest.mark.parametrize('path', LAUNCH_FILES, ids=lambda p: os.path.relpath(p, ROOT))
+def test_launch_file_sets_use_sim_time_from_its_arg(path):
+    # Issue 18 item 4: whichever file is started first, its nodes see the simulator's clock.
+    rel = os.path.relpath(path, ROOT)
+    config, _ = load(path, *HEADLESS)
+    assert '/use_sim_time' in config.params, '%s does not set /use_sim_time' % rel
+    assert config.params['/use_sim_time'].value is (rel not in WALL_TIME_DEFAULT), rel
+    flipped = 'false' if rel not in WALL_TIME_DEFAULT else 'true'
+    config, _ = load(path, 'use_sim_time:=' + flipped, *HEADLESS)
+    assert config.params['/use_sim_time'].value is (flipped == 'true'), rel
+
+
+def test_every_config_file_is_loaded_by_a_launch_file():
+    loaded = set()
+    for path in LAUNCH_FILES:
+        loaded |= load(path, *HEADLESS)[1]
+    missing = [os.path.relpath(c, ROOT) for c in CONFIG_FILES if os.path.realpath(c) not in loaded]
+    assert not missing, 'config files no launch file loads: %s' % missing
+
+
+def move_base_parameter_names():
+    out = subprocess.run(['rosrun', 'minibot3d_navigation', 'move_base',
+                          '--print-parameter-names'], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    return set(out.stdout.split())
+
+
+def test_mapless_navigation_has_an_odom_costmap_and_no_map():
+    config, files = load(os.path.join(ROOT, 'minibot3d_navigation', 'launch',
+                                      'mapless_navigation.launch'), *HEADLESS)
+    assert os.path.realpath(os.path.join(ROOT, 'config', 'global_costmap_mapless_params.yaml')) \
+        in files
+    assert os.path.realpath(os.path.join(ROOT, 'config', 'global_costmap_params.yaml')) \
+        not in files
+    p = {k: v.value for k, v in config.params.items()}
+    g = '/move_base/global_costmap/'
+    assert p[g + 'global_frame'] == 'odom'
+    assert p[g + 'static_map'] is False and p[g + 'rolling_window'] is False
+    assert p[g + 'track_unknown_space'] is False  # unseen space is free: planned through
+    assert (p[g + 'width'], p[g + 'height']) == (24.0, 24.0)
+    assert (p[g + 'origin_x'], p[g + 'origin_y']) == (-12.0, -12.0)
+    assert p['/move_base/NavfnROS/allow_unknown'] is True
+    assert p['/use_lockstep'] is False
+    types = sorted(n.type for n in config.nodes)
+    assert 'amcl' not in types and 'map_server' not in types
+    assert 'move_base' in types and 'minibot3d_sim' in types
+    # Every global costmap key is one move_base reads (a misspelling would only be warned about).
+    names = move_base_parameter_names()
+    unknown = [k for k in p if k.startswith(g) and k[len('/move_base/'):] not in names
+               and k != g + 'observation_sources' and not k.startswith(g + 'laser_scan_sensor')]
+    assert not unknown, unknown
+
+    config, _ = load(os.path.join(ROOT, 'minibot3d_navigation', 'launch',
+                                  'mapless_navigation.launch'),
+                     'lockstep:=true', 'lockstep_participants:=/move_base /simple_navi_goals')
+    sim = [n for n in config.nodes if n.type == 'minibot3d_sim'][0]
+    assert config.params['/use_lockstep'].value is True
+    assert config.params['/minibot3d_sim/lockstep_participants'].value == \
+        '/move_base /simple_navi_goals'
+    assert sim.name == 'minibot3d_sim'

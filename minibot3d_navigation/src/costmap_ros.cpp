@@ -9,6 +9,7 @@
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 
 #include "ros_util.h"
+#include "transform_age.h"
 
 namespace minibot3d_navigation {
 namespace {
@@ -167,24 +168,24 @@ void CostmapRos::OnScan(const sensor_msgs::LaserScan::ConstPtr& scan, Source* so
   }
 }
 
-bool CostmapRos::RobotPose(nav::Pose2D* pose, std::string* why) const {
+bool CostmapRos::RobotPose(nav::Pose2D* pose, std::string* why, bool* clocks_disagree) const {
+  if (clocks_disagree != nullptr) *clocks_disagree = false;
+  const std::string& global = options_.global_frame;
+  const std::string& base = options_.robot_base_frame;
   try {
-    const auto t = tf_->lookupTransform(options_.global_frame, options_.robot_base_frame,
-                                        ros::Time(0));
+    const auto t = tf_->lookupTransform(global, base, ros::Time(0));
     tf2::Transform tt;
     tf2::fromMsg(t.transform, tt);
     *pose = ros_util::PoseFromTf(tt);
-    const double age = (ros::Time::now() - t.header.stamp).toSec();
-    if (age > options_.transform_tolerance && t.header.stamp != ros::Time(0)) {
-      *why = "transform " + options_.global_frame + " <- " + options_.robot_base_frame + " is " +
-             std::to_string(age) + " s old (transform_tolerance " +
-             std::to_string(options_.transform_tolerance) + " s)";
-      return false;
+    const TransformAge age = CheckTransformAge(ros::Time::now().toSec(), t.header.stamp.toSec(),
+                                               global, base, options_.transform_tolerance);
+    if (!age.ok) {
+      *why = age.why;
+      if (clocks_disagree != nullptr) *clocks_disagree = age.clocks_disagree;
     }
-    return true;
+    return age.ok;
   } catch (const tf2::TransformException& e) {
-    *why = "no transform " + options_.global_frame + " <- " + options_.robot_base_frame + ": " +
-           e.what();
+    *why = "no transform " + global + " <- " + base + ": " + e.what();
     return false;
   }
 }

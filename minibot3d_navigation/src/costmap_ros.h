@@ -39,8 +39,10 @@ class CostmapRos {
   void Start();
 
   // Robot pose in the costmap's frame (latest tf); false with *why filled
-  // (throttled warnings are the caller's business).
-  bool RobotPose(nav::Pose2D* pose, std::string* why) const;
+  // (throttled warnings are the caller's business). *clocks_disagree, if
+  // given, says the node and tf run on different clocks (wall vs sim time:
+  // transform_age.h), which no tf publisher can fix.
+  bool RobotPose(nav::Pose2D* pose, std::string* why, bool* clocks_disagree = nullptr) const;
   // Updates the costmap at `robot` if update_frequency says so (or force),
   // and publishes at publish_frequency.
   void Update(const ros::Time& now, const nav::Pose2D& robot, bool force = false);

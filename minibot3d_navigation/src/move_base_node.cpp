@@ -301,19 +301,39 @@ class MoveBaseNode {
     return o;
   }
 
+  // What to check when the robot's pose cannot be looked up, naming the frames involved: the
+  // localizer's global -> local (e.g. amcl's map -> odom) when the global costmap failed and its
+  // frame differs from the local one's; else odometry's local -> robot base (mapless mode, where
+  // both costmaps are in odom).
+  std::string PoseHint(bool global_failed) const {
+    const nav::CostmapOptions& g = global_costmap_.options();
+    const nav::CostmapOptions& l = local_costmap_.options();
+    if (global_failed && g.global_frame != l.global_frame) {
+      return "Is the localizer (amcl or SLAM) publishing " + g.global_frame + " -> " +
+             l.global_frame + "?";
+    }
+    return "Is the odometry (the simulator) publishing " + l.global_frame + " -> the robot (" +
+           l.robot_base_frame + ")? rosrun tf tf_echo " + l.global_frame + " " +
+           l.robot_base_frame + " shows what tf has";
+  }
+
   void OnControl() {
     const ros::Time now = ros::Time::now();
     nav::RobotState state;
     state.time = now.toSec();
     state.velocity = velocity_;
     std::string why;
-    const bool have_global = global_costmap_.RobotPose(&state.global_pose, &why);
-    const bool have_local = have_global && local_costmap_.RobotPose(&state.local_pose, &why);
+    bool clocks_disagree = false;
+    const bool have_global =
+        global_costmap_.RobotPose(&state.global_pose, &why, &clocks_disagree);
+    const bool have_local =
+        have_global && local_costmap_.RobotPose(&state.local_pose, &why, &clocks_disagree);
     if (!have_global || !have_local) {
-      ROS_WARN_THROTTLE(5.0, "move_base: robot pose unknown: %s. Is the localizer (amcl) "
-                        "publishing %s -> %s?", why.c_str(),
-                        global_costmap_.options().global_frame.c_str(),
-                        local_costmap_.options().global_frame.c_str());
+      if (!clocks_disagree) {
+        while (!why.empty() && why.back() == ' ') why.pop_back();
+        why += (!why.empty() && why.back() == '.' ? " " : ". ") + PoseHint(!have_global);
+      }
+      ROS_WARN_THROTTLE(5.0, "move_base: robot pose unknown: %s", why.c_str());
       if (executive_->active()) PublishZero();
       return;
     }

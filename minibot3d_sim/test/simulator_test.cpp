@@ -1,10 +1,15 @@
 // The simulator core: clock, command timeout, odometry, scan schedule, collision events, reset.
 #include "minibot3d_sim/simulator.h"
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
+#include "minibot3d_sim/world_loader.h"
 #include "sim_test_fixtures.h"
 
 namespace minibot3d_sim {
@@ -194,6 +199,49 @@ TEST(SimulatorTest, InvalidOptionsAreRejectedWithTheirValues) {
     EXPECT_NE(std::string(e.what()).find("warp_drive"), std::string::npos);
   }
 }
+
+#ifdef MINIBOT3D_SIM_SOURCE_DIR
+// The generated clutter worlds (tools/clutter_world.py): each loads without a warning, has its
+// four walls and thin posts, and the robot fits at the start (0, 0) and at the goal (5.5, 0), and
+// drives off the start, in both physics backends.
+TEST(SimulatorTest, ClutterWorldsLoadWithStartAndGoalFree) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> worlds;
+  for (const auto& e : fs::directory_iterator(std::string(MINIBOT3D_SIM_SOURCE_DIR) +
+                                              "/worlds/clutter")) {
+    if (e.path().extension() == ".world") worlds.push_back(e.path().string());
+  }
+  std::sort(worlds.begin(), worlds.end());
+  ASSERT_EQ(worlds.size(), 50u);
+  WorldLoadOptions env;
+  env.use_gazebo_model_path_env = false;
+  for (const std::string& path : worlds) {
+    SCOPED_TRACE(path);
+    std::vector<std::string> warnings;
+    World world = LoadWorld(path, env, &warnings);
+    EXPECT_TRUE(warnings.empty()) << warnings.front();
+    int boxes = 0, posts = 0;
+    for (const Shape& s : world.shapes) {
+      boxes += s.type == ShapeType::kBox;
+      posts += s.type == ShapeType::kCylinder;
+    }
+    EXPECT_EQ(boxes, 4);
+    EXPECT_GE(posts, 10);
+    for (const char* physics : {"kinematic", "bullet"}) {
+      SimulatorOptions o = Options(physics);
+      o.spawn = Pose2{0.0, 0.0, 0.0};
+      Simulator sim(MakeRobot(), world, o);
+      std::string what;
+      EXPECT_FALSE(sim.PoseCollides(Pose2{0.0, 0.0, 0.0}, &what)) << what;
+      EXPECT_FALSE(sim.PoseCollides(Pose2{5.5, 0.0, 0.0}, &what)) << what;
+      EXPECT_GT(sim.Clearance(), 0.5);
+      Drive(&sim, 1.0, 0.3, 0.0);
+      EXPECT_GT(sim.true_pose().x, 0.2) << physics;
+      EXPECT_EQ(sim.collision_count(), 0u);
+    }
+  }
+}
+#endif
 
 }  // namespace
 }  // namespace minibot3d_sim
