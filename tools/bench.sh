@@ -57,16 +57,52 @@ done
 echo "== move_base in the simulator: 20 random reachable goals in the default world (seed 1)"
 tools/nav_sim_bench.sh
 
-echo "== SLAM on a CARMEN log (slam_offline, gmapping defaults): 10, 30, 100 particles"
+echo "== mapless navigation through the 50 shipped clutter worlds (mapless_navigation.launch,"
+echo "   lock-step at full speed, the goal 5.5 m ahead in odom, 120 s of sim time each)"
+OUT=build/bench/mapless tools/mapless_smoke.sh $(seq 0 49) > build/bench/mapless.txt 2>&1 || true
+/usr/bin/python3 tools/mapless_bench.py build/bench/mapless.txt || true
+
+echo "== SLAM on a CARMEN log (slam_offline, gmapping defaults, 30 particles): 5 seeds, scored"
+echo "   against the log's relations (Kuemmerle et al. 2009) when LOG.relations is beside it"
 if [ -n "$log" ] && [ -f "$log" ]; then
-  for particles in 10 30 100; do
+  relations="${log%.clf}.relations"
+  rm -f build/bench/carmen_seeds.txt
+  for seed in 1 2 3 4 5; do
+    out="build/bench/carmen_s$seed"
+    /usr/bin/time -f "time %e %M" -o "$out.time" devel/lib/minibot3d_slam/slam_offline \
+      --log "$log" --out "$out" --quiet --param seed="$seed" | tail -1
+    score="no relations"
+    if [ -f "$relations" ]; then
+      score=$(devel/lib/minibot3d_slam/evaluate_relations "$out/trajectory.txt" "$relations" | head -1)
+    fi
+    echo "seed $seed: $(cat "$out.time") | $score" | tee -a build/bench/carmen_seeds.txt
+  done
+  /usr/bin/python3 - build/bench/carmen_seeds.txt <<'PY'
+import re, statistics as st, sys
+rows = [l for l in open(sys.argv[1]) if l.startswith('seed')]
+wall = [float(re.search(r'time ([0-9.]+) ([0-9]+)', l).group(1)) for l in rows]
+peak = [int(re.search(r'time ([0-9.]+) ([0-9]+)', l).group(2)) / 1024 for l in rows]
+tr = [float(m.group(1)) for l in rows for m in [re.search(r'translation_m ([0-9.]+)', l)] if m]
+rot = [float(m.group(1)) for l in rows for m in [re.search(r'rotation_deg ([0-9.]+)', l)] if m]
+if tr:
+    print('Intel, 5 seeds: translation %.4f +- %.4f m, rotation %.3f +- %.3f deg (mean +- std over '
+          'seeds); wall %.1f s (%.1f-%.1f); peak %.0f MB'
+          % (st.mean(tr), st.stdev(tr), st.mean(rot), st.stdev(rot), st.mean(wall), min(wall),
+             max(wall), max(peak)))
+    print('published (Intel): GMapping 0.070 m (Kuemmerle 2009); graph mapping 0.031 m, 1.3 deg '
+          '(ibid.); Cartographer 0.0229 m, 0.45 deg (Hess et al. 2016)')
+else:
+    print('wall %.1f s (%.1f-%.1f); peak %.0f MB; no relations to score against'
+          % (st.mean(wall), min(wall), max(wall), max(peak)))
+PY
+  for particles in 10 100; do
     printf 'particles=%s ' "$particles"
     devel/lib/minibot3d_slam/slam_offline --log "$log" --out "build/bench/carmen_$particles" \
       --particles "$particles" --quiet | tail -1
   done
-  /usr/bin/python3 minibot3d_slam/scripts/plot_map.py build/bench/carmen_30/map.yaml \
-    build/bench/carmen_30/trajectory.txt build/bench/carmen_30/map.png
-  echo "map with trajectory: build/bench/carmen_30/map.png"
+  /usr/bin/python3 minibot3d_slam/scripts/plot_map.py build/bench/carmen_s1/map.yaml \
+    build/bench/carmen_s1/trajectory.txt build/bench/carmen_s1/map.png
+  echo "map with trajectory: build/bench/carmen_s1/map.png"
 else
   echo "skipped: no CARMEN log at '${log}' (make bench BENCH_LOG=path/to/log.clf)"
 fi
