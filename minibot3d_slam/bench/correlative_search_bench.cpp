@@ -1,8 +1,8 @@
 // correlative_search_bench: time of a whole-map, full-rotation CorrelativeSearch (global
 // localization) for a 360-beam scan, on map_server maps and on synthetic office floors.
 //
-//   correlative_search_bench [MAP_YAML ...] [--runs N] [--depth D] [--range M] [--step RAD] [--blur M]
-//                            [--no-synthetic] [--verbose]
+//   correlative_search_bench [MAP_YAML ...] [--runs N] [--depth D] [--range M] [--step RAD]
+//                            [--blur M] [--no-synthetic] [--verbose]
 //
 // For every map: build the max-grid stack once (timed), then for N scans taken at random free
 // poses (seeded) search from a random initial pose with linear_search_window = kWholeMap and
@@ -111,7 +111,8 @@ void Run(const std::string& name, const GridMap& map,
   const double build = Seconds(t0);
 
   std::mt19937 rng(42);
-  std::uniform_real_distribution<double> ux(map.origin_x, map.origin_x + map.width * map.resolution);
+  std::uniform_real_distribution<double> ux(map.origin_x,
+                                            map.origin_x + map.width * map.resolution);
   std::uniform_real_distribution<double> uy(map.origin_y,
                                             map.origin_y + map.height * map.resolution);
   std::uniform_real_distribution<double> ua(-M_PI, M_PI);
@@ -234,7 +235,8 @@ int main(int argc, char** argv) {
     }
     if (synthetic) {
       for (const auto& size : {std::pair<double, double>{50.0, 50.0}, {54.0, 59.0}}) {
-        const auto world = minibot3d_slam::testing_world::OfficeBuilding(size.first, size.second, 1);
+        const auto world =
+            minibot3d_slam::testing_world::OfficeBuilding(size.first, size.second, 1);
         const GridMap map =
             minibot3d_slam::testing_world::Rasterize(world, 0.0, 0.0, size.first, size.second);
         Run("office " + std::to_string(static_cast<int>(size.first)) + " m x " +

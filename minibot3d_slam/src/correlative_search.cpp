@@ -51,6 +51,9 @@ void CheckCorrelativeSearchOptions(const CorrelativeSearchOptions& o) {
     Fail("min_separation_angular", o.min_separation_angular,
          "must be >= 0 rad and finite (>= pi: any heading at one place is the same place)");
   }
+  if (!(o.min_relative_score >= 0.0 && o.min_relative_score <= 1.0)) {
+    Fail("min_relative_score", o.min_relative_score, "must be in [0, 1] (a fraction of the best)");
+  }
   if (!(o.blur_sigma >= 0.0 && o.blur_sigma <= 1.0)) {
     Fail("blur_sigma", o.blur_sigma, "must be in [0, 1] m (0 scores the cells as they are)");
   }
@@ -149,10 +152,11 @@ CorrelativeSearch::CorrelativeSearch(const GridMap& map, const CorrelativeSearch
     }
     for (int y = 0; y < h; ++y) {
       for (int x = 0; x < w; ++x) {
-        float m = rows[static_cast<std::size_t>(y) * w + x];
+        const float* column = rows.data() + x;
+        float m = column[static_cast<std::size_t>(y) * w];
         for (int d = 1; d <= radius; ++d) {
-          if (y - d >= 0) m = std::max(m, rows[static_cast<std::size_t>(y - d) * w + x] * weight[d]);
-          if (y + d < h) m = std::max(m, rows[static_cast<std::size_t>(y + d) * w + x] * weight[d]);
+          if (y - d >= 0) m = std::max(m, column[static_cast<std::size_t>(y - d) * w] * weight[d]);
+          if (y + d < h) m = std::max(m, column[static_cast<std::size_t>(y + d) * w] * weight[d]);
         }
         p[static_cast<std::size_t>(y) * w + x] = m;
       }
@@ -289,9 +293,8 @@ CorrelativeSearch::Lattice CorrelativeSearch::MakeLattice(
 class CorrelativeSearch::Searcher {
  public:
   Searcher(const CorrelativeSearch& grids, const Lattice& lattice,
-           const CorrelativeSearchOptions& options, int max_kept)
-      : grids_(grids), lattice_(lattice), options_(options), max_kept_(max_kept),
-        need_(lattice.need) {}
+           const CorrelativeSearchOptions& options, int max_kept, int need)
+      : grids_(grids), lattice_(lattice), options_(options), max_kept_(max_kept), need_(need) {}
 
   // Two passes over the angles, each scoring every top-height node of its angles, then visiting
   // them best first. The first pass takes every kAngleStride-th angle: its best leaf is usually at
@@ -307,8 +310,9 @@ class CorrelativeSearch::Searcher {
     Pass(first);
     Pass(second);
     stats_.angles = num_angles;
-    last_stats = stats_;
   }
+
+  const Stats& stats() const { return stats_; }
 
   const std::vector<Candidate>& kept() const { return kept_; }
 
@@ -457,8 +461,25 @@ std::vector<CorrelativeMatch> CorrelativeSearch::SearchKept(
   std::vector<CorrelativeMatch> out;
   last_stats = Stats();
   if (lattice.empty()) return out;
-  Searcher searcher(*this, lattice, options, max_kept);
+  int need = lattice.need;
+  if (max_kept > 1 && options.min_relative_score > 0.0) {
+    // The best first (a search with a high bound is quick), then the others it makes relevant.
+    Searcher best(*this, lattice, options, 1, need);
+    best.Run();
+    last_stats = best.stats();
+    if (best.kept().empty()) return out;
+    need = std::max(need, static_cast<int>(std::ceil(options.min_relative_score *
+                                                     best.kept().front().score - 1e-6)));
+  }
+  Searcher searcher(*this, lattice, options, max_kept, need);
   searcher.Run();
+  const Stats& s = searcher.stats();
+  last_stats.angles = s.angles;
+  last_stats.top_nodes += s.top_nodes;
+  last_stats.nodes_scored += s.nodes_scored;
+  last_stats.leaves += s.leaves;
+  last_stats.lookups += s.lookups;
+  last_stats.top_lookups += s.top_lookups;
   const Pose2 origin{map_.origin_x, map_.origin_y, map_.origin_theta};
   const double r = map_.resolution;
   for (const Candidate& c : searcher.kept()) {

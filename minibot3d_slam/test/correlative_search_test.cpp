@@ -62,7 +62,8 @@ TEST(CorrelativeSearchTest, BranchAndBoundEqualsBruteForce) {
     options.angular_search_window = trial % 4 == 0 ? M_PI : 0.4 * unit(rng);
     options.angular_step = trial % 5 == 0 ? 0.0 : 0.05 + 0.1 * unit(rng);
     options.min_score = trial % 2 == 0 ? 0.0 : 0.5 * unit(rng);
-    options.branch_and_bound_depth = 1 + static_cast<int>(unit(rng) * options.branch_and_bound_depth);
+    options.branch_and_bound_depth =
+        1 + static_cast<int>(unit(rng) * options.branch_and_bound_depth);
 
     const auto brute = search.BruteForceSearch(points, initial, options);
     const auto bnb = search.Search(points, initial, options);
@@ -80,13 +81,17 @@ TEST(CorrelativeSearchTest, BranchAndBoundEqualsBruteForce) {
     }
     // SearchAll's first candidate is Search's result.
     options.max_candidates = 1 + trial % 4;
+    options.min_relative_score = trial % 2 == 0 ? 0.0 : 0.8;
     const auto all = search.SearchAll(points, initial, options);
     ASSERT_FALSE(all.empty());
     EXPECT_LE(static_cast<int>(all.size()), options.max_candidates);
     EXPECT_EQ(all.front().score, bnb->score);
     EXPECT_NEAR(all.front().pose.x, bnb->pose.x, 1e-12);
     EXPECT_NEAR(all.front().pose.y, bnb->pose.y, 1e-12);
-    for (std::size_t k = 1; k < all.size(); ++k) EXPECT_LE(all[k].score, all[k - 1].score);
+    for (std::size_t k = 1; k < all.size(); ++k) {
+      EXPECT_LE(all[k].score, all[k - 1].score);
+      EXPECT_GE(all[k].score, options.min_relative_score * all[0].score - 1e-9);
+    }
   }
   EXPECT_GT(compared, 120);
   EXPECT_GT(same_pose, compared / 2);  // most maxima are unique
@@ -245,6 +250,7 @@ TEST(CorrelativeSearchTest, BadOptionsAreNamed) {
   ExpectRejected("min_separation_angular", [](O* o) { o->min_separation_angular = -1.0; });
   ExpectRejected("unknown_probability", [](O* o) { o->unknown_probability = 2.0; });
   ExpectRejected("blur_sigma", [](O* o) { o->blur_sigma = -0.05; });
+  ExpectRejected("min_relative_score", [](O* o) { o->min_relative_score = 1.1; });
 
   // Accepted: the whole map, the full circle, the default step.
   O whole;

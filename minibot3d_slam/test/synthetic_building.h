@@ -58,7 +58,9 @@ inline GridMap Rasterize(const World& world, double x0, double y0, double x1, do
 inline World OfficeBuilding(double width, double height, unsigned seed,
                             std::vector<Pose2>* room_centres = nullptr) {
   std::mt19937 rng(seed);
-  auto uniform = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+  auto uniform = [&](double a, double b) {
+    return std::uniform_real_distribution<double>(a, b)(rng);
+  };
   World w;
   w.AddBox(0.0, 0.0, width, height);
   const double corridor = 2.0;
