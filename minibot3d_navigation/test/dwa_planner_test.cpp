@@ -47,6 +47,16 @@ void AddBox(Costmap2D* map, double x0, double y0, double x1, double y1) {
   }
 }
 
+// A room `width` x `height` m with 0.1 m walls on its four sides.
+Costmap2D WalledRoom(double width, double height) {
+  Costmap2D map = EmptyMap(width, height);
+  AddBox(&map, 0.0, 0.0, width, 0.1);
+  AddBox(&map, 0.0, height - 0.1, width, height);
+  AddBox(&map, 0.0, 0.0, 0.1, height);
+  AddBox(&map, width - 0.1, 0.0, width, height);
+  return map;
+}
+
 // costmap_2d's InflationLayer, brute force: 253 within the inscribed radius
 // of a lethal cell, 252 * exp(-k (d - r_inscribed)) out to the inflation
 // radius.
@@ -673,11 +683,7 @@ TEST(DwaClosedLoopTest, WallAheadWithSlowControllerAndShortRollouts) {
 
 TEST(DwaClosedLoopTest, TurnsThroughADoorway) {
   // Room 6 x 6 m, a wall across y = 3 with a 0.8 m door at x in [2.6, 3.4].
-  Costmap2D map = EmptyMap(6.0, 6.0);
-  AddBox(&map, 0.0, 0.0, 6.0, 0.1);
-  AddBox(&map, 0.0, 5.9, 6.0, 6.0);
-  AddBox(&map, 0.0, 0.0, 0.1, 6.0);
-  AddBox(&map, 5.9, 0.0, 6.0, 6.0);
+  Costmap2D map = WalledRoom(6.0, 6.0);
   AddBox(&map, 0.0, 2.95, 2.6, 3.05);
   AddBox(&map, 3.4, 2.95, 6.0, 3.05);
   Inflate(&map);
@@ -741,11 +747,7 @@ void ExpectGetsThrough(const Costmap2D& map, const Pose2D& start, const Path& pl
 
 TEST(DwaTightSpacesTest, ThroughADoorFortyCentimetresWide) {
   // Two rooms, a wall across y = 3 with a door of 0.40 m at x in [2.8, 3.2].
-  Costmap2D map = EmptyMap(6.0, 6.0);
-  AddBox(&map, 0.0, 0.0, 6.0, 0.1);
-  AddBox(&map, 0.0, 5.9, 6.0, 6.0);
-  AddBox(&map, 0.0, 0.0, 0.1, 6.0);
-  AddBox(&map, 5.9, 0.0, 6.0, 6.0);
+  Costmap2D map = WalledRoom(6.0, 6.0);
   AddBox(&map, 0.0, 2.9, 2.8, 3.1);
   AddBox(&map, 3.2, 2.9, 6.0, 3.1);
   Inflate(&map);
@@ -757,11 +759,7 @@ TEST(DwaTightSpacesTest, ThroughADoorFortyCentimetresWide) {
 TEST(DwaTightSpacesTest, IntoAHalfMetreGapBetweenAShelfAndAWall) {
   // A wall at x = 0.1, a shelf 0.5 m from it (x in [0.6, 1.4], y in [2, 4]):
   // the goal is inside the gap, facing along it.
-  Costmap2D map = EmptyMap(5.0, 5.0);
-  AddBox(&map, 0.0, 0.0, 5.0, 0.1);
-  AddBox(&map, 0.0, 4.9, 5.0, 5.0);
-  AddBox(&map, 0.0, 0.0, 0.1, 5.0);
-  AddBox(&map, 4.9, 0.0, 5.0, 5.0);
+  Costmap2D map = WalledRoom(5.0, 5.0);
   AddBox(&map, 0.6, 2.0, 1.4, 4.0);
   Inflate(&map);
   ExpectGetsThrough(map, {2.5, 1.0, kPi},

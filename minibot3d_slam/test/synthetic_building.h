@@ -17,6 +17,16 @@ namespace testing_world {
 // Walls are shifted off the cell boundaries of a 5 cm grid, as in Office().
 constexpr double kWallShiftX = 0.0137, kWallShiftY = -0.0213;
 
+// Moves every wall by (kWallShiftX, kWallShiftY).
+inline void ShiftWalls(World* w) {
+  for (Segment& s : w->walls) {
+    s.x0 += kWallShiftX;
+    s.x1 += kWallShiftX;
+    s.y0 += kWallShiftY;
+    s.y1 += kWallShiftY;
+  }
+}
+
 // A trinary grid of `world`: cells a wall passes through are occupied (100), the rest of
 // [x0, x1] × [y0, y1] free (0), a `margin` of unknown (-1) around it.
 inline GridMap Rasterize(const World& world, double x0, double y0, double x1, double y1,
@@ -115,12 +125,7 @@ inline World OfficeBuilding(double width, double height, unsigned seed,
       x = xb;
     }
   }
-  for (Segment& s : w.walls) {
-    s.x0 += kWallShiftX;
-    s.x1 += kWallShiftX;
-    s.y0 += kWallShiftY;
-    s.y1 += kWallShiftY;
-  }
+  ShiftWalls(&w);
   return w;
 }
 
@@ -135,12 +140,7 @@ inline World TwinRooms(double shift = 10.0) {
     w.AddBox(dx + 4.1, 0.7, dx + 4.9, 1.3);   // table
     w.walls.push_back({dx + 6.0, 2.0, dx + 5.0, 2.0});  // wall stub
   }
-  for (Segment& s : w.walls) {
-    s.x0 += kWallShiftX;
-    s.x1 += kWallShiftX;
-    s.y0 += kWallShiftY;
-    s.y1 += kWallShiftY;
-  }
+  ShiftWalls(&w);
   return w;
 }
 

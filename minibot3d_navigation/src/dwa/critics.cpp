@@ -212,6 +212,7 @@ bool ObstacleCostCritic::Prepare(const Pose2D& /*pose*/,
 
 void ObstacleCostCritic::SetCostmap(const Costmap2D& costmap) {
   costmap_ = &costmap;
+  start_clearance_valid_ = false;
   nearest_collision_ = std::numeric_limits<double>::infinity();
   // Two-pass chamfer distance transform (Borgefors 1986) of the lethal cells.
   const int nx = costmap.size_x(), ny = costmap.size_y();
@@ -249,6 +250,17 @@ void ObstacleCostCritic::SetCostmap(const Costmap2D& costmap) {
       }
     }
   }
+}
+
+double ObstacleCostCritic::StartClearance(const Pose2D& start) const {
+  // Every rollout of a cycle starts at the robot's pose: computed once per cycle.
+  if (!start_clearance_valid_ || start.x != start_pose_.x || start.y != start_pose_.y ||
+      start.yaw != start_pose_.yaw) {
+    start_pose_ = start;
+    start_clearance_ = ContinuousClearance(start, false);
+    start_clearance_valid_ = true;
+  }
+  return start_clearance_;
 }
 
 double ObstacleCostCritic::ContinuousClearance(const Pose2D& pose, bool centre) const {
@@ -316,7 +328,7 @@ int ObstacleCostCritic::Check(const Trajectory& traj, double* collision_distance
   // its centre no nearer to them than at the start: the robot slides along
   // the wall or edges away, never turns or creeps into it.
   const double res = costmap_->resolution();
-  const double start_clearance = ContinuousClearance(traj.poses.front(), false);
+  const double start_clearance = StartClearance(traj.poses.front());
   const bool near_lethal = start_clearance < res;
   const double floor = std::max(0.25 * res, start_clearance - 0.25 * res);
   bool relaxed = false;

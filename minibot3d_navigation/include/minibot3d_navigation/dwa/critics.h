@@ -127,6 +127,9 @@ class ObstacleCostCritic : public TrajectoryCritic {
   // from the pose's centre) to the nearest lethal cell centre within reach of
   // the footprint (negative inside the polygon; infinity if none).
   double ContinuousClearance(const Pose2D& pose, bool centre) const;
+  // ContinuousClearance of the rollouts' common start pose, remembered until
+  // the pose or the costmap changes.
+  double StartClearance(const Pose2D& start) const;
 
   Footprint footprint_;
   const Costmap2D* costmap_ = nullptr;
@@ -139,6 +142,9 @@ class ObstacleCostCritic : public TrajectoryCritic {
   std::vector<float> lethal_distance_;
   double band_width_ = 0.0;
   mutable std::vector<std::pair<int, int>> outline_;
+  mutable Pose2D start_pose_;
+  mutable double start_clearance_ = 0.0;
+  mutable bool start_clearance_valid_ = false;
 };
 
 class OscillationCritic : public TrajectoryCritic {
