@@ -4,7 +4,12 @@ import glob
 import os
 import subprocess
 
+from xml.etree import ElementTree
+
 import pytest
+import roslaunch.config
+import roslib.packages
+import rospkg
 from roslaunch.rlutil import check_roslaunch
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -27,10 +32,70 @@ def test_launch_file_loads(path):
                                                                          out.stderr)
 
 
+def missing_executables(path, *args):
+    """What roslaunch-check's node check finds, for files outside any package (launch/), which
+    roslaunch-check itself cannot take: it also checks the package.xml of the file's package."""
+    config = roslaunch.config.load_config_default([(path, list(args))], None, verbose=False)
+    missing = []
+    for node in config.nodes + config.tests:
+        try:
+            found = roslib.packages.find_node(node.package, node.type)
+        except rospkg.ResourceNotFound:
+            found = None
+        if not found:
+            missing.append('%s/%s' % (node.package, node.type))
+    return missing
+
+
 @pytest.mark.parametrize('path', LAUNCH_FILES, ids=lambda p: os.path.relpath(p, ROOT))
 def test_launch_file_nodes_exist(path):
+    if rospkg.get_package_name(path) is None:
+        assert not missing_executables(path), (path, missing_executables(path))
+        return
     error = check_roslaunch(path)
     assert error is None, 'roslaunch-check %s: %s' % (path, error)
+
+
+# ---- the system-level entry points (launch/, issue 16 item 3) ------------------------------------
+
+TOP_LEVEL = os.path.join(ROOT, 'launch')
+# Each entry point: the nodes (by type) it must start, for each way of calling it.
+ENTRY_POINTS = [
+    ('mapping_teleop.launch', [], {'minibot3d_sim', 'slam_gmapping', 'rviz',
+                                   'diff_wheeled_robot_key'}),
+    ('exploration.launch', [], {'minibot3d_sim', 'slam_gmapping', 'move_base', 'explore'}),
+    ('navigation.launch', [], {'minibot3d_sim', 'map_server', 'amcl', 'move_base'}),
+    ('demo.launch', [], {'minibot3d_sim', 'slam_gmapping', 'move_base', 'explore'}),
+    ('demo.launch', ['phase:=navigate', 'map_file:=' + os.path.join(ROOT, 'maps',
+                                                                    'default_world.yaml')],
+     {'minibot3d_sim', 'map_server', 'amcl', 'move_base', 'rosservice'}),
+]
+
+
+def test_launch_dir_holds_the_entry_points():
+    assert sorted(f for f in os.listdir(TOP_LEVEL) if f.endswith('.launch')) == \
+        sorted({e[0] for e in ENTRY_POINTS})
+
+
+@pytest.mark.parametrize('name,args,types', ENTRY_POINTS,
+                         ids=['%s %s' % (e[0], ' '.join(a.split(':=')[0] for a in e[1]))
+                              for e in ENTRY_POINTS])
+def test_entry_point_starts_its_stack(name, args, types):
+    path = os.path.join(TOP_LEVEL, name)
+    config = roslaunch.config.load_config_default([(path, args)], None, verbose=False)
+    assert {n.type for n in config.nodes} >= types, (name, args)
+    assert not missing_executables(path, *args)
+    # Thin: the file only includes package launch files and sets no node or parameter itself.
+    root = ElementTree.parse(path).getroot()
+    assert not root.findall('.//node'), name
+    for inc in root.iter('include'):
+        assert inc.get('file').startswith(('$(find minibot3d_', '$(dirname)/')), inc.get('file')
+
+
+def test_demo_launch_rejects_an_unknown_phase():
+    out = subprocess.run(['roslaunch', '--nodes', os.path.join(TOP_LEVEL, 'demo.launch'),
+                          'phase:=mapping'], capture_output=True, text=True, timeout=120)
+    assert out.returncode != 0 and 'phase_must_be_explore_or_navigate' in out.stdout + out.stderr
 
 
 # ---- what the launch files set ------------------------------------------------------------------
