@@ -269,9 +269,16 @@ class SlamGmappingNode {
       if (!have_pose_) return;
       m = map_to_odom_;
     }
-    geometry_msgs::TransformStamped t;
     // Stamped ahead like gmapping, so consumers can transform data up to one period old.
-    t.header.stamp = ros::Time::now() + ros::Duration(node_.transform_publish_period);
+    const ros::Time stamp = ros::Time::now() + ros::Duration(node_.transform_publish_period);
+    // On sim time several callbacks can run at one ros::Time::now(): /clock moves in steps, and a
+    // roscpp timer that fell behind by less than a period fires again at once. A second map ->
+    // odom at the same stamp makes every tf listener drop it with TF_REPEATED_DATA, so it is not
+    // sent. Only the timer's thread (or the lock-step periodic job) gets here.
+    if (stamp == last_tf_stamp_) return;
+    last_tf_stamp_ = stamp;
+    geometry_msgs::TransformStamped t;
+    t.header.stamp = stamp;
     t.header.frame_id = node_.map_frame;
     t.child_frame_id = node_.odom_frame;
     t.transform.translation.x = m.x;
@@ -302,6 +309,7 @@ class SlamGmappingNode {
   ros::Publisher map_pub_, meta_pub_, entropy_pub_;
   ros::ServiceServer map_service_;
   ros::Timer tf_timer_;
+  ros::Time last_tf_stamp_;  // of the last map -> odom sent (PublishTransform's thread only)
   std::mutex mutex_;      // the core and map_to_odom_
   std::mutex map_mutex_;  // map_
   Pose2 map_to_odom_;
