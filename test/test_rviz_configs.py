@@ -71,9 +71,9 @@ def test_there_are_rviz_configs():
 @pytest.mark.parametrize('config', CONFIGS, ids=lambda p: os.path.relpath(p, ROOT))
 def test_rviz_opens_config(config, tmp_path):
     port = free_port()
-    env = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:%d' % port, ROS_HOSTNAME='127.0.0.1',
+    env = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:%d' % port, ROS_IP='127.0.0.1',
                ROS_HOME=str(tmp_path), LIBGL_ALWAYS_SOFTWARE='1')
-    env.pop('ROS_IP', None)
+    env.pop('ROS_HOSTNAME', None)
     core = subprocess.Popen(['roscore', '-p', str(port)], env=env, stdout=subprocess.DEVNULL,
                             stderr=subprocess.DEVNULL, start_new_session=True)
     rviz = None

@@ -35,8 +35,8 @@ class Ros(object):
     def __init__(self, tmp_path):
         self.port = free_port()
         self.env = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:%d' % self.port,
-                        ROS_HOSTNAME='127.0.0.1', ROS_HOME=str(tmp_path))
-        self.env.pop('ROS_IP', None)
+                        ROS_IP='127.0.0.1', ROS_HOME=str(tmp_path))
+        self.env.pop('ROS_HOSTNAME', None)
         self.procs = []
         self.tmp = tmp_path
 

@@ -11,8 +11,11 @@ ros_free_port() {
 }
 ROS_PORT="${ROS_PORT:-$(ros_free_port)}"
 export ROS_MASTER_URI="http://127.0.0.1:${ROS_PORT}"
-export ROS_HOSTNAME=127.0.0.1
-unset ROS_IP
+# Loopback only (README "Security"): ROS_IP, not ROS_HOSTNAME=127.0.0.1, because roscpp binds its
+# TCPROS server to 127.0.0.1 only for ROS_IP=127.* or ROS_HOSTNAME=localhost; rosmaster and rospy
+# bind loopback for either. roscpp's XML-RPC server binds 0.0.0.0 whatever is set.
+export ROS_IP=127.0.0.1
+unset ROS_HOSTNAME
 # Waits (bounded) until the master at ROS_MASTER_URI answers.
 wait_for_master() {
   local deadline=$((SECONDS + ${1:-30}))

@@ -33,8 +33,8 @@ class Stack(object):
     def __init__(self, tmp_path, launch, args):
         self.tmp = tmp_path
         self.env = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:%d' % free_port(),
-                        ROS_HOSTNAME='127.0.0.1', ROS_HOME=str(tmp_path))
-        self.env.pop('ROS_IP', None)
+                        ROS_IP='127.0.0.1', ROS_HOME=str(tmp_path))
+        self.env.pop('ROS_HOSTNAME', None)
         self.port = self.env['ROS_MASTER_URI'].rsplit(':', 1)[1]
         self.log_path = tmp_path / 'launch.log'
         self.log = open(self.log_path, 'w')

@@ -21,6 +21,7 @@ import time
 import unittest
 
 from minibot3d_lockstep import Participant  # before rospy.init_node: it counts messages
+from minibot3d_lockstep.run_checks import RunChecks
 
 import rospkg
 import rospy
@@ -124,6 +125,7 @@ class AmclSim(unittest.TestCase):
         self.map_yaml = rospy.get_param('~map_yaml')
         self.lockstep = Participant(wake_topics=['/amcl_pose'], wake_on_participants=True)
         rec = Recorder(self.lockstep)
+        checks = RunChecks()  # no tf sent twice, nothing listening beyond loopback
         # amcl publishes its first pose once it has the map and a scan (forced first update).
         self.assertTrue(rec.wait_for(lambda p: len(p) > 0, 120.0), 'no amcl_pose')
         self.assertTrue(self.lockstep.wait_for(lambda: rec.latest_truth() is not None, 60.0),
@@ -188,6 +190,7 @@ class AmclSim(unittest.TestCase):
             if global_err < 0.3:
                 break
         self.assertLess(global_err, 0.3)
+        self.assertEqual([], checks.problems())
 
 
 if __name__ == '__main__':

@@ -11,6 +11,7 @@ import threading
 import unittest
 
 from minibot3d_lockstep import Participant, action_server_ready  # before rospy.init_node
+from minibot3d_lockstep.run_checks import RunChecks
 
 import actionlib
 import rospy
@@ -28,6 +29,7 @@ class MaplessClutter(unittest.TestCase):
             cls.world = json.load(f)
         cls.lockstep = Participant(wake_on_participants=True)
         cls.lockstep.add_periodic(0.05, lambda now: None)
+        cls.checks = RunChecks()  # no tf sent twice, nothing listening beyond loopback
         cls.lock = threading.Lock()
         cls.pose = None
         cls.collisions = 0
@@ -66,6 +68,7 @@ class MaplessClutter(unittest.TestCase):
         self.assertLess(math.hypot(x - goal['x'], y - goal['y']), 0.3,
                         '%s: goal reached at true (%.2f, %.2f)' % (name, x, y))
         self.assertEqual(collisions, 0, '%s: %d collisions' % (name, collisions))
+        self.assertEqual([], self.checks.problems())
 
 
 if __name__ == '__main__':

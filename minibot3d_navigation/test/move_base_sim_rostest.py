@@ -16,6 +16,7 @@ import threading
 import unittest
 
 from minibot3d_lockstep import Participant, action_server_ready  # before rospy.init_node
+from minibot3d_lockstep.run_checks import RunChecks
 
 import actionlib
 import rospy
@@ -85,6 +86,7 @@ class MoveBaseSim(unittest.TestCase):
                                    wake_on_participants=True)
         cls.lockstep.add_periodic(0.05, lambda now: None)
         cls.truth = Truth(cls.lockstep)
+        cls.checks = RunChecks()  # no tf sent twice, nothing listening beyond loopback
         localized = []
         rospy.Subscriber('/amcl_pose', PoseWithCovarianceStamped, localized.append, queue_size=5)
         cls.client = actionlib.SimpleActionClient('move_base', MoveBaseAction)
@@ -178,6 +180,9 @@ class MoveBaseSim(unittest.TestCase):
 
     def test_6_no_collisions(self):
         self.assertEqual(self.truth.collision_count, 0)
+
+    def test_7_run_checks(self):
+        self.assertEqual([], self.checks.problems())
 
 
 if __name__ == '__main__':

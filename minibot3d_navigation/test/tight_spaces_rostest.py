@@ -14,6 +14,7 @@ import threading
 import unittest
 
 from minibot3d_lockstep import Participant, action_server_ready  # before rospy.init_node
+from minibot3d_lockstep.run_checks import RunChecks
 
 import actionlib
 import rospy
@@ -51,6 +52,7 @@ class TightSpaces(unittest.TestCase):
         rospy.Subscriber('/ground_truth/odom', Odometry, on_truth, queue_size=10)
         rospy.Subscriber('/minibot3d_sim/status', SimStatus, on_status, queue_size=10)
         lockstep = Participant(wake_topics=['move_base/result'])
+        checks = RunChecks()  # no tf sent twice, nothing listening beyond loopback
         client = actionlib.SimpleActionClient('move_base', MoveBaseAction)
         self.assertTrue(lockstep.wait_for(lambda: action_server_ready(client), 120.0),
                         'no move_base action server')
@@ -82,8 +84,10 @@ class TightSpaces(unittest.TestCase):
             elif status != GoalStatus.SUCCEEDED or error > 0.3:
                 failures.append('%s: %s (%s), %.2f m from the goal' % (
                     name, GoalStatus.to_string(status), client.get_goal_status_text(), error))
+        problems = checks.problems()
         lockstep.close()
         self.assertEqual(failures, [])
+        self.assertEqual([], problems)
         self.assertEqual(state['collisions'], 0, 'the simulator reported collisions')
 
 

@@ -26,8 +26,8 @@ def free_port():
 def master():
     port = free_port()
     env = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:%d' % port,
-               ROS_HOSTNAME='127.0.0.1')
-    env.pop('ROS_IP', None)
+               ROS_IP='127.0.0.1')
+    env.pop('ROS_HOSTNAME', None)
     core = subprocess.Popen(['rosmaster', '--core', '-p', str(port)], env=env,
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.time() + 30

@@ -18,6 +18,7 @@ import unittest
 import numpy as np
 import rospkg
 from minibot3d_lockstep import Participant  # before rospy.init_node: it counts messages
+from minibot3d_lockstep.run_checks import RunChecks
 
 import rospy
 import rostest
@@ -49,6 +50,7 @@ class SlamInSim(unittest.TestCase):
         rospy.Subscriber('/map', OccupancyGrid, lambda m: maps.append(m.header.stamp),
                          queue_size=2)
         lockstep = Participant(wake_topics=['/map'], wake_on_participants=True)
+        checks = RunChecks()  # no tf sent twice, nothing listening beyond loopback
         try:
             # The map is published once slam_gmapping has processed its first scan.
             self.assertTrue(lockstep.wait_for(lambda: maps, 120.0), 'no /map within 120 s')
@@ -67,6 +69,7 @@ class SlamInSim(unittest.TestCase):
                                    os.path.join(out, 'map'), '--timeout', '60'],
                                   capture_output=True, text=True)
             self.assertEqual(save.returncode, 0, save.stdout + save.stderr)
+            self.assertEqual([], checks.problems())
         finally:
             lockstep.close()
         rd = load_route_driver()

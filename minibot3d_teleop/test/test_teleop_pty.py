@@ -55,9 +55,9 @@ def master():
     port = free_port()
     uri = 'http://127.0.0.1:%d' % port
     # /usr/bin first: the script's "#!/usr/bin/env python3" must find the system Python.
-    env = dict(os.environ, ROS_MASTER_URI=uri, ROS_HOSTNAME='127.0.0.1',
+    env = dict(os.environ, ROS_MASTER_URI=uri, ROS_IP='127.0.0.1',
                PATH='/usr/bin:' + os.environ.get('PATH', ''), PYTHONUNBUFFERED='1')
-    env.pop('ROS_IP', None)
+    env.pop('ROS_HOSTNAME', None)
     core = subprocess.Popen(['rosmaster', '--core', '-p', str(port)], env=env,
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:

@@ -177,8 +177,8 @@ def _run_trial_once(setup, spec, registry, stop):
         setup.base_move_base_params, trial_dir)
     port = processes.free_port()
     env = dict(os.environ)
-    env.pop('ROS_IP', None)
-    env.update(ROS_MASTER_URI='http://127.0.0.1:%d' % port, ROS_HOSTNAME='127.0.0.1',
+    env.pop('ROS_HOSTNAME', None)
+    env.update(ROS_MASTER_URI='http://127.0.0.1:%d' % port, ROS_IP='127.0.0.1',
                ROS_LOG_DIR=os.path.join(trial_dir, 'ros_log'))
     env[processes.MARKER] = setup.out_dir
     here = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
