@@ -6,7 +6,7 @@ JOBS ?= 2
 WORLD ?=
 BENCH_LOG ?= ../shared/datasets/intel/intel.clf
 
-.PHONY: setup deps build test demo bench clean
+.PHONY: setup deps build install test demo bench clean
 
 setup: deps build
 
@@ -15,6 +15,10 @@ deps:
 
 build:
 	JOBS=$(JOBS) tools/build.sh
+
+# catkin's install space in install/ (source install/setup.bash to run from it).
+install: deps
+	JOBS=$(JOBS) tools/build.sh install
 
 test: setup
 	tools/run_tests.sh
@@ -26,4 +30,4 @@ bench: setup
 	tools/bench.sh $(BENCH_LOG)
 
 clean:
-	rm -rf build devel
+	rm -rf build devel install

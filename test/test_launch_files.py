@@ -14,7 +14,10 @@ from roslaunch.rlutil import check_roslaunch
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 LAUNCH_FILES = sorted(glob.glob(os.path.join(ROOT, '**', '*.launch'), recursive=True))
-LAUNCH_FILES = [f for f in LAUNCH_FILES if '/build/' not in f and '/devel/' not in f]
+LAUNCH_FILES = [f for f in LAUNCH_FILES
+                if not any(d in f for d in ('/build/', '/devel/', '/install/', '/out/'))]
+# minibot3d_bringup/launch links to launch/: each file once, by its own path.
+LAUNCH_FILES = sorted({os.path.realpath(f) for f in LAUNCH_FILES})
 
 # rviz is only started when asked: check both ways where the file has that argument.
 HEADLESS = ['rviz:=false']

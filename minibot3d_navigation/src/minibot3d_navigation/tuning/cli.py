@@ -46,10 +46,9 @@ class UsageError(Exception):
 def _package_paths():
     import rospkg
     rp = rospkg.RosPack()
-    nav = rp.get_path('minibot3d_navigation')
+    shared = rp.get_path('minibot3d_bringup')
     sim = rp.get_path('minibot3d_sim')
-    root = os.path.normpath(os.path.join(nav, '..'))
-    return dict(config=os.path.join(root, 'config'), maps=os.path.join(root, 'maps'),
+    return dict(config=os.path.join(shared, 'config'), maps=os.path.join(shared, 'maps'),
                 world=os.path.join(sim, 'worlds', 'default.world'))
 
 

@@ -1,0 +1,187 @@
+"""catkin's install space works on its own (issue 16 item 1).
+
+From a clean copy of the tree (the files git tracks, plus new ones it does not ignore), in an
+environment with nothing sourced, `catkin_make install` builds an install space; then, with only
+that install space's setup.bash sourced, `roslaunch minibot3d_navigation amcl_navigation.launch`
+brings up the simulator, map_server, amcl and move_base: amcl publishes a pose and move_base its
+action status. Every process of the launch runs from the install space or the system, none from
+the source tree, and every installed launch file reaches its files through $(find pkg) only.
+
+The build is the long part (the whole workspace, without the tests): a few minutes on 2 cores."""
+import glob
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import time
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SYSTEM_PATH = '/usr/local/bin:/usr/bin:/bin:/usr/sbin:/sbin'
+EXCLUDED = {'build', 'devel', 'install', 'out', '.git'}
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(('127.0.0.1', 0))
+        return s.getsockname()[1]
+
+
+def copy_clean_tree(dest):
+    """The source files only: no build/, devel/, install/ or out/ of a previous build."""
+    listed = subprocess.run(['git', 'ls-files', '-co', '--exclude-standard', '-z'], cwd=ROOT,
+                            capture_output=True)
+    if listed.returncode == 0:
+        files = [f for f in listed.stdout.decode().split('\0') if f]
+    else:  # not a git checkout (an unpacked archive): everything but the build products
+        files = []
+        for d, dirs, names in os.walk(ROOT):
+            dirs[:] = [x for x in dirs if not (d == ROOT and x in EXCLUDED)]
+            files += [os.path.relpath(os.path.join(d, n), ROOT) for n in names]
+    for rel in files:
+        src = os.path.join(ROOT, rel)
+        if not os.path.lexists(src):
+            continue  # deleted in the working tree, not yet in git
+        dst = os.path.join(dest, rel)
+        os.makedirs(os.path.dirname(dst), exist_ok=True)
+        if os.path.islink(src):
+            os.symlink(os.readlink(src), dst)
+        else:
+            shutil.copy2(src, dst)
+
+
+def bare_env(**extra):
+    """Nothing sourced: no ROS_PACKAGE_PATH, CMAKE_PREFIX_PATH or PYTHONPATH of this workspace."""
+    env = {'HOME': os.environ.get('HOME', '/root'), 'PATH': SYSTEM_PATH, 'LANG': 'C.UTF-8'}
+    env.update(extra)
+    return env
+
+
+def in_install(install, command, **kwargs):
+    return subprocess.run(['bash', '-c', 'source "%s/setup.bash" && %s' % (install, command)],
+                          **kwargs)
+
+
+@pytest.fixture(scope='module')
+def install(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp('install_space')
+    src = tmp / 'src'
+    copy_clean_tree(str(src))
+    prefix = tmp / 'install'
+    build = subprocess.run(
+        ['catkin_make', '--source', str(src), '--build', str(tmp / 'build'),
+         '-DCMAKE_BUILD_TYPE=Release', '-DPYTHON_EXECUTABLE=/usr/bin/python3',
+         '-DCATKIN_ENABLE_TESTING=OFF', '-DCATKIN_DEVEL_PREFIX=%s' % (tmp / 'devel'),
+         '-DCMAKE_INSTALL_PREFIX=%s' % prefix, '-j%s' % os.environ.get('JOBS', '2'), 'install'],
+        cwd=str(src), env=bare_env(), capture_output=True, text=True, timeout=3600)
+    assert build.returncode == 0, 'catkin_make install failed:\n%s\n%s' % (build.stdout[-4000:],
+                                                                          build.stderr[-4000:])
+    # The source copy goes: nothing may reach it from the install space.
+    shutil.rmtree(str(src))
+    return str(prefix)
+
+
+def test_install_space_holds_what_a_user_needs(install):
+    share = os.path.join(install, 'share')
+    lib = os.path.join(install, 'lib')
+    for path in ['minibot3d_bringup/config/amcl.yaml', 'minibot3d_bringup/config/gmapping.yaml',
+                 'minibot3d_bringup/maps/default_world.yaml',
+                 'minibot3d_bringup/maps/default_world.pgm',
+                 'minibot3d_bringup/launch/navigation.launch',
+                 'minibot3d_sim/worlds/default.world', 'minibot3d_sim/rviz',
+                 'minibot3d_description/urdf/minibot3d.xacro', 'minibot3d_description/meshes',
+                 'minibot3d_navigation/launch/amcl_navigation.launch',
+                 'minibot3d_navigation/rviz/navigation.rviz',
+                 'minibot3d_slam/launch/slam_gmapping.launch',
+                 'minibot3d_teleop/launch/minibot3d_teleop.launch']:
+        assert os.path.exists(os.path.join(share, path)), path
+    for path in ['minibot3d_sim/minibot3d_sim', 'minibot3d_sim/simple_navi_goals.py',
+                 'minibot3d_sim/route_driver.py', 'minibot3d_slam/slam_gmapping',
+                 'minibot3d_slam/map_saver', 'minibot3d_slam/map_server',
+                 'minibot3d_navigation/amcl', 'minibot3d_navigation/move_base',
+                 'minibot3d_navigation/explore', 'minibot3d_navigation/simple_navi_goals.py',
+                 'minibot3d_navigation/tune_planner', 'minibot3d_teleop/diff_wheeled_robot_key']:
+        assert os.access(os.path.join(lib, path), os.X_OK), path
+
+
+def test_installed_launch_files_use_find_only(install):
+    launch_files = glob.glob(os.path.join(install, 'share', '*', 'launch', '*.launch'))
+    assert len(launch_files) >= 10
+    relative = [f for f in launch_files if '$(dirname)/..' in open(f).read()]
+    assert not relative, 'launch files reaching outside their package by path: %s' % relative
+
+
+def test_amcl_navigation_runs_from_the_install_space(install, tmp_path):
+    found = in_install(install, 'rospack find minibot3d_bringup', env=bare_env(),
+                       capture_output=True, text=True, timeout=60)
+    assert found.returncode == 0 and found.stdout.strip().startswith(install), found
+
+    port = free_port()
+    env = bare_env(ROS_MASTER_URI='http://127.0.0.1:%d' % port, ROS_IP='127.0.0.1',
+                   ROS_HOME=str(tmp_path))
+    log = open(str(tmp_path / 'launch.log'), 'w')
+    launch = subprocess.Popen(
+        ['bash', '-c', 'source "%s/setup.bash" && exec roslaunch -p %d minibot3d_navigation '
+         'amcl_navigation.launch rviz:=false real_time_factor:=2' % (install, port)],
+        env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+    try:
+        deadline = time.monotonic() + 120
+        while not master_online(env):
+            assert launch.poll() is None and time.monotonic() < deadline, \
+                'no master:\n%s' % open(log.name).read()[-4000:]
+            time.sleep(0.2)
+        # Then waits on messages (rostopic echo blocks until one comes), each bounded: amcl's
+        # first pose, move_base's action status.
+        for topic in ('/amcl_pose', '/move_base/status'):
+            try:
+                got = in_install(install, 'rostopic echo -n 1 %s' % topic, env=env,
+                                 capture_output=True, text=True, timeout=240)
+            except subprocess.TimeoutExpired:
+                got = None
+            assert got is not None and got.returncode == 0 and got.stdout.strip(), \
+                'no %s from the install space (%s):\n%s' % (
+                    topic, got and got.stderr, open(log.name).read()[-4000:])
+        # Every process the launch started runs from the install space or the system.
+        from_source = []
+        for pid in descendants(launch.pid):
+            try:
+                cmdline = open('/proc/%d/cmdline' % pid, 'rb').read().decode(errors='replace')
+            except OSError:
+                continue
+            if ROOT in cmdline:
+                from_source.append(cmdline.replace('\0', ' '))
+        assert not from_source, from_source
+    finally:
+        os.killpg(launch.pid, signal.SIGINT)
+        try:
+            launch.wait(timeout=60)
+        except subprocess.TimeoutExpired:
+            os.killpg(launch.pid, signal.SIGKILL)
+            launch.wait()
+        log.close()
+
+
+def master_online(env):
+    return subprocess.run(['/usr/bin/python3', '-c', 'import rosgraph, sys; '
+                           'sys.exit(0 if rosgraph.is_master_online() else 1)'],
+                          env=env).returncode == 0
+
+
+def descendants(root):
+    children = {}
+    for entry in os.listdir('/proc'):
+        if entry.isdigit():
+            try:
+                stat = open('/proc/%s/stat' % entry).read()
+            except OSError:
+                continue
+            ppid = int(stat[stat.rindex(')') + 2:].split()[1])
+            children.setdefault(ppid, []).append(int(entry))
+    out, todo = [], [root]
+    while todo:
+        pid = todo.pop()
+        out.append(pid)
+        todo.extend(children.get(pid, []))
+    return out
