@@ -16,9 +16,11 @@ deps:
 build:
 	JOBS=$(JOBS) tools/build.sh
 
-# catkin's install space in install/ (source install/setup.bash to run from it).
+# catkin's install space in install/ (source install/setup.bash to run from it). install/ is inside
+# the source space: CATKIN_IGNORE keeps catkin and rospack from finding its packages a second time.
 install: deps
 	JOBS=$(JOBS) tools/build.sh install
+	touch install/CATKIN_IGNORE
 
 test: setup
 	tools/run_tests.sh
