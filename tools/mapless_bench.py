@@ -29,7 +29,7 @@ def picture(run, out_png):
     with open(os.path.join(WORLDS, run['world'] + '.json')) as f:
         meta = json.load(f)
     h, w = img.shape
-    fig, ax = plt.subplots(figsize=(10, 10.0 * h / w + 1.0), dpi=120)
+    fig, ax = plt.subplots(figsize=(10, 10.0 * h / w + 1.6), dpi=120)
     ax.imshow(img, cmap='gray', vmin=0, vmax=255, origin='upper', interpolation='nearest',
               extent=[origin[0], origin[0] + w * res, origin[1], origin[1] + h * res])
     xs, ys = zip(*run['path'])
@@ -46,7 +46,7 @@ def picture(run, out_png):
     ax.set_xlabel('x [m]')
     ax.set_ylabel('y [m]')
     ax.set_aspect('equal')
-    ax.legend(loc='lower right', fontsize=8)
+    ax.legend(loc='upper center', bbox_to_anchor=(0.5, -0.12), ncol=2, fontsize=8)
     fig.tight_layout()
     tmp = out_png + '.tmp.png'
     fig.savefig(tmp)
