@@ -218,6 +218,9 @@ class AmclNode {
 
   void OnScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
     if (!filter_) return;
+    // Global localization is about where the robot is now: a scan taken before the request
+    // (still queued for its transform) may show another place (the robot was carried).
+    if (msg->header.stamp < global_request_stamp_) return;
     amcl::LaserScan scan;
     bool flipped = false;
     if (!LaserPose(msg->header.frame_id, &scan.laser_pose, &flipped)) return;
@@ -400,6 +403,7 @@ class AmclNode {
     if (!filter_) return false;
     filter_->GlobalLocalization();
     filter_->RequestNoMotionUpdate();
+    global_request_stamp_ = ros::Time::now();
     if (filter_->global_search() != nullptr) {
       ROS_INFO("amcl: global localization: the next scan is searched for over the whole map");
     } else {
@@ -454,6 +458,7 @@ class AmclNode {
   ros::Time last_cloud_;
 
   int reported_searches_ = 0;
+  ros::Time global_request_stamp_;  // scans older than the last global_localization are dropped
   ros::Publisher pose_pub_, cloud_pub_, confidence_pub_;
   ros::Subscriber initial_sub_, map_sub_;
   ros::ServiceServer global_srv_, nomotion_srv_;

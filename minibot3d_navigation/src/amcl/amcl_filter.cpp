@@ -569,7 +569,10 @@ void AmclFilter::UpdateConfidence(bool motion_update) {
   } else {
     confidence_.evidence_updates = 0;
   }
-  if (explained) {
+  // Lost: one hypothesis left, and it does not explain what the robot sees.
+  // (While several modes remain the heaviest may well be a wrong one; motion
+  // decides among them, not a new search.)
+  if (explained || confidence_.modes != 1) {
     confidence_.lost_updates = 0;
   } else if (motion_update) {
     ++confidence_.lost_updates;

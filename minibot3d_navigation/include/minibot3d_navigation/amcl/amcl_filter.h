@@ -53,9 +53,9 @@
 // scan and, if it finds candidates, replaces the set by Gaussians round them
 // (weights proportional to the scores).  The same happens when the filter
 // finds itself lost: confidence_lost_updates consecutive motion-triggered
-// updates whose scan the estimate does not explain (a kidnapped robot, or
-// candidates that were all wrong); the current estimate is then kept as one
-// more candidate.
+// updates with a single mode whose estimate does not explain the scan (a
+// kidnapped robot, or candidates that were all wrong); the current estimate
+// is then kept as one more candidate.
 //
 // Deliberate differences from ROS amcl (each explained where implemented):
 // update gating uses the Euclidean odometry distance (amcl: |dx| or |dy|);
