@@ -35,7 +35,7 @@ GlobalSearch::GlobalSearch(const OccupancyGrid& grid,
     return;
   }
   const double cells = static_cast<double>(grid.width) * grid.height;
-  predicted_seconds_ = cells / kCellsPerSecond;
+  predicted_seconds_ = kFixedSeconds + cells / kCellsPerSecond;
   if (predicted_seconds_ > options.global_search_budget) {
     std::ostringstream os;
     os.precision(3);

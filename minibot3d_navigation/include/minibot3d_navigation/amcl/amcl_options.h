@@ -93,9 +93,9 @@ struct AmclOptions {
   // global_search.h) ---
   bool global_search = true;            // false: uniform spread only (amcl)
   double global_search_budget = 1.0;    // s of CPU a search may take
-  int global_search_max_candidates = 8; // poses the filter is seeded with
+  int global_search_max_candidates = 6; // poses the filter is seeded with
   double global_search_min_score = 0.4; // mean occupancy at the end points
-  double global_search_min_relative_score = 0.6;  // of the best candidate
+  double global_search_min_relative_score = 0.7;  // of the best candidate
   int global_search_depth = 7;          // branch-and-bound levels
 };
 

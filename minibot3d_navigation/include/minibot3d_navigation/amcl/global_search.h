@@ -12,11 +12,14 @@
 // the filter spreads its particles round them (weighted by score) and decides
 // among them as the robot moves (amcl_filter.h).
 //
-// Budget: the cost of a whole-map search grows with the map's cell count; the
-// constructor predicts it from a throughput measured with
-// correlative_search_bench (kCellsPerSecond) and, when the prediction exceeds
-// global_search_budget, builds nothing and says so in fallback_reason(): the
-// filter then keeps the uniform spread.
+// Budget: a whole-map search costs a fixed part (every heading's top nodes)
+// plus a part growing with the map's cell count; the constructor predicts it
+// from correlative_search_bench's SearchAll times on this project's 2-core
+// machine (kFixedSeconds + cells / kCellsPerSecond: 0.19 s for the default
+// world's 41 k cells, 1.27 s for a 54 m x 59 m office floor's 1.37 M) and,
+// when the prediction exceeds global_search_budget, builds nothing and says
+// so in fallback_reason(): the filter then keeps the uniform spread.  Every
+// search is timed (SearchReport) so a wrong prediction shows in the log.
 #ifndef MINIBOT3D_NAVIGATION_AMCL_GLOBAL_SEARCH_H_
 #define MINIBOT3D_NAVIGATION_AMCL_GLOBAL_SEARCH_H_
 
@@ -42,10 +45,9 @@ struct SearchCandidate {
 
 class GlobalSearch {
  public:
-  // Whole-map cells a full-circle search scores per second of CPU on the
-  // development machine (correlative_search_bench: a 54 m x 59 m office at
-  // 0.05 m, 1.27 M cells, in ~0.4 s), halved for a margin.
-  static constexpr double kCellsPerSecond = 1.6e6;
+  // The cost model above (CPU seconds; see the header comment).
+  static constexpr double kFixedSeconds = 0.15;
+  static constexpr double kCellsPerSecond = 1.2e6;
 
   // Builds the multi-resolution grids when options.global_search is on and
   // the predicted search time fits options.global_search_budget; otherwise
