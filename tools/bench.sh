@@ -49,7 +49,7 @@ echo "== AMCL in the simulator: tracking (3 laps of the rooms), global localizat
 tools/amcl_sim_bench.sh
 
 echo "== AMCL global localization study: seeded random starts, a wanderer, claims vs the truth"
-tools/global_loc_study.sh 20 default arena
+tools/global_loc_study.sh 50 default arena
 
 echo "== Navigation core: costmap inflation/updates, global planners (A* 2000x2000, OMPL), DWA cycle"
 for b in costmap_bench planner_bench dwa_bench; do

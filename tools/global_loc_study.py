@@ -11,7 +11,8 @@ Prints one line per start and a summary: share right at the end, false claims, t
 first right claim. Run by tools/global_loc_study.sh (which starts the simulator, map_server and
 amcl on lock-step time: this script is a participant, so a seed gives the same figures every run).
 
-  global_loc_study.py --map MAP.yaml --starts N [--seed S] [--travel M] [--timeout SIM_S]"""
+  global_loc_study.py --map MAP.yaml --starts N [--seed S] [--travel M] [--timeout SIM_S]
+                      [--spawn X,Y]"""
 import argparse
 import math
 import os
@@ -80,10 +81,27 @@ class State(object):
             self.scan = m
 
 
-def free_poses(map_yaml, rng, clearance=0.3):
+def free_poses(map_yaml, rng, spawn, clearance=0.3):
+    """Random poses on free cells at least `clearance` from obstacles and unknown space that
+    the robot could reach from `spawn` (not, say, the yard round a building's outer walls)."""
+    from collections import deque
     free, occ, res, origin = load_trinary(map_yaml)
     ok = free & ~route_driver().inflate(occ | ~free, int(math.ceil(clearance / res)))
-    cells = [(j, i) for j, i in zip(*ok.nonzero())]
+    h, w = ok.shape
+    si, sj = int((spawn[0] - origin[0]) / res), int((spawn[1] - origin[1]) / res)
+    if not (0 <= si < w and 0 <= sj < h and ok[sj, si]):
+        raise SystemExit('global_loc_study: spawn (%g, %g) is not on a free cell of %s'
+                         % (spawn[0], spawn[1], map_yaml))
+    seen = {(sj, si)}
+    queue = deque([(sj, si)])
+    while queue:
+        j, i = queue.popleft()
+        for dj, di in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+            c = (j + dj, i + di)
+            if 0 <= c[0] < h and 0 <= c[1] < w and ok[c] and c not in seen:
+                seen.add(c)
+                queue.append(c)
+    cells = sorted(seen)
     while True:
         j, i = cells[rng.randrange(len(cells))]
         yield (origin[0] + (i + 0.5) * res, origin[1] + (j + 0.5) * res,
@@ -97,6 +115,7 @@ def main():
     ap.add_argument('--seed', type=int, default=1)
     ap.add_argument('--travel', type=float, default=12.0, help='m driven per start')
     ap.add_argument('--timeout', type=float, default=150.0, help='sim s per start')
+    ap.add_argument('--spawn', default='-3.0,-1.5', help='x,y: starts are reachable from here')
     args = ap.parse_args(rospy.myargv()[1:])
     rospy.init_node('global_loc_study')
     lockstep = Participant(wake_topics=['/amcl_pose', '/ground_truth/odom'],
@@ -110,7 +129,7 @@ def main():
     set_pose = rospy.ServiceProxy('/minibot3d_sim/set_pose', SetPose)
     global_loc = rospy.ServiceProxy('/global_localization', Empty)
     rng = random.Random(args.seed)
-    poses = free_poses(args.map, rng)
+    poses = free_poses(args.map, rng, [float(v) for v in args.spawn.split(',')])
     rows = []
     for k in range(args.starts):
         for _ in range(50):

@@ -11,6 +11,16 @@ shift || true
 worlds=("$@")
 [ ${#worlds[@]} -gt 0 ] || worlds=(default arena)
 out=build/bench/global_loc && mkdir -p "$out"
+# Stops a roslaunch started with setsid (its whole process group): SIGINT, then SIGKILL after 15 s.
+stop_group() {
+  kill -INT -- -"$1" 2>/dev/null || return 0
+  for _ in $(seq 30); do
+    kill -0 -- -"$1" 2>/dev/null || break
+    sleep 0.5
+  done
+  kill -KILL -- -"$1" 2>/dev/null || true
+  wait "$1" 2>/dev/null || true
+}
 for w in "${worlds[@]}"; do
   case "$w" in
     default) map=maps/default_world.yaml; spawn=(-3.0 -1.5 0.0) ;;
@@ -23,14 +33,15 @@ for w in "${worlds[@]}"; do
     real_time_factor:=0 lockstep:=true lockstep_participants:="/amcl /global_loc_study" \
     > "$out/sim_$w.log" 2>&1 &
   sim=$!
-  trap 'kill -INT -- -$sim 2>/dev/null; kill -INT -- -${amcl:-0} 2>/dev/null; wait 2>/dev/null' EXIT
+  amcl=
+  trap 'stop_group $sim; [ -z "${amcl:-}" ] || stop_group $amcl' EXIT
   wait_for_master 60
   setsid roslaunch -p "$ROS_PORT" --wait minibot3d_navigation amcl_bench_stack.launch map:="$map" \
     x:=${spawn[0]} y:=${spawn[1]} yaw:=${spawn[2]} > "$out/amcl_$w.log" 2>&1 &
   amcl=$!
-  /usr/bin/python3 tools/global_loc_study.py --map "$map" --starts "$starts" --seed 1 || true
-  kill -INT -- -$amcl 2>/dev/null || true
-  kill -INT -- -$sim 2>/dev/null || true
-  wait 2>/dev/null || true
+  /usr/bin/python3 tools/global_loc_study.py --map "$map" --starts "$starts" --seed 1 \
+    --spawn="${spawn[0]},${spawn[1]}" || true
+  stop_group "$amcl"
+  stop_group "$sim"
   trap - EXIT
 done

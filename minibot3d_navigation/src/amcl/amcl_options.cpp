@@ -64,7 +64,8 @@ const options::OptionTable<O>& Table() {
        Field("global_search_min_score", &O::global_search_min_score),
        Field("global_search_min_relative_score",
              &O::global_search_min_relative_score),
-       Field("global_search_depth", &O::global_search_depth)});
+       Field("global_search_depth", &O::global_search_depth),
+       Field("global_search_max_beams", &O::global_search_max_beams)});
   return table;
 }
 
@@ -199,6 +200,9 @@ void ValidateAmclOptions(const AmclOptions& o) {
   unit_interval("global_search_min_score", o.global_search_min_score);
   unit_interval("global_search_min_relative_score",
                 o.global_search_min_relative_score);
+  require(o.global_search_max_beams >= 1,
+          "global_search_max_beams=" +
+              std::to_string(o.global_search_max_beams) + " must be >= 1");
   require(o.global_search_depth >= 1 && o.global_search_depth <= 12,
           "global_search_depth=" + std::to_string(o.global_search_depth) +
               " must be in [1, 12]");

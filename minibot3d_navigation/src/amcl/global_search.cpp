@@ -86,6 +86,15 @@ std::vector<SearchCandidate> GlobalSearch::Search(const LaserScan& scan,
     points.emplace_back(end.x, end.y);
   }
   if (points.empty()) return out;
+  const size_t max_points = static_cast<size_t>(options_.global_search_max_beams);
+  if (points.size() > max_points) {
+    std::vector<Eigen::Vector2d> kept;
+    kept.reserve(max_points);
+    for (size_t k = 0; k < max_points; ++k) {
+      kept.push_back(points[k * points.size() / max_points]);
+    }
+    points.swap(kept);
+  }
   const auto start = std::chrono::steady_clock::now();
   const std::vector<slam::CorrelativeMatch> matches =
       search_->SearchAll(points, slam::Pose2{}, SearchOptions(options_));

@@ -97,6 +97,9 @@ struct AmclOptions {
   double global_search_min_score = 0.4; // mean occupancy at the end points
   double global_search_min_relative_score = 0.7;  // of the best candidate
   int global_search_depth = 7;          // branch-and-bound levels
+  // Returns the search matches at most (evenly spaced over the scan): its time
+  // is nearly proportional to them.
+  int global_search_max_beams = 180;
 };
 
 // Throws std::invalid_argument whose message lists every offending parameter
