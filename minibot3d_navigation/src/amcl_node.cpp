@@ -321,12 +321,12 @@ class AmclNode {
     for (const amcl::SearchCandidate& c : s.candidates) {
       os << " (" << c.pose.x << ", " << c.pose.y << ", " << c.pose.yaw << ": " << c.score << ")";
     }
-    ROS_INFO("amcl: map-wide search (%s) in %.3f s: %zu candidate(s)%s",
-             s.relocalization ? "the scan no longer fits the estimate" : "global localization",
-             s.seconds, s.candidates.size(), os.str().c_str());
-    if (s.seconds > options_.global_search_budget) {
-      ROS_WARN("amcl: the map-wide search took %.2f s, over global_search_budget=%.2f s",
-               s.seconds, options_.global_search_budget);
+    ROS_INFO("amcl: map-wide search (%s) in %.3f s CPU (%.3f s wall): %zu candidate(s)%s",
+             s.relocalization ? "no hypothesis explains the scan" : "global localization",
+             s.cpu_seconds, s.seconds, s.candidates.size(), os.str().c_str());
+    if (s.cpu_seconds > options_.global_search_budget) {
+      ROS_WARN("amcl: the map-wide search took %.2f s CPU, over global_search_budget=%.2f s",
+               s.cpu_seconds, options_.global_search_budget);
     }
   }
 

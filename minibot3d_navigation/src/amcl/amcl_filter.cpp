@@ -248,7 +248,8 @@ void AmclFilter::RunSearch(const LaserScan& scan, bool relocalization) {
   SearchReport report;
   report.count = last_search_.count + 1;
   report.relocalization = relocalization;
-  report.candidates = search->Search(scan, &report.seconds);
+  report.candidates =
+      search->Search(scan, &report.seconds, &report.cpu_seconds);
   std::vector<SearchCandidate> seeds = report.candidates;
   if (relocalization) {
     // The filter may only be briefly confused (a crowd in front of the
@@ -569,10 +570,23 @@ void AmclFilter::UpdateConfidence(bool motion_update) {
   } else {
     confidence_.evidence_updates = 0;
   }
-  // Lost: one hypothesis left, and it does not explain what the robot sees.
-  // (While several modes remain the heaviest may well be a wrong one; motion
-  // decides among them, not a new search.)
-  if (explained || confidence_.modes != 1) {
+  // Lost: no hypothesis explains what the robot sees.  (While several modes
+  // remain the heaviest may well be a wrong one; motion decides among them,
+  // not a new search.)  The heaviest clusters are enough: after a kidnapping
+  // augmented MCL sprinkles random poses, a cloud of light clusters.
+  constexpr int kLostCheckClusters = 10;
+  const double hit_dist = options_.confidence_hit_dist > 0.0
+                              ? options_.confidence_hit_dist
+                              : 2.0 * options_.laser_sigma_hit;
+  bool any_explained = explained;
+  for (int k = 1; !any_explained && k < static_cast<int>(clusters_.size()) &&
+                  k < kLostCheckClusters;
+       ++k) {
+    any_explained = ExplainedFraction(*map_, scan_, clusters_[k].mean,
+                                      hit_dist) >=
+                    options_.confidence_min_explained;
+  }
+  if (any_explained) {
     confidence_.lost_updates = 0;
   } else if (motion_update) {
     ++confidence_.lost_updates;

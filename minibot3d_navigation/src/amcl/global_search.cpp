@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <sstream>
 
 #include "minibot3d_slam/correlative_search.h"
@@ -11,6 +12,12 @@ namespace amcl {
 namespace {
 
 namespace slam = minibot3d_slam;
+
+double ThreadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
 
 slam::CorrelativeSearchOptions SearchOptions(const AmclOptions& o) {
   slam::CorrelativeSearchOptions s;
@@ -62,9 +69,11 @@ GlobalSearch::GlobalSearch(const OccupancyGrid& grid,
 GlobalSearch::~GlobalSearch() = default;
 
 std::vector<SearchCandidate> GlobalSearch::Search(const LaserScan& scan,
-                                                  double* seconds) const {
+                                                  double* seconds,
+                                                  double* cpu_seconds) const {
   std::vector<SearchCandidate> out;
   if (seconds != nullptr) *seconds = 0.0;
+  if (cpu_seconds != nullptr) *cpu_seconds = 0.0;
   if (!search_ || scan.ranges.size() != scan.angles.size()) return out;
   // End points in the base frame, as the filter's sensor model sees them.
   double range_max = scan.range_max;
@@ -96,6 +105,7 @@ std::vector<SearchCandidate> GlobalSearch::Search(const LaserScan& scan,
     points.swap(kept);
   }
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = ThreadCpuSeconds();
   const std::vector<slam::CorrelativeMatch> matches =
       search_->SearchAll(points, slam::Pose2{}, SearchOptions(options_));
   if (seconds != nullptr) {
@@ -103,6 +113,7 @@ std::vector<SearchCandidate> GlobalSearch::Search(const LaserScan& scan,
                                              start)
                    .count();
   }
+  if (cpu_seconds != nullptr) *cpu_seconds = ThreadCpuSeconds() - cpu_start;
   for (const slam::CorrelativeMatch& m : matches) {
     out.push_back({{m.pose.x, m.pose.y, NormalizeAngle(m.pose.theta)},
                    m.score});

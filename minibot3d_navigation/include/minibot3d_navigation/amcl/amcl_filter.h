@@ -53,7 +53,7 @@
 // scan and, if it finds candidates, replaces the set by Gaussians round them
 // (weights proportional to the scores).  The same happens when the filter
 // finds itself lost: confidence_lost_updates consecutive motion-triggered
-// updates with a single mode whose estimate does not explain the scan (a
+// updates in which none of the ten heaviest clusters explains the scan (a
 // kidnapped robot, or candidates that were all wrong); the current estimate
 // is then kept as one more candidate.
 //
@@ -142,7 +142,7 @@ struct Confidence {
   int beams_used = 0;         // beams the fraction is over
   int modes = 0;              // clusters holding 1 - confidence_mode_weight
   int evidence_updates = 0;   // see the header comment
-  int lost_updates = 0;       // consecutive unexplained motion updates
+  int lost_updates = 0;       // consecutive motion updates no mode explains
   bool confident = false;
 };
 
@@ -150,7 +150,8 @@ struct Confidence {
 struct SearchReport {
   int count = 0;            // searches run so far (changes when one runs)
   bool relocalization = false;  // triggered by the lost test, not a request
-  double seconds = 0.0;
+  double seconds = 0.0;      // wall
+  double cpu_seconds = 0.0;  // of the calling thread (what the budget is about)
   std::vector<SearchCandidate> candidates;  // best first; empty: none found
 };
 

@@ -68,9 +68,11 @@ class GlobalSearch {
 
   // The best candidate poses of the robot base for `scan`, best first; empty
   // if no pose scores global_search_min_score (or no beam returned).  Sets
-  // *seconds (if given) to the wall time the search took.
+  // *seconds / *cpu_seconds (if given) to the wall time and the calling
+  // thread's CPU time the search took (a loaded machine stretches the first).
   std::vector<SearchCandidate> Search(const LaserScan& scan,
-                                      double* seconds = nullptr) const;
+                                      double* seconds = nullptr,
+                                      double* cpu_seconds = nullptr) const;
 
  private:
   AmclOptions options_;
