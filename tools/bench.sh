@@ -48,6 +48,9 @@ devel/lib/minibot3d_navigation/amcl_bench --benchmark_min_time=0.2 2>/dev/null |
 echo "== AMCL in the simulator: tracking (3 laps of the rooms), global localization, kidnapping"
 tools/amcl_sim_bench.sh
 
+echo "== AMCL global localization study: seeded random starts, a wanderer, claims vs the truth"
+tools/global_loc_study.sh 50 default arena
+
 echo "== Navigation core: costmap inflation/updates, global planners (A* 2000x2000, OMPL), DWA cycle"
 for b in costmap_bench planner_bench dwa_bench; do
   devel/lib/minibot3d_navigation/$b --benchmark_min_time=0.2 --benchmark_counters_tabular=true \
