@@ -28,6 +28,10 @@
 // newest node, nodes point to their parents), so copying a particle copies one pointer and the best
 // trajectory is a walk up the tree.
 // The best particle is the one with the largest accumulated log-likelihood (gmapping's weightSum).
+//   6. Loop closure (loopClosure = 1, loop_closer.h): the processed scan becomes a node of a pose
+//      graph of the best particle's trajectory and is searched for in older submaps; when the graph
+//      is optimised, the map is rebuilt from the corrected trajectory and every particle is reset
+//      onto it (loop_closer.h says why a reset and not a common rigid shift).
 #include "minibot3d_slam/rbpf_slam.h"
 
 #include <Eigen/Dense>
@@ -38,6 +42,7 @@
 #include <stdexcept>
 
 #include "grid.h"
+#include "loop_closer.h"
 #include "motion_model.h"
 #include "resampling.h"
 #include "scan_matcher.h"
@@ -94,7 +99,9 @@ class RbpfSlam::Impl {
       : options_((ValidateOptions(options), options)),
         matcher_(options),
         motion_(options),
-        rng_(options.seed) {}
+        rng_(options.seed) {
+    if (options_.loopClosure != 0) loop_ = std::make_unique<LoopCloser>(options_, &matcher_);
+  }
 
   bool AddScan(const LaserScan& scan, const Pose2& odom);
   Pose2 BestPose() const;
@@ -116,8 +123,11 @@ class RbpfSlam::Impl {
   double linear_ = 0.0, angular_ = 0.0;  // motion since the last processed scan
   int processed_ = 0;
   int resamples_ = 0;
+  std::unique_ptr<LoopCloser> loop_;
+  int closures_ = 0;
 
  private:
+  void CloseLoops(const PreparedScan& scan);
   void Process(const LaserScan& scan);
   void Resample(const std::vector<double>& weights);
 };
@@ -133,7 +143,9 @@ bool RbpfSlam::Impl::AddScan(const LaserScan& scan, const Pose2& odom) {
     // the first scan's map.
     Particle first(options_.delta);
     first.pose = odom;
-    matcher_.Register(matcher_.Prepare(scan), odom, &first.grid);
+    const PreparedScan prepared = matcher_.Prepare(scan);
+    matcher_.Register(prepared, odom, &first.grid);
+    if (loop_) loop_->AddNode(prepared);
     first.node = std::make_shared<TrajectoryNode>(StampedPose{scan.time, odom}, nullptr);
     particles_.assign(static_cast<std::size_t>(options_.particles), first);
     last_odom_ = processed_odom_ = odom;
@@ -190,6 +202,30 @@ void RbpfSlam::Impl::Process(const LaserScan& scan) {
   for (double x : w) sum_sq += x * x;
   const double neff = 1.0 / sum_sq;
   if (neff < options_.resampleThreshold * static_cast<double>(particles_.size())) Resample(w);
+  if (loop_) CloseLoops(prepared);
+}
+
+void RbpfSlam::Impl::CloseLoops(const PreparedScan& scan) {
+  loop_->AddNode(scan);
+  std::vector<StampedPose> stamped = BestTrajectory();
+  std::vector<Pose2> poses(stamped.size());
+  for (std::size_t i = 0; i < stamped.size(); ++i) poses[i] = stamped[i].pose;
+  if (!loop_->Detect(poses)) return;
+  const std::vector<Pose2> corrected = loop_->Optimize(poses);
+  // Reset every particle onto the corrected trajectory and its map (loop_closer.h: why).
+  const Particle& best = particles_[static_cast<std::size_t>(BestIndex())];
+  Particle reset(options_.delta);
+  reset.weight = 0.0;
+  reset.weight_sum = best.weight_sum;
+  loop_->RenderMap(corrected, &reset.grid);
+  std::shared_ptr<TrajectoryNode> node;
+  for (std::size_t i = 0; i < corrected.size(); ++i) {
+    node = std::make_shared<TrajectoryNode>(StampedPose{stamped[i].time, corrected[i]}, std::move(node));
+  }
+  reset.node = std::move(node);
+  reset.pose = corrected.back();
+  particles_.assign(particles_.size(), reset);
+  ++closures_;
 }
 
 void RbpfSlam::Impl::Resample(const std::vector<double>& weights) {
@@ -306,6 +342,10 @@ std::vector<StampedPose> RbpfSlam::BestTrajectory() const { return impl_->BestTr
 double RbpfSlam::Entropy() const { return impl_->Entropy(); }
 int RbpfSlam::processed_scans() const { return impl_->processed_; }
 int RbpfSlam::resamples() const { return impl_->resamples_; }
+int RbpfSlam::loop_closures() const { return impl_->closures_; }
+int RbpfSlam::loop_constraints() const {
+  return impl_->loop_ ? static_cast<int>(impl_->loop_->constraints().size()) : 0;
+}
 const GmappingOptions& RbpfSlam::options() const { return impl_->options_; }
 
 }  // namespace minibot3d_slam

@@ -38,6 +38,11 @@ class RbpfSlam {
   double Entropy() const;
 
   int processed_scans() const;
+  // Pose-graph optimisations applied so far (loopClosure = 1): each one replaced the trajectory and
+  // the map by corrected ones, so a node should republish both.
+  int loop_closures() const;
+  // Loop-closure constraints currently in the pose graph.
+  int loop_constraints() const;
   int resamples() const;
   const GmappingOptions& options() const;
 
