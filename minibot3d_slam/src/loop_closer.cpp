@@ -23,6 +23,14 @@ LoopCloser::LoopCloser(const GmappingOptions& options, const ScanMatcher* matche
   search_options_.branch_and_bound_depth = 7;
   search_options_.unknown_probability = 0.1;
   search_options_.blur_sigma = options.delta;
+  // Angular step: one cell of motion at kAngularStepRange metres (the default, one cell at the
+  // farthest endpoint, makes hundreds of angles for a long-range laser).
+  search_options_.angular_step = std::acos(1.0 - options.delta * options.delta /
+                                                     (2.0 * kAngularStepRange * kAngularStepRange));
+  search_options_.max_candidates = 2;
+  search_options_.min_relative_score = kAmbiguityRatio;
+  search_options_.min_separation_linear = kAmbiguitySeparation;
+  search_options_.min_separation_angular = M_PI;  // any heading at another place is another place
   CheckCorrelativeSearchOptions(search_options_);
 }
 
@@ -109,6 +117,7 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
   if (cur <= 0) return false;
   const Pose2& here = trajectory[cur];
   path_[cur] = path_[cur - 1] + std::hypot(here.x - trajectory[cur - 1].x, here.y - trajectory[cur - 1].y);
+  if (cur % kSearchEvery != 0) return false;
   const int per = options_.loopSubmapScans;
   const int finished = size() / per;  // submaps [k·per, (k+1)·per) with every node present
   std::vector<std::pair<double, int>> candidates;  // (distance, submap)
@@ -143,8 +152,15 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
     RenderedSubmap* submap = Submap(cand.second, trajectory);
     if (submap == nullptr) continue;
     ++searches_;
-    const std::optional<CorrelativeMatch> match = submap->search->Search(points, here, search_options_);
-    if (!match) continue;
+    // The two best places at least kAmbiguitySeparation apart: a second one scoring nearly as well
+    // (a corridor seen along its axis, twin rooms) makes the match ambiguous, and it is dropped.
+    const std::vector<CorrelativeMatch> found = submap->search->SearchAll(points, here, search_options_);
+    if (found.empty()) continue;
+    if (found.size() > 1) {
+      ++ambiguous_;
+      continue;
+    }
+    const std::optional<CorrelativeMatch> match = found.front();
     // Polish the lattice pose on the submap's own grid (the RBPF's matcher: hill climber from the
     // lattice pose, then sub-cell refinement); a refinement that wanders off means the match was
     // not a clear one.
@@ -161,13 +177,44 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
     c.to = cur;
     c.measurement = Between(refined, trajectory[anchor]);
     c.score = match->score;
-    constraints_.push_back(c);
-    ++pending_;
-    if (std::hypot(refined.x - here.x, refined.y - here.y) > kBigCorrection ||
-        std::fabs(NormalizeAngle(refined.theta - here.theta)) > kBigCorrection / 10.0) {
+    c.correction = Compose(refined, Between(Pose2{}, here));
+    if (std::hypot(refined.x - here.x, refined.y - here.y) <= kBigCorrection &&
+        std::fabs(NormalizeAngle(refined.theta - here.theta)) <= kBigCorrection / 10.0) {
+      constraints_.push_back(c);
+      ++pending_;
+      continue;
+    }
+    // A constraint that says the estimate is far off enters the graph only once a constraint of
+    // another scan agrees with it (the rigid correction of the map one implies puts this scan
+    // within a third of kBigCorrection of where its own match puts it): a graph cannot
+    // check a lone loop edge — the chain of odometry edges bends to fit any one — so one
+    // look-alike place must not be able to move the trajectory by metres.
+    bool confirmed = false;
+    for (LoopConstraint& t : tentative_) {
+      if (t.to == cur) continue;
+      const Pose2 predicted = Compose(t.correction, here);  // where the other one puts this scan
+      if (std::hypot(predicted.x - refined.x, predicted.y - refined.y) < kBigCorrection / 3.0 &&
+          std::fabs(NormalizeAngle(predicted.theta - refined.theta)) < kBigCorrection / 30.0) {
+        if (!t.confirmed) {
+          t.confirmed = true;
+          constraints_.push_back(t);
+          ++pending_;
+        }
+        confirmed = true;
+      }
+    }
+    if (confirmed) {
+      c.confirmed = true;
+      constraints_.push_back(c);
+      ++pending_;
       big_pending_ = true;
     }
+    tentative_.push_back(c);
   }
+  // Tentative constraints expire after kTentativeNodes processed scans.
+  tentative_.erase(std::remove_if(tentative_.begin(), tentative_.end(),
+                                  [&](const LoopConstraint& t) { return cur - t.to > kTentativeNodes; }),
+                   tentative_.end());
   return pending_ > 0 && (big_pending_ || size() - last_optimized_ >= kOptimizeEvery);
 }
 
