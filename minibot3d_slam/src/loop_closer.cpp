@@ -58,6 +58,15 @@ void LoopCloser::AddNode(const PreparedScan& scan) {
   path_.push_back(0.0);  // filled in by Detect, which sees the poses
 }
 
+std::size_t LoopCloser::ScanBytes() const {
+  std::size_t bytes = 0;
+  for (const StoredScan& s : scans_) {
+    bytes += sizeof(StoredScan) + s.range.capacity() * 3 * sizeof(float) + s.hit.capacity() +
+             s.points.capacity() * sizeof(Eigen::Vector2f);
+  }
+  return bytes;
+}
+
 void LoopCloser::Render(const StoredScan& s, const Pose2& pose, Grid* grid) const {
   const Pose2 lp = Compose(pose, s.sensor_in_base);
   const double c = std::cos(lp.theta), sn = std::sin(lp.theta);

@@ -105,6 +105,7 @@ class LoopCloser {
   int searches() const { return searches_; }
   int outliers() const { return outliers_; }
   int ambiguous() const { return ambiguous_; }
+  std::size_t ScanBytes() const;  // memory of the stored scans
 
  private:
   // A scan kept for re-rendering, in ~9 bytes per beam.

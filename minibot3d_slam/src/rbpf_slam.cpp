@@ -40,6 +40,7 @@
 #include <limits>
 #include <random>
 #include <stdexcept>
+#include <unordered_set>
 
 #include "grid.h"
 #include "loop_closer.h"
@@ -378,6 +379,14 @@ Pose2 RbpfSlam::Localize(const LaserScan& scan, const Pose2& guess) const {
   return mode;
 }
 void RbpfSlam::FinishLoops() { impl_->FinishLoops(); }
+std::size_t RbpfSlam::MapMemoryBytes() const {
+  std::unordered_set<const void*> tiles;
+  for (const Particle& p : impl_->particles_) {
+    p.grid.ForEachTile([&](const Grid::Tile* t) { tiles.insert(t); });
+  }
+  return tiles.size() * sizeof(Grid::Tile);
+}
+std::size_t RbpfSlam::LoopScanBytes() const { return impl_->loop_ ? impl_->loop_->ScanBytes() : 0; }
 int RbpfSlam::loop_closures() const { return impl_->closures_; }
 int RbpfSlam::loop_constraints() const {
   return impl_->loop_ ? static_cast<int>(impl_->loop_->constraints().size()) : 0;

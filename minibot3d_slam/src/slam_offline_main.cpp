@@ -242,10 +242,14 @@ int main(int argc, char** argv) {
   std::vector<int> processed_index(n, -1);  // index into the best trajectory, or -1
   std::size_t fed = 0;
   int processed = 0;
+  std::size_t peak_map_bytes = 0;  // map cells of all particles, sampled every 10 processed scans
   double last_report = 0.0;
   for (; fed < n && !g_interrupted; ++fed) {
     const minibot3d_slam::LogScan& s = log.scans[fed];
-    if (slam.AddScan(s.scan, s.odom)) processed_index[fed] = processed++;
+    if (slam.AddScan(s.scan, s.odom)) {
+      processed_index[fed] = processed++;
+      if (processed % 10 == 0) peak_map_bytes = std::max(peak_map_bytes, slam.MapMemoryBytes());
+    }
     if (!args.quiet && (wall() - last_report >= 1.0 || fed + 1 == n)) {
       last_report = wall();
       std::fprintf(stderr, "\rslam_offline: %5.1f%%  scans %zu/%zu  processed %d  %.0f scans/s   ",
@@ -309,8 +313,15 @@ int main(int argc, char** argv) {
     std::cerr << "slam_offline: " << e.what() << "\n";
     return 1;
   }
+  std::size_t log_bytes = 0;  // the log held in memory (for the memory figures)
+  for (const auto& s : log.scans) {
+    log_bytes += sizeof(s) + (s.scan.ranges.capacity() + s.scan.angles.capacity()) * sizeof(double);
+  }
   const double log_s = fed > 0 ? log.scans[fed - 1].timestamp - log.scans[0].timestamp : 0.0;
-  std::printf("scans %zu processed %d wall_s %.2f log_s %.1f peak_mem_mb %.1f loop_closures %d loop_constraints %d\n",
-              fed, processed, wall(), log_s, PeakMemoryMb(), slam.loop_closures(), slam.loop_constraints());
+  std::printf("scans %zu processed %d wall_s %.2f log_s %.1f peak_mem_mb %.1f loop_closures %d loop_constraints %d "
+              "map_peak_mb %.1f log_mb %.1f loop_scans_mb %.1f\n",
+              fed, processed, wall(), log_s, PeakMemoryMb(), slam.loop_closures(), slam.loop_constraints(),
+              static_cast<double>(peak_map_bytes) / 1048576.0, static_cast<double>(log_bytes) / 1048576.0,
+              static_cast<double>(slam.LoopScanBytes()) / 1048576.0);
   return g_interrupted ? 130 : 0;
 }

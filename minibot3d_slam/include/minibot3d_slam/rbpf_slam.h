@@ -44,6 +44,12 @@ class RbpfSlam {
   double Entropy() const;
 
   int processed_scans() const;
+  // Bytes of map cells held by all particles together (tiles shared copy-on-write counted once):
+  // it grows with the area the laser has covered and with what the particles changed since they
+  // last shared an ancestor, not with the bounding box of the trajectory.
+  std::size_t MapMemoryBytes() const;
+  // Bytes of the scans the loop closer keeps to re-render the map (0 with loopClosure = 0).
+  std::size_t LoopScanBytes() const;
   // Pose-graph optimisations applied so far (loopClosure = 1): each one replaced the trajectory and
   // the map by corrected ones, so a node should republish both.
   int loop_closures() const;
