@@ -194,13 +194,15 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
       continue;
     }
     // A constraint that says the estimate is far off enters the graph only once a constraint of
-    // another scan agrees with it (the rigid correction of the map one implies puts this scan
+    // another scan in another submap agrees with it (the rigid correction of the map one implies puts this scan
     // within a third of kBigCorrection of where its own match puts it): a graph cannot
     // check a lone loop edge — the chain of odometry edges bends to fit any one — so one
     // look-alike place must not be able to move the trajectory by metres.
     bool confirmed = false;
     for (LoopConstraint& t : tentative_) {
-      if (t.to == cur) continue;
+      // Another scan, and another submap: scans matched against the same submap share its
+      // errors (a submap slightly bent inside, a place it aliases), so they are not two opinions.
+      if (t.to == cur || t.from == c.from) continue;
       const Pose2 predicted = Compose(t.correction, here);  // where the other one puts this scan
       if (std::hypot(predicted.x - refined.x, predicted.y - refined.y) < kBigCorrection / 3.0 &&
           std::fabs(NormalizeAngle(predicted.theta - refined.theta)) < kBigCorrection / 30.0) {

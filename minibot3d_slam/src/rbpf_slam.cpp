@@ -232,11 +232,11 @@ void RbpfSlam::Impl::OptimizeAndApply(const std::vector<StampedPose>& stamped, c
   // costs the filter its diversity and a map rebuild, and moves nodes by the constraints'
   // centimetre noise (on the Intel log, where the filter alone stays consistent, applying every
   // optimisation made the relations error worse). The constraints stay in the graph.
-  double shift = 0.0, turn = 0.0;
-  for (std::size_t i = 0; i < poses.size(); ++i) {
-    shift = std::max(shift, std::hypot(poses[i].x - corrected[i].x, poses[i].y - corrected[i].y));
-    turn = std::max(turn, std::fabs(NormalizeAngle(poses[i].theta - corrected[i].theta)));
-  }
+  // Judged at the newest node: that is where the filter goes on mapping, and where a closed loop
+  // moves the estimate most; a deformation far back in the graph alone (a few constraints pulling
+  // one old node) is no reason to reset the filter.
+  const double shift = std::hypot(poses.back().x - corrected.back().x, poses.back().y - corrected.back().y);
+  const double turn = std::fabs(NormalizeAngle(poses.back().theta - corrected.back().theta));
   if (shift < LoopCloser::kApplyShift && turn < LoopCloser::kApplyTurn) return;
   // Reset every particle onto the corrected trajectory and its map (loop_closer.h: why).
   const Particle& best = particles_[static_cast<std::size_t>(BestIndex())];
