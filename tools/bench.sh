@@ -66,20 +66,22 @@ rm -rf build/bench/mapless
 OUT=build/bench/mapless TIMEOUT=150 tools/mapless_smoke.sh $(seq 0 49) > build/bench/mapless.txt 2>&1 || true
 /usr/bin/python3 tools/mapless_bench.py build/bench/mapless --picture docs/mapless_hardest.png || true
 
-echo "== SLAM on a CARMEN log (slam_offline, gmapping defaults, 30 particles): 5 seeds, scored"
-echo "   against the log's relations (Kuemmerle et al. 2009) when LOG.relations is beside it"
+echo "== SLAM on a CARMEN log (slam_offline, gmapping defaults, 30 particles, loop closure on, every"
+echo "   reading matched against the final map): 5 seeds, scored against the log's relations"
+echo "   (Kuemmerle et al. 2009) when LOG.relations is beside it; load average before each run"
 if [ -n "$log" ] && [ -f "$log" ]; then
   relations="${log%.clf}.relations"
   rm -f build/bench/carmen_seeds.txt
   for seed in 1 2 3 4 5; do
     out="build/bench/carmen_s$seed"
+    load=$(cut -d' ' -f1 /proc/loadavg)
     /usr/bin/time -f "time %e %M" -o "$out.time" devel/lib/minibot3d_slam/slam_offline \
-      --log "$log" --out "$out" --quiet --param seed="$seed" | tail -1
+      --log "$log" --out "$out" --quiet --param seed="$seed" > "$out.line"
     score="no relations"
     if [ -f "$relations" ]; then
       score=$(devel/lib/minibot3d_slam/evaluate_relations "$out/trajectory.txt" "$relations" | head -1)
     fi
-    echo "seed $seed: $(cat "$out.time") | $score" | tee -a build/bench/carmen_seeds.txt
+    echo "seed $seed: $(cat "$out.time") | $score | $(tail -1 "$out.line") | load $load" | tee -a build/bench/carmen_seeds.txt
   done
   /usr/bin/python3 - build/bench/carmen_seeds.txt <<'PY'
 import re, statistics as st, sys
