@@ -48,6 +48,9 @@ devel/lib/minibot3d_navigation/amcl_bench --benchmark_min_time=0.2 2>/dev/null |
 echo "== AMCL in the simulator: tracking (3 laps of the rooms), global localization, kidnapping"
 tools/amcl_sim_bench.sh
 
+echo "== AMCL global localization study: seeded random starts, a wanderer, claims vs the truth"
+tools/global_loc_study.sh 50 default arena
+
 echo "== Navigation core: costmap inflation/updates, global planners (A* 2000x2000, OMPL), DWA cycle"
 for b in costmap_bench planner_bench dwa_bench; do
   devel/lib/minibot3d_navigation/$b --benchmark_min_time=0.2 --benchmark_counters_tabular=true \
@@ -58,24 +61,27 @@ echo "== move_base in the simulator: 20 random reachable goals in the default wo
 tools/nav_sim_bench.sh
 
 echo "== mapless navigation through the 50 shipped clutter worlds (mapless_navigation.launch,"
-echo "   lock-step at full speed, the goal 5.5 m ahead in odom, 120 s of sim time each)"
-OUT=build/bench/mapless tools/mapless_smoke.sh $(seq 0 49) > build/bench/mapless.txt 2>&1 || true
-/usr/bin/python3 tools/mapless_bench.py build/bench/mapless.txt || true
+echo "   lock-step at full speed, the goal 5.5 m ahead in odom, 150 s of sim time each)"
+rm -rf build/bench/mapless
+OUT=build/bench/mapless TIMEOUT=150 tools/mapless_smoke.sh $(seq 0 49) > build/bench/mapless.txt 2>&1 || true
+/usr/bin/python3 tools/mapless_bench.py build/bench/mapless --picture docs/mapless_hardest.png || true
 
-echo "== SLAM on a CARMEN log (slam_offline, gmapping defaults, 30 particles): 5 seeds, scored"
-echo "   against the log's relations (Kuemmerle et al. 2009) when LOG.relations is beside it"
+echo "== SLAM on a CARMEN log (slam_offline, gmapping defaults, 30 particles, loop closure on, every"
+echo "   reading matched against the final map): 5 seeds, scored against the log's relations"
+echo "   (Kuemmerle et al. 2009) when LOG.relations is beside it; load average before each run"
 if [ -n "$log" ] && [ -f "$log" ]; then
   relations="${log%.clf}.relations"
   rm -f build/bench/carmen_seeds.txt
   for seed in 1 2 3 4 5; do
     out="build/bench/carmen_s$seed"
+    load=$(cut -d' ' -f1 /proc/loadavg)
     /usr/bin/time -f "time %e %M" -o "$out.time" devel/lib/minibot3d_slam/slam_offline \
-      --log "$log" --out "$out" --quiet --param seed="$seed" | tail -1
+      --log "$log" --out "$out" --quiet --param seed="$seed" > "$out.line"
     score="no relations"
     if [ -f "$relations" ]; then
       score=$(devel/lib/minibot3d_slam/evaluate_relations "$out/trajectory.txt" "$relations" | head -1)
     fi
-    echo "seed $seed: $(cat "$out.time") | $score" | tee -a build/bench/carmen_seeds.txt
+    echo "seed $seed: $(cat "$out.time") | $score | $(tail -1 "$out.line") | load $load" | tee -a build/bench/carmen_seeds.txt
   done
   /usr/bin/python3 - build/bench/carmen_seeds.txt <<'PY'
 import re, statistics as st, sys

@@ -5,9 +5,9 @@
       runs `explore` until no reachable frontier is left, recording the true path, then saves the
       SLAM map to DIR/demo_map.{pgm,yaml}; writes DIR/demo_explore.json.
   demo_phase.py navigate --out DIR --spawn X,Y,YAW --goals "x,y,yaw ..." --timeout SIM_S
-      global localization (amcl's global_localization, then turning on the spot and short moves
-      until the particle cloud has converged), then each goal with simple_navi_goals.py in the
-      SLAM map's frame; writes DIR/demo_nav.json.
+      global localization (amcl's global_localization, then wandering (tools/wanderer.py) until
+      amcl has a confident fix: see confident_fix), then each goal with simple_navi_goals.py in
+      the SLAM map's frame; writes DIR/demo_nav.json.
 Poses given on the command line are in the world frame; the SLAM map's frame is the world frame
 moved to the exploration's spawn pose (--spawn), as gmapping starts its map at the robot.
 
@@ -31,7 +31,17 @@ import rospy
 from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
 from minibot3d_sim.msg import SimStatus
 from nav_msgs.msg import Odometry
+from sensor_msgs.msg import LaserScan
+from std_msgs.msg import Float32MultiArray
 from std_srvs.srv import Empty
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from wanderer import Wanderer  # noqa: E402
+
+# A confident fix (what the demo trusts before sending goals): amcl's covariance
+# cov_xx + cov_yy under COV_FIX, its scan explained at the estimate (amcl/confidence) and one mode.
+COV_FIX = 0.05          # m^2
+EXPLAINED_FIX = 0.8     # share of the beams
 
 
 def yaw_of(q):
@@ -63,7 +73,11 @@ class Recorder(object):
         self.collisions = 0
         self.amcl = None
         self.amcl_cov = None
+        self.confidence = None  # amcl/confidence: explained_fraction, modes, confident, ...
+        self.scan = None
         rospy.Subscriber('/ground_truth/odom', Odometry, self.on_truth, queue_size=20)
+        rospy.Subscriber('/amcl/confidence', Float32MultiArray, self.on_confidence, queue_size=5)
+        rospy.Subscriber('/scan', LaserScan, self.on_scan, queue_size=1)
         rospy.Subscriber('/minibot3d_sim/status', SimStatus, self.on_status, queue_size=5)
         rospy.Subscriber('/amcl_pose', PoseWithCovarianceStamped, self.on_amcl, queue_size=5)
 
@@ -85,6 +99,29 @@ class Recorder(object):
         with self.lock:
             self.amcl = (p.position.x, p.position.y, yaw_of(p.orientation))
             self.amcl_cov = (m.pose.covariance[0], m.pose.covariance[7], m.pose.covariance[35])
+
+    def on_confidence(self, m):
+        with self.lock:
+            self.confidence = list(m.data)
+
+    def on_scan(self, m):
+        with self.lock:
+            self.scan = m
+
+    def fix_problems(self):
+        """What is missing for a confident fix (empty: there is one)."""
+        with self.lock:
+            cov, conf = self.amcl_cov, self.confidence
+        if cov is None or conf is None:
+            return ['no amcl_pose / amcl/confidence yet']
+        missing = []
+        if cov[0] + cov[1] >= COV_FIX:
+            missing.append('covariance cov_xx+cov_yy %.3g m^2 >= %g' % (cov[0] + cov[1], COV_FIX))
+        if conf[0] < EXPLAINED_FIX:
+            missing.append('explained fraction %.2f < %g' % (conf[0], EXPLAINED_FIX))
+        if conf[1] != 1:
+            missing.append('%d modes, not 1' % conf[1])
+        return missing
 
     def take_path(self):
         with self.lock:
@@ -126,35 +163,36 @@ def explore(args, lockstep):
     return 0 if ok and saved else 1
 
 
-def localize(lockstep, rec, cmd_pub, spawn, tries=4):
-    """Global localization; returns the position error once converged (or the last one)."""
+def localize(lockstep, rec, cmd_pub, spawn, timeout=300.0):
+    """Global localization: amcl's global_localization, then wander until amcl has a confident
+    fix (Recorder.fix_problems), at most `timeout` s of sim time. Returns the position error
+    then (or at the timeout, after saying what was missing)."""
     rospy.wait_for_service('/global_localization', 60)
     rospy.ServiceProxy('/global_localization', Empty)()
-    err = float('inf')
-    for attempt in range(tries):
-        # Turn on the spot (two turns), then a short move with move_base (base_link goal).
-        start = rospy.Time.now()
-        cmd = Twist()
-        cmd.angular.z = 1.0
-        while (rospy.Time.now() - start).to_sec() < 4 * math.pi / 1.0 * 1.6:
-            cmd_pub.publish(cmd)
-            lockstep.sleep(0.02)
-        cmd_pub.publish(Twist())
-        lockstep.sleep(0.02)
-        if rec.amcl_cov is not None and rec.amcl_cov[0] + rec.amcl_cov[1] < 0.05:
-            t = world_to_map(spawn, rec.truth)
-            err = math.hypot(rec.amcl[0] - t[0], rec.amcl[1] - t[1])
-            print('demo: localized after %d turn(s): error %.3f m' % (2 * (attempt + 1), err),
-                  flush=True)
-            return err
-        lockstep.run('/simple_navi_goals',
-                     ['rosrun', 'minibot3d_navigation', 'simple_navi_goals.py', '0.7', '1',
-                      '--timeout', '60'], 90,
-                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)[1].wait()
-    if rec.amcl is not None:
-        t = world_to_map(spawn, rec.truth)
-        err = math.hypot(rec.amcl[0] - t[0], rec.amcl[1] - t[1])
-    print('demo: particle cloud did not converge; error %.3f m' % err, flush=True)
+    with rec.lock:  # the claim must come from an update after the call
+        rec.amcl_cov = rec.confidence = None
+    wanderer = Wanderer(laser_yaw=math.pi)  # minibot3d's lidar is mounted backwards
+    start = rospy.Time.now()
+    travel, last = 0.0, rec.truth
+    cmd = Twist()
+    while (rospy.Time.now() - start).to_sec() < timeout and rec.fix_problems():
+        cmd.linear.x, cmd.angular.z = wanderer.command(rec.scan)
+        cmd_pub.publish(cmd)
+        lockstep.sleep(0.05)
+        now = rec.truth
+        travel += math.hypot(now[0] - last[0], now[1] - last[1])
+        last = now
+    cmd_pub.publish(Twist())
+    lockstep.sleep(0.05)
+    t = world_to_map(spawn, rec.truth)
+    err = math.hypot(rec.amcl[0] - t[0], rec.amcl[1] - t[1]) if rec.amcl else float('inf')
+    missing = rec.fix_problems()
+    if not missing:
+        print('demo: localized after %.1f m of wandering (%.0f s): error %.3f m'
+              % (travel, (rospy.Time.now() - start).to_sec(), err), flush=True)
+    else:
+        print('demo: no confident fix within %.0f s (%.1f m wandered): %s; error %.3f m'
+              % (timeout, travel, '; '.join(missing), err), flush=True)
     return err
 
 

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Closed-loop smoke check of mapless navigation (issue 18): for each clutter world named, starts
-# mapless_navigation.launch on lock-step time at full speed on a private master, sends the goal 5.5 m
-# ahead in odom with simple_navi_goals.py, and prints one line per world: reached or not, sim time,
-# collisions, and the world's narrowest gap. Exits 0 whatever the outcome (it reports, the
-# rostest asserts).
+# mapless_navigation.launch on lock-step time at full speed on a private master and runs
+# tools/mapless_run.py, which sends the world's goal (5.5 m ahead, in odom) with
+# simple_navi_goals.py and records the true path: one line per world (reached or not, sim time,
+# collisions, the world's narrowest gap) and OUT/clutter_NN.json for tools/mapless_bench.py.
+# Exits 0 whatever the outcome (it reports, the rostest asserts).
 #   tools/mapless_smoke.sh [INDEX ...]      (default: 0 12 25 37 49)
 #   TIMEOUT=150 tools/mapless_smoke.sh 30   # sim seconds for the goal
 set -uo pipefail
@@ -22,25 +23,19 @@ trap cleanup EXIT
 for i in "${indices[@]}"; do
   name=$(printf 'clutter_%02d' "$i")
   world="minibot3d_sim/worlds/clutter/$name.world"
-  gap=$(/usr/bin/python3 -c "import json; print(json.load(open('minibot3d_sim/worlds/clutter/$name.json'))['achieved_gap'])")
   ROS_PORT=$(ros_free_port)
   export ROS_MASTER_URI="http://127.0.0.1:${ROS_PORT}"
   roslaunch -p "$ROS_PORT" minibot3d_navigation mapless_navigation.launch world:="$PWD/$world" \
-      lockstep:=true real_time_factor:=0 lockstep_participants:="/move_base /simple_navi_goals" \
+      lockstep:=true real_time_factor:=0 lockstep_participants:="/move_base /mapless_run" ${LAUNCH_ARGS:-} \
       > "$OUT/$name.launch.log" 2>&1 &
   launch_pid=$!
   wait_for_master 30
   start=$SECONDS
-  rosrun minibot3d_navigation simple_navi_goals.py --frame odom 5.5 0 0 --timeout "$TIMEOUT" \
-      > "$OUT/$name.goal.log" 2>&1
-  rc=$?
-  wall=$((SECONDS - start))
-  collisions=$(timeout 20 rostopic echo -n 1 /minibot3d_sim/status/collisions 2>/dev/null | head -1)
-  result=$(grep -o 'Result: [A-Z]*[^[]*' "$OUT/$name.goal.log" | tail -1)
-  [ -z "$result" ] && result=$(grep -o 'Goal not reached.*\|No action server.*' "$OUT/$name.goal.log" | tail -1)
-  truth=$(timeout 20 rostopic echo -n 1 /ground_truth/odom/pose/pose/position 2>/dev/null | tr '\n' ' ')
-  printf '%s gap %.3f m: %s, exit %d, collisions %s, %d s wall, final true position %s\n' \
-      "$name" "$gap" "${result:-no result}" "$rc" "${collisions:-?}" "$wall" "$truth"
+  if ! /usr/bin/python3 tools/mapless_run.py "minibot3d_sim/worlds/clutter/$name.json" \
+      "$OUT/$name.json" --timeout "$TIMEOUT" > "$OUT/$name.run.log" 2>&1; then
+    echo "$name: mapless_run.py failed (see $OUT/$name.run.log)"
+  fi
+  grep "^$name gap" "$OUT/$name.run.log" | sed "s/\$/, $((SECONDS - start)) s wall/"
   cleanup
   launch_pid=""
 done

@@ -2,7 +2,9 @@
 // 60-beam correction + resampling every resample_interval = 2 updates +
 // clustering) for 500 / 2,000 / 10,000 particles on a 10 m x 8 m map with
 // 5 cm cells; the three sensor models alone; the per-map precomputation; and
-// the memory the filter holds per particle (counter "bytes_per_particle").
+// the memory the filter holds per particle (counter "bytes_per_particle");
+// global localization's map-wide search (GlobalSearch, minibot3d_slam's
+// correlative search) on a synthetic 54 m x 59 m office floor.
 #include <cmath>
 #include <memory>
 #include <random>
@@ -12,6 +14,8 @@
 #include <benchmark/benchmark.h>
 
 #include "minibot3d_navigation/amcl/amcl_filter.h"
+#include "minibot3d_navigation/amcl/global_search.h"
+#include "synthetic_building.h"  // minibot3d_slam/test: the search's own test floors
 
 namespace minibot3d_navigation {
 namespace amcl {
@@ -153,6 +157,50 @@ void BM_MapPrecompute(benchmark::State& state) {
   state.counters["cells"] = static_cast<double>(grid.data.size());
 }
 BENCHMARK(BM_MapPrecompute)->Arg(10)->Arg(100)->Unit(benchmark::kMillisecond);
+
+// One map-wide search (global_localization) with the shipped options (6
+// candidates, 12 m range, 360 beams) on a 54 m x 59 m office floor (3,186 m^2
+// at 0.05 m, 1.27 M cells), the scan taken in one of its rooms (a new room each
+// iteration).  Counters: the constructor's predicted seconds and how often the
+// best candidate was within 0.3 m of the truth.  The budget is raised so the
+// search is built whatever the prediction says.
+void BM_GlobalSearchOffice(benchmark::State& state) {
+  namespace tw = minibot3d_slam::testing_world;
+  std::vector<minibot3d_slam::Pose2> rooms;
+  const tw::World world = tw::OfficeBuilding(54.0, 59.0, 1, &rooms);
+  const minibot3d_slam::GridMap map = tw::Rasterize(world, 0.0, 0.0, 54.0, 59.0);
+  OccupancyGrid grid;
+  grid.resolution = map.resolution;
+  grid.origin_x = map.origin_x;
+  grid.origin_y = map.origin_y;
+  grid.width = map.width;
+  grid.height = map.height;
+  grid.data = map.data;
+  AmclOptions o;
+  o.laser_max_range = 12.0;
+  o.global_search_budget = 100.0;
+  const GlobalSearch search(grid, o);
+  size_t k = 0;
+  int right = 0, runs = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    const minibot3d_slam::Pose2 truth = rooms[(k++ * 7) % rooms.size()];
+    const minibot3d_slam::LaserScan s = tw::FullScan(world, truth, 360, 12.0);
+    LaserScan scan;
+    scan.range_min = s.range_min;
+    scan.range_max = s.range_max;
+    scan.angles = s.angles;
+    scan.ranges.assign(s.ranges.begin(), s.ranges.end());
+    scan.laser_pose = {s.sensor_in_base.x, s.sensor_in_base.y, s.sensor_in_base.theta};
+    state.ResumeTiming();
+    const std::vector<SearchCandidate> c = search.Search(scan);
+    ++runs;
+    if (!c.empty() && std::hypot(c[0].pose.x - truth.x, c[0].pose.y - truth.y) < 0.3) ++right;
+  }
+  state.counters["predicted_s"] = search.predicted_seconds();
+  state.counters["best_right"] = static_cast<double>(right) / std::max(1, runs);
+}
+BENCHMARK(BM_GlobalSearchOffice)->Iterations(5)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace amcl

@@ -2,7 +2,11 @@
 // drop-in for the navigation stack's amcl: same parameters (private
 // namespace), topics (scan, map, initialpose -> amcl_pose, particlecloud, tf
 // map -> odom) and services (global_localization, request_nomotion_update,
-// uses static_map).  All estimation logic lives in the core; this file only
+// uses static_map).  Beyond amcl: amcl_pose's covariance is the filter's
+// claim (it covers every mode and stays large until the filter is confident,
+// amcl_filter.h), amcl/confidence says why (std_msgs/Float32MultiArray, one
+// labelled dimension: explained_fraction, modes, confident, evidence_updates,
+// beams_used), and global_localization runs the map-wide search.  All estimation logic lives in the core; this file only
 // converts messages and transforms.
 #include <cmath>
 #include <cstdlib>
@@ -22,6 +26,7 @@
 
 #include "minibot3d_lockstep/participant.h"
 #include <sensor_msgs/LaserScan.h>
+#include <std_msgs/Float32MultiArray.h>
 #include <std_srvs/Empty.h>
 #include <tf2/LinearMath/Matrix3x3.h>
 #include <tf2/LinearMath/Quaternion.h>
@@ -104,6 +109,7 @@ class AmclNode {
   void Start() {
     pose_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("amcl_pose", 2, true);
     cloud_pub_ = nh_.advertise<geometry_msgs::PoseArray>("particlecloud", 2, true);
+    confidence_pub_ = nh_.advertise<std_msgs::Float32MultiArray>("amcl/confidence", 2, true);
     // Other participants call these while they work: answered between ticks too.
     ros::NodeHandle snh = lockstep_.ServiceHandle(nh_);
     global_srv_ = snh.advertiseService("global_localization", &AmclNode::OnGlobal, this);
@@ -175,6 +181,10 @@ class AmclNode {
     }
     ROS_INFO("amcl: map %dx%d @ %.3f m; %zu particles", grid.width, grid.height,
              grid.resolution, filter_->particles().size());
+    if (filter_->global_search() == nullptr) {
+      ROS_WARN("amcl: global localization will spread particles uniformly, no map-wide search: %s",
+               filter_->global_search_fallback().c_str());
+    }
     have_odom_tf_ = false;
     filter_->RequestNoMotionUpdate();
   }
@@ -208,6 +218,9 @@ class AmclNode {
 
   void OnScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
     if (!filter_) return;
+    // Global localization is about where the robot is now: a scan taken before the request
+    // (still queued for its transform) may show another place (the robot was carried).
+    if (msg->header.stamp < global_request_stamp_) return;
     amcl::LaserScan scan;
     bool flipped = false;
     if (!LaserPose(msg->header.frame_id, &scan.laser_pose, &flipped)) return;
@@ -232,6 +245,7 @@ class AmclNode {
     scan.range_max = msg->range_max;
 
     const amcl::UpdateResult r = filter_->Update(odom_pose, scan);
+    ReportSearch();
     switch (r.status) {
       case amcl::UpdateStatus::kUpdated:
       case amcl::UpdateStatus::kMotionOnly:
@@ -276,10 +290,44 @@ class AmclNode {
     p.pose.pose.orientation = tf2::toMsg(q);
     const int idx[3] = {0, 1, 5};
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) p.pose.covariance[idx[i] * 6 + idx[j]] = e.covariance(i, j);
+      for (int j = 0; j < 3; ++j)
+        p.pose.covariance[idx[i] * 6 + idx[j]] = e.claim_covariance(i, j);
     pose_pub_.publish(p);
     last_pose_ = p;
     have_last_pose_ = true;
+    PublishConfidence();
+  }
+
+  void PublishConfidence() {
+    const amcl::Confidence& c = filter_->confidence();
+    std_msgs::Float32MultiArray m;
+    m.layout.dim.resize(1);
+    m.layout.dim[0].label =
+        "explained_fraction,modes,confident,evidence_updates,beams_used";
+    m.layout.dim[0].size = 5;
+    m.layout.dim[0].stride = 5;
+    m.data = {static_cast<float>(c.explained_fraction), static_cast<float>(c.modes),
+              c.confident ? 1.0f : 0.0f, static_cast<float>(c.evidence_updates),
+              static_cast<float>(c.beams_used)};
+    confidence_pub_.publish(m);
+  }
+
+  // Logs a map-wide search the last update ran.
+  void ReportSearch() {
+    const amcl::SearchReport& s = filter_->last_search();
+    if (s.count == reported_searches_) return;
+    reported_searches_ = s.count;
+    std::ostringstream os;
+    for (const amcl::SearchCandidate& c : s.candidates) {
+      os << " (" << c.pose.x << ", " << c.pose.y << ", " << c.pose.yaw << ": " << c.score << ")";
+    }
+    ROS_INFO("amcl: map-wide search (%s) in %.3f s CPU (%.3f s wall): %zu candidate(s)%s",
+             s.relocalization ? "no hypothesis explains the scan" : "global localization",
+             s.cpu_seconds, s.seconds, s.candidates.size(), os.str().c_str());
+    if (s.cpu_seconds > options_.global_search_budget) {
+      ROS_WARN("amcl: the map-wide search took %.2f s CPU, over global_search_budget=%.2f s",
+               s.cpu_seconds, options_.global_search_budget);
+    }
   }
 
   void PublishCloud(const ros::Time& stamp, bool force) {
@@ -355,8 +403,13 @@ class AmclNode {
     if (!filter_) return false;
     filter_->GlobalLocalization();
     filter_->RequestNoMotionUpdate();
-    ROS_INFO("amcl: global localization: %zu particles over free space",
-             filter_->particles().size());
+    global_request_stamp_ = ros::Time::now();
+    if (filter_->global_search() != nullptr) {
+      ROS_INFO("amcl: global localization: the next scan is searched for over the whole map");
+    } else {
+      ROS_WARN("amcl: global localization: %zu particles over free space, no map-wide search: %s",
+               filter_->particles().size(), filter_->global_search_fallback().c_str());
+    }
     return true;
   }
 
@@ -373,9 +426,9 @@ class AmclNode {
     pnh_.setParam("initial_pose_x", e.mean.x);
     pnh_.setParam("initial_pose_y", e.mean.y);
     pnh_.setParam("initial_pose_a", e.mean.yaw);
-    pnh_.setParam("initial_cov_xx", e.covariance(0, 0));
-    pnh_.setParam("initial_cov_yy", e.covariance(1, 1));
-    pnh_.setParam("initial_cov_aa", e.covariance(2, 2));
+    pnh_.setParam("initial_cov_xx", e.claim_covariance(0, 0));
+    pnh_.setParam("initial_cov_yy", e.claim_covariance(1, 1));
+    pnh_.setParam("initial_cov_aa", e.claim_covariance(2, 2));
   }
 
   struct LaserMount {
@@ -404,7 +457,9 @@ class AmclNode {
   bool have_last_pose_ = false;
   ros::Time last_cloud_;
 
-  ros::Publisher pose_pub_, cloud_pub_;
+  int reported_searches_ = 0;
+  ros::Time global_request_stamp_;  // scans older than the last global_localization are dropped
+  ros::Publisher pose_pub_, cloud_pub_, confidence_pub_;
   ros::Subscriber initial_sub_, map_sub_;
   ros::ServiceServer global_srv_, nomotion_srv_;
   ros::WallTimer save_timer_;

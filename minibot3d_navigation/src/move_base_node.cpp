@@ -157,7 +157,9 @@ class MoveBaseNode {
   void BuildRecoveries() {
     std::vector<std::string> names = mb_.recovery_behaviors;
     if (names.empty()) {
-      names = {"conservative_reset"};
+      names = {};
+      if (mb_.back_out_distance > 0.0) names.push_back("back_out");
+      names.push_back("conservative_reset");
       if (mb_.clearing_rotation_allowed) names.push_back("rotate_recovery");
       names.push_back("aggressive_reset");
       if (mb_.clearing_rotation_allowed) names.push_back("rotate_recovery");
@@ -167,8 +169,16 @@ class MoveBaseNode {
     rot.min_rotational_vel = dwa_.min_in_place_vel_theta;
     rot.acc_lim_th = dwa_.acc_lim_theta;
     rot.frequency = mb_.controller_frequency;
+    nav::BackOutOptions back;
+    back.distance = mb_.back_out_distance;
+    back.vel = mb_.back_out_vel;
+    back.max_rotational_vel = dwa_.max_vel_theta;
+    back.min_rotational_vel = dwa_.min_in_place_vel_theta;
     for (const std::string& n : names) {
-      if (n == "rotate_recovery") {
+      if (n == "back_out") {
+        recoveries_.push_back(
+            std::make_unique<nav::BackOutRecovery>(n, back, local_costmap_.footprint()));
+      } else if (n == "rotate_recovery") {
         recoveries_.push_back(
             std::make_unique<nav::RotateRecovery>(n, rot, local_costmap_.footprint()));
       } else {

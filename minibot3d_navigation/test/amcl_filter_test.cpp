@@ -1,7 +1,9 @@
 // End-to-end tests of the AMCL filter on a synthetic 10 m x 8 m room with
 // asymmetric furniture: tracking from a wrong-ish Gaussian guess, global
 // localization from a uniform set, kidnapping recovery, the update gating,
-// and the error handling for bad configuration and bad inputs.
+// and the error handling for bad configuration and bad inputs; the
+// confidence claim (split sets, unexplained scans, no claim before motion)
+// and global localization / kidnapping with the map-wide search.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -173,6 +175,7 @@ TEST(AmclFilterTest, AugmentedMclRecoversFromKidnapping) {
   o.max_particles = 10000;
   o.recovery_alpha_slow = 0.001;
   o.recovery_alpha_fast = 0.1;
+  o.global_search = false;  // augmented MCL alone (the search: below)
   o.initial_pose_x = kStartTruth.x;
   o.initial_pose_y = kStartTruth.y;
   o.initial_pose_a = kStartTruth.yaw;
@@ -213,6 +216,214 @@ TEST(AmclFilterTest, AugmentedMclRecoversFromKidnapping) {
       << filter.estimate().mean.y << " truth " << sim.truth().x << ", "
       << sim.truth().y;
   EXPECT_LT(YawError(filter.estimate().mean, sim.truth()), 3 * kDeg);
+}
+
+// --- Confidence: the claim covers every mode and is earned over motion ---
+
+double ClaimXY(const AmclFilter& f) {
+  return f.estimate().claim_covariance(0, 0) +
+         f.estimate().claim_covariance(1, 1);
+}
+constexpr double kDemoThreshold = 0.05;  // make demo: cov_xx + cov_yy (m^2)
+
+// config/amcl.yaml, the shipped configuration.
+AmclOptions ShippedOptions() {
+  AmclOptions o;
+  o.min_particles = 500;
+  o.max_particles = 5000;
+  o.update_min_d = 0.1;
+  o.update_min_a = 0.2;
+  o.resample_interval = 1;
+  o.recovery_alpha_slow = 0.001;
+  o.recovery_alpha_fast = 0.1;
+  o.odom_model_type = "diff-corrected";
+  o.odom_alpha1 = 0.05;
+  o.odom_alpha2 = o.odom_alpha3 = o.odom_alpha4 = 0.01;
+  o.laser_max_range = 12.0;
+  o.laser_max_beams = 60;
+  o.laser_sigma_hit = 0.1;
+  return o;
+}
+
+// Two identical 5 m x 4 m rooms side by side (10 m apart), each with the
+// same asymmetric furniture: nothing in a scan tells them apart.
+constexpr double kTwinShift = 10.0;
+OccupancyGrid MakeTwinRooms() {
+  OccupancyGrid g = testing::MakeFreeGrid(15.0, 4.0, 0.05);
+  for (int r = 0; r < 2; ++r) {
+    const double x0 = r * kTwinShift;
+    testing::FillBox(&g, x0, 0.0, x0 + 5.0, 0.05);
+    testing::FillBox(&g, x0, 3.95, x0 + 5.0, 4.0);
+    testing::FillBox(&g, x0, 0.0, x0 + 0.05, 4.0);
+    testing::FillBox(&g, x0 + 4.95, 0.0, x0 + 5.0, 4.0);
+    testing::FillBox(&g, x0 + 1.0, 2.8, x0 + 1.6, 3.95);  // cupboard
+    testing::FillBox(&g, x0 + 3.5, 0.05, x0 + 3.7, 1.2);  // partition
+  }
+  return g;
+}
+
+TEST(AmclConfidenceTest, SplitParticleSetClaimsLargeCovarianceAndTwoModes) {
+  const OccupancyGrid grid = MakeTwinRooms();
+  AmclOptions o = ShippedOptions();
+  AmclFilter filter(o, grid, AmclFilter::Initialization::kGlobal);
+  ASSERT_NE(filter.global_search(), nullptr) << filter.global_search_fallback();
+  const Pose2D truth{2.2, 1.6, 0.4};
+  RobotSim sim(grid, truth, 31);
+  filter.Update(sim.odom(), sim.Scan());  // the search runs on this scan
+  ASSERT_EQ(filter.last_search().count, 1);
+  const auto& cands = filter.last_search().candidates;
+  ASSERT_GE(cands.size(), 2u);
+  // Both rooms are found, the true pose exactly (within the lattice).
+  bool in_a = false, in_b = false;
+  for (const SearchCandidate& c : cands) {
+    in_a = in_a || (PosError(c.pose, truth) < 0.1 && YawError(c.pose, truth) < 3 * kDeg);
+    const Pose2D twin{truth.x + kTwinShift, truth.y, truth.yaw};
+    in_b = in_b || (PosError(c.pose, twin) < 0.1 && YawError(c.pose, twin) < 3 * kDeg);
+  }
+  EXPECT_TRUE(in_a && in_b);
+  // Driving inside the room cannot split the twins: both modes stay, and so
+  // does a covariance that spans them, however well each explains the scan.
+  std::vector<Pose2D> path;
+  for (int k = 0; k < 10; ++k) path.push_back({0.1, 0.0, 0.0});
+  for (int k = 0; k < 10; ++k) path.push_back({0.0, 0.0, 15 * kDeg});
+  for (const Pose2D& u : path) {
+    sim.Move(u);
+    ASSERT_FALSE(HasFatalFailure());
+    filter.Update(sim.odom(), sim.Scan());
+    EXPECT_GT(ClaimXY(filter), kDemoThreshold);
+    EXPECT_FALSE(filter.confidence().confident);
+  }
+  EXPECT_GE(filter.confidence().modes, 2);
+  EXPECT_GT(filter.confidence().explained_fraction, 0.9);
+  // The second moment of two equal modes 10 m apart is ~ (10/2)^2 .. 10^2.
+  EXPECT_GT(filter.estimate().claim_covariance(0, 0), 10.0);
+  // ... while each cluster on its own is tight (what amcl would publish).
+  EXPECT_LT(filter.estimate().covariance(0, 0), 0.05);
+}
+
+TEST(AmclConfidenceTest, ScanNotExplainedAtTheEstimateGivesLowFractionAndLargeCovariance) {
+  const OccupancyGrid grid = testing::MakeAsymmetricRoom();
+  AmclOptions o = ShippedOptions();
+  // A confident-looking (tight) initial pose 1.5 m and 40 deg from the truth.
+  o.initial_pose_x = kStartTruth.x + 1.5;
+  o.initial_pose_y = kStartTruth.y;
+  o.initial_pose_a = kStartTruth.yaw + 40 * kDeg;
+  o.initial_cov_xx = o.initial_cov_yy = 0.01 * 0.01;
+  o.initial_cov_aa = 0.001;
+  AmclFilter filter(o, grid);
+  RobotSim sim(grid, kStartTruth, 32);
+  filter.Update(sim.odom(), sim.Scan());
+  EXPECT_LT(filter.confidence().explained_fraction, 0.5);
+  EXPECT_GT(filter.confidence().beams_used, 20);
+  EXPECT_FALSE(filter.confidence().confident);
+  EXPECT_GE(filter.estimate().claim_covariance(0, 0), kUnconfidentVarianceXY);
+  EXPECT_GE(filter.estimate().claim_covariance(2, 2), kUnconfidentVarianceYaw);
+  // The particles' own spread is still tiny: the claim, not the cloud, says lost.
+  EXPECT_LT(filter.estimate().covariance(0, 0), 0.01);
+
+  // At the truth the same scan is explained and the claim is small.
+  filter.SetPose(kStartTruth, Eigen::Vector3d(1e-4, 1e-4, 1e-4).asDiagonal());
+  filter.Update(sim.odom(), sim.Scan());
+  EXPECT_GT(filter.confidence().explained_fraction, 0.95);
+  EXPECT_EQ(filter.confidence().modes, 1);
+  EXPECT_TRUE(filter.confidence().confident);
+  EXPECT_LT(ClaimXY(filter), kDemoThreshold);
+}
+
+// Global localization: never a claim while wrong, then the right one.
+void ExpectNoFalseClaimsThenRight(AmclFilter* filter, RobotSim* sim,
+                                  const std::vector<Pose2D>& path,
+                                  double* travel_to_claim) {
+  double travel = 0.0;
+  *travel_to_claim = -1.0;
+  for (const Pose2D& u : path) {
+    sim->Move(u);
+    ASSERT_FALSE(::testing::Test::HasFatalFailure());
+    travel += std::hypot(u.x, u.y);
+    // A claim is published with an update (amcl_pose): judge those.
+    if (filter->Update(sim->odom(), sim->Scan()).status !=
+        UpdateStatus::kUpdated) {
+      continue;
+    }
+    if (ClaimXY(*filter) < kDemoThreshold) {
+      // The definition of a false claim: > 1 m or > 30 deg off.
+      // A right one is far closer.
+      ASSERT_LT(PosError(filter->estimate().mean, sim->truth()), 0.3)
+          << "false claim after " << travel << " m";
+      ASSERT_LT(YawError(filter->estimate().mean, sim->truth()), 10 * kDeg)
+          << "false claim after " << travel << " m";
+      if (*travel_to_claim < 0.0) *travel_to_claim = travel;
+    }
+  }
+}
+
+TEST(AmclConfidenceTest, GlobalSearchSeedsTheFilterWhichClaimsOnlyAfterMotion) {
+  const OccupancyGrid grid = testing::MakeAsymmetricRoom();
+  AmclOptions o = ShippedOptions();
+  AmclFilter filter(o, grid, AmclFilter::Initialization::kGlobal);
+  ASSERT_NE(filter.global_search(), nullptr);
+  RobotSim sim(grid, kStartTruth, 33);
+  filter.Update(sim.odom(), sim.Scan());
+  ASSERT_EQ(filter.last_search().count, 1);
+  ASSERT_FALSE(filter.last_search().candidates.empty());
+  EXPECT_LT(PosError(filter.last_search().candidates[0].pose, sim.truth()), 0.1);
+  // One view is not evidence: no claim before the robot has moved.
+  for (int k = 0; k < 5; ++k) {
+    filter.RequestNoMotionUpdate();
+    filter.Update(sim.odom(), sim.Scan());
+  }
+  EXPECT_FALSE(filter.confidence().confident);
+  EXPECT_GT(ClaimXY(filter), kDemoThreshold);
+  double travel = -1.0;
+  ExpectNoFalseClaimsThenRight(&filter, &sim, LoopPath(), &travel);
+  ASSERT_FALSE(HasFatalFailure());
+  EXPECT_GT(travel, 0.0) << "never claimed";
+  EXPECT_LT(travel, 4.0);
+  EXPECT_TRUE(filter.confidence().confident);
+}
+
+TEST(AmclConfidenceTest, KidnappedRobotIsFoundAgainByTheSearch) {
+  const OccupancyGrid grid = testing::MakeAsymmetricRoom();
+  AmclOptions o = ShippedOptions();
+  o.initial_pose_x = kStartTruth.x;
+  o.initial_pose_y = kStartTruth.y;
+  o.initial_pose_a = kStartTruth.yaw;
+  AmclFilter filter(o, grid);
+  RobotSim sim(grid, kStartTruth, 34);
+  filter.Update(sim.odom(), sim.Scan());
+  Drive(ShuttlePath(24), &sim, &filter);
+  ASSERT_FALSE(HasFatalFailure());
+  ASSERT_TRUE(filter.confidence().confident)
+      << "explained " << filter.confidence().explained_fraction << " modes "
+      << filter.confidence().modes << " evidence "
+      << filter.confidence().evidence_updates << " error "
+      << PosError(filter.estimate().mean, sim.truth());
+  EXPECT_EQ(filter.last_search().count, 0) << "tracking needs no search";
+  sim.Kidnap({6.0, 4.0, 3.0});
+  double travel = -1.0;
+  ExpectNoFalseClaimsThenRight(&filter, &sim, ShuttlePath(60), &travel);
+  ASSERT_FALSE(HasFatalFailure());
+  EXPECT_GE(filter.last_search().count, 1);
+  EXPECT_TRUE(filter.last_search().relocalization);
+  EXPECT_GT(travel, 0.0) << "never claimed again";
+  EXPECT_LT(PosError(filter.estimate().mean, sim.truth()), 0.1);
+}
+
+TEST(AmclConfidenceTest, MapOverTheSearchBudgetSaysSoAndSpreadsUniformly) {
+  const OccupancyGrid grid = testing::MakeAsymmetricRoom();
+  AmclOptions o = ShippedOptions();
+  o.global_search_budget = 0.05;  // 32,000 cells need ~0.11 s
+  AmclFilter filter(o, grid, AmclFilter::Initialization::kGlobal);
+  EXPECT_EQ(filter.global_search(), nullptr);
+  const std::string why = filter.global_search_fallback();
+  EXPECT_NE(why.find("global_search_budget"), std::string::npos) << why;
+  EXPECT_NE(why.find("200 x 160 cells"), std::string::npos) << why;
+  RobotSim sim(grid, kStartTruth, 35);
+  filter.Update(sim.odom(), sim.Scan());
+  EXPECT_EQ(filter.last_search().count, 0);
+  // (A uniform set is one big cluster of touching bins, or many small
+  // ones: either way its claim is large.)
+  EXPECT_GT(ClaimXY(filter), kDemoThreshold);
 }
 
 TEST(AmclFilterTest, UpdatesOnlyAfterEnoughMotionOrWhenForced) {
@@ -430,7 +641,7 @@ TEST(AmclOptionsTest, SetOptionParsesRosParameterText) {
                std::invalid_argument);
   EXPECT_FALSE(IsAmclOptionName("base_frame_id"));
   EXPECT_TRUE(IsAmclOptionName("laser_likelihood_max_dist"));
-  EXPECT_EQ(AmclOptionNames().size(), 36u);
+  EXPECT_EQ(AmclOptionNames().size(), 48u);
   // Defaults are amcl's.
   const AmclOptions d;
   EXPECT_EQ(d.min_particles, 100);

@@ -221,6 +221,223 @@ TEST(NavigationExecutive, RejectsBadOptionsNamingThem) {
   EXPECT_EQ(o.recovery_behaviors.size(), 2u);
 }
 
+// Drives a unicycle by the recovery's commands until it finishes.
+int RunRecovery(RecoveryBehavior* rec, RobotState* state, double dt = 0.05,
+                double* max_vx = nullptr) {
+  rec->Start(*state);
+  Twist2D cmd;
+  int steps = 0;
+  while (rec->Step(*state, &cmd) && steps < 2000) {
+    if (max_vx != nullptr) *max_vx = std::max(*max_vx, cmd.vx);
+    Pose2D& p = state->local_pose;
+    p.x += cmd.vx * std::cos(p.yaw) * dt;
+    p.y += cmd.vx * std::sin(p.yaw) * dt;
+    p.yaw = NormalizeAngle(p.yaw + cmd.vtheta * dt);
+    state->time += dt;
+    ++steps;
+  }
+  return steps;
+}
+
+// A trail driven forwards on an arc: from (0, 0) heading 0, turning left.
+std::vector<Pose2D> ArcTrail(int n = 60) {
+  std::vector<Pose2D> trail;
+  for (int i = 0; i <= n; ++i) {
+    const double yaw = 0.6 * i / n;
+    const double s = 0.02 * i;
+    trail.push_back({s * std::cos(yaw / 2.0), s * std::sin(yaw / 2.0), yaw});
+  }
+  return trail;
+}
+
+double DistanceToTrail(const std::vector<Pose2D>& trail, const Pose2D& p) {
+  double best = 1e300;
+  for (const Pose2D& t : trail) best = std::min(best, std::hypot(t.x - p.x, t.y - p.y));
+  return best;
+}
+
+TEST(BackOutRecovery, ReversesAlongTheTrailItDroveThrough) {
+  const std::vector<Pose2D> trail = ArcTrail();
+  Costmap2D costmap(80, 80, 0.05, -2.0, -2.0);
+  RobotState state;
+  state.local_pose = trail.back();
+  state.local_costmap = &costmap;
+  state.trail = &trail;
+  state.control_failed = true;
+  BackOutOptions o;
+  o.distance = 0.6;
+  BackOutRecovery rec("back_out", o, MakeCircleFootprint(0.12));
+  // Checked along the way: never forwards, never off the trail.
+  rec.Start(state);
+  ASSERT_FALSE(rec.route().empty());
+  Twist2D cmd;
+  double worst = 0.0;
+  int steps = 0;
+  const Pose2D start = state.local_pose;
+  while (rec.Step(state, &cmd) && steps++ < 2000) {
+    EXPECT_LE(cmd.vx, 0.0);
+    Pose2D& p = state.local_pose;
+    p.x += cmd.vx * std::cos(p.yaw) * 0.05;
+    p.y += cmd.vx * std::sin(p.yaw) * 0.05;
+    p.yaw = NormalizeAngle(p.yaw + cmd.vtheta * 0.05);
+    state.time += 0.05;
+    worst = std::max(worst, DistanceToTrail(trail, p));
+  }
+  EXPECT_LT(worst, 0.03);
+  // It got `distance` away (to within the last target's tolerance).
+  EXPECT_GT(std::hypot(state.local_pose.x - start.x, state.local_pose.y - start.y), 0.55);
+}
+
+TEST(BackOutRecovery, DoesNothingAfterOscillationOrWithoutTrail) {
+  const std::vector<Pose2D> trail = ArcTrail();
+  Costmap2D costmap(80, 80, 0.05, -2.0, -2.0);
+  RobotState state;
+  state.local_pose = trail.back();
+  state.local_costmap = &costmap;
+  state.trail = &trail;
+  BackOutRecovery rec("back_out", BackOutOptions(), MakeCircleFootprint(0.12));
+  state.control_failed = false;  // oscillation: reversing would undo progress
+  EXPECT_EQ(RunRecovery(&rec, &state), 0);
+  state.control_failed = true;
+  state.trail = nullptr;
+  EXPECT_EQ(RunRecovery(&rec, &state), 0);
+}
+
+TEST(BackOutRecovery, StopsBeforeSomethingNewOnItsWay) {
+  const std::vector<Pose2D> trail = ArcTrail();
+  Costmap2D costmap(80, 80, 0.05, -2.0, -2.0);
+  // A wall across the trail 0.35 m behind the robot, seen after it passed.
+  for (int my = 0; my < 80; ++my) {
+    int mx, unused;
+    costmap.WorldToMapNoBounds(0.85, 0.0, &mx, &unused);
+    costmap.set_cost(mx, my, kLethalObstacle);
+  }
+  RobotState state;
+  state.local_pose = trail.back();
+  state.local_costmap = &costmap;
+  state.trail = &trail;
+  state.control_failed = true;
+  const Footprint fp = MakeCircleFootprint(0.12);
+  BackOutRecovery rec("back_out", BackOutOptions(), fp);
+  RunRecovery(&rec, &state);
+  EXPECT_NE(FootprintCost(costmap, fp, state.local_pose), kLethalObstacle);
+  EXPECT_GT(state.local_pose.x, 0.85 + 0.12);
+  EXPECT_LT(state.local_pose.x, trail.back().x - 0.05);  // it did back up
+}
+
+// Plans straight to the goal unless a lethal cell lies on that line; then
+// round it via a waypoint at y = +1 (or fails if `fail_if_blocked`).
+class DetourPlanner : public GlobalPlanner {
+ public:
+  std::string name() const override { return "detour"; }
+  Path MakePlan(const Costmap2D& costmap, const Pose2D& start, const Pose2D& goal) override {
+    ++calls;
+    bool blocked = false;
+    for (double f = 0.0; f <= 1.0; f += 0.01) {
+      int mx, my;
+      if (costmap.WorldToMap(start.x + f * (goal.x - start.x), start.y + f * (goal.y - start.y),
+                             &mx, &my) &&
+          costmap.cost(mx, my) == kLethalObstacle) {
+        blocked = true;
+      }
+    }
+    last_blocked = blocked;
+    if (!blocked) return Line(start, goal);
+    if (fail_if_blocked) throw PlanningError(PlanningError::Code::kNoPath, "no way round");
+    Path p = Line(start, {start.x + 1.0, 1.0, 0.0});
+    Path q = Line({start.x + 1.0, 1.0, 0.0}, goal);
+    p.insert(p.end(), q.begin() + 1, q.end());
+    return p;
+  }
+  static Path Line(const Pose2D& a, const Pose2D& b) {
+    Path p;
+    for (int i = 0; i <= 20; ++i) {
+      p.push_back({a.x + (b.x - a.x) * i / 20.0, a.y + (b.y - a.y) * i / 20.0, 0.0});
+    }
+    return p;
+  }
+  int calls = 0;
+  bool last_blocked = false;
+  bool fail_if_blocked = false;
+};
+
+TEST(NavigationExecutive, RemembersWhereControlFailedAndPlansRoundIt) {
+  MoveBaseOptions o;
+  o.controller_patience = 1.0;
+  o.blocked_radius = 0.3;
+  o.blocked_lookahead = 0.5;
+  Costmap2D costmap(100, 100, 0.05, -2.5, -2.5);
+  DetourPlanner planner;
+  GoToGoal controller;
+  controller.fail = true;
+  CountingRecovery r1("conservative_reset");
+  NavigationExecutive exec(o, &planner, &controller, {&r1});
+  RobotState state;
+  state.global_costmap = &costmap;
+  state.local_costmap = &costmap;
+  exec.SetGoal({2.0, 0.0, 0.0}, 0.0);
+  for (; state.time < 1.5 && exec.blocked().empty(); state.time += 0.1) {
+    exec.Step(state, Pose2D());
+  }
+  ASSERT_EQ(exec.blocked().size(), 1u);
+  // Half a metre ahead along the plan (straight at the goal).
+  EXPECT_NEAR(exec.blocked()[0].x, 0.5, 0.11);
+  EXPECT_NEAR(exec.blocked()[0].y, 0.0, 1e-9);
+  controller.fail = false;
+  // Let the recovery finish, then the next plan goes round the disc.
+  for (int i = 0; i < 10 && !planner.last_blocked; ++i, state.time += 0.1) {
+    exec.Step(state, Pose2D());
+  }
+  EXPECT_TRUE(planner.last_blocked);
+  EXPECT_NEAR(exec.plan()[20].y, 1.0, 1e-9);  // via the detour waypoint
+  // The original costmap is untouched.
+  int mx, my;
+  ASSERT_TRUE(costmap.WorldToMap(0.5, 0.0, &mx, &my));
+  EXPECT_EQ(costmap.cost(mx, my), 0);
+}
+
+TEST(NavigationExecutive, ForgetsBlockedPlacesWhenNoPlanGoesRoundThem) {
+  MoveBaseOptions o;
+  o.controller_patience = 1.0;
+  o.blocked_radius = 0.3;
+  o.blocked_lookahead = 0.5;
+  Costmap2D costmap(100, 100, 0.05, -2.5, -2.5);
+  DetourPlanner planner;
+  planner.fail_if_blocked = true;
+  GoToGoal controller;
+  controller.fail = true;
+  CountingRecovery r1("conservative_reset");
+  NavigationExecutive exec(o, &planner, &controller, {&r1});
+  RobotState state;
+  state.global_costmap = &costmap;
+  state.local_costmap = &costmap;
+  exec.SetGoal({2.0, 0.0, 0.0}, 0.0);
+  for (; state.time < 1.5 && exec.blocked().empty(); state.time += 0.1) {
+    exec.Step(state, Pose2D());
+  }
+  ASSERT_EQ(exec.blocked().size(), 1u);
+  controller.fail = false;
+  bool replanned = false;
+  for (int i = 0; i < 10 && !replanned; ++i, state.time += 0.1) {
+    replanned = exec.Step(state, Pose2D()).new_plan;
+  }
+  EXPECT_TRUE(replanned);
+  EXPECT_TRUE(exec.blocked().empty());  // no way round: forgotten, plain plan
+  EXPECT_FALSE(planner.last_blocked);
+}
+
+TEST(NavigationExecutive, RecordsTheTrailItDrives) {
+  Harness h;
+  h.exec.SetGoal({2.0, 0.0, 0.0}, 0.0);
+  ASSERT_EQ(h.Run(30.0).status, GoalStatus::kSucceeded);
+  const std::vector<Pose2D>& trail = h.exec.trail();
+  ASSERT_GT(trail.size(), 50u);  // ~1.9 m at 2 cm spacing
+  for (size_t i = 1; i < trail.size(); ++i) {
+    EXPECT_LT(std::hypot(trail[i].x - trail[i - 1].x, trail[i].y - trail[i - 1].y), 0.05);
+  }
+  EXPECT_NEAR(trail.back().x, h.state.local_pose.x, 0.03);
+}
+
 }  // namespace
 }  // namespace nav
 }  // namespace minibot3d_navigation

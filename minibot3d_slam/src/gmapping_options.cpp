@@ -82,6 +82,15 @@ void ValidateOptions(const GmappingOptions& o) {
     const double cells = (o.xmax - o.xmin) / o.delta * ((o.ymax - o.ymin) / o.delta);
     p.Check(cells <= 4e8, "delta", o.delta, "large enough that (xmax-xmin)·(ymax-ymin)/delta² <= 4e8 cells");
   }
+  p.Check(o.loopClosure == 0 || o.loopClosure == 1, "loopClosure", o.loopClosure, "0 or 1");
+  p.Check(o.loopSearchWindow > 0.0 && o.loopSearchWindow <= 50.0, "loopSearchWindow", o.loopSearchWindow,
+          "in (0, 50] m");
+  p.Check(o.loopSearchAngle > 0.0 && o.loopSearchAngle <= M_PI, "loopSearchAngle", o.loopSearchAngle,
+          "in (0, pi] rad");
+  p.Check(o.loopMinScore > 0.0 && o.loopMinScore <= 1.0, "loopMinScore", o.loopMinScore, "in (0, 1]");
+  p.Check(o.loopSubmapScans >= 2 && o.loopSubmapScans <= 1000, "loopSubmapScans", o.loopSubmapScans,
+          "in [2, 1000]");
+  p.Check(o.loopMinTravel >= 0.0 && Finite(o.loopMinTravel), "loopMinTravel", o.loopMinTravel, ">= 0 m");
   p.Check(o.occ_thresh >= 0.0 && o.occ_thresh <= 1.0, "occ_thresh", o.occ_thresh, "in [0, 1]");
   p.ThrowIfAny();
 }
@@ -168,6 +177,12 @@ void SetOption(GmappingOptions* o, const std::string& name, const std::string& v
       {"xmax", &GmappingOptions::xmax, nullptr},
       {"ymax", &GmappingOptions::ymax, nullptr},
       {"occ_thresh", &GmappingOptions::occ_thresh, nullptr},
+      {"loopClosure", nullptr, &GmappingOptions::loopClosure},
+      {"loopSearchWindow", &GmappingOptions::loopSearchWindow, nullptr},
+      {"loopSearchAngle", &GmappingOptions::loopSearchAngle, nullptr},
+      {"loopMinScore", &GmappingOptions::loopMinScore, nullptr},
+      {"loopSubmapScans", nullptr, &GmappingOptions::loopSubmapScans},
+      {"loopMinTravel", &GmappingOptions::loopMinTravel, nullptr},
   };
   if (name == "seed") {
     o->seed = static_cast<unsigned>(ParseInteger(name, value, 0, std::numeric_limits<unsigned>::max()));

@@ -28,6 +28,10 @@
 // newest node, nodes point to their parents), so copying a particle copies one pointer and the best
 // trajectory is a walk up the tree.
 // The best particle is the one with the largest accumulated log-likelihood (gmapping's weightSum).
+//   6. Loop closure (loopClosure = 1, loop_closer.h): the processed scan becomes a node of a pose
+//      graph of the best particle's trajectory and is searched for in older submaps; when the graph
+//      is optimised, the map is rebuilt from the corrected trajectory and every particle is reset
+//      onto it (loop_closer.h says why a reset and not a common rigid shift).
 #include "minibot3d_slam/rbpf_slam.h"
 
 #include <Eigen/Dense>
@@ -36,8 +40,10 @@
 #include <limits>
 #include <random>
 #include <stdexcept>
+#include <unordered_set>
 
 #include "grid.h"
+#include "loop_closer.h"
 #include "motion_model.h"
 #include "resampling.h"
 #include "scan_matcher.h"
@@ -94,7 +100,9 @@ class RbpfSlam::Impl {
       : options_((ValidateOptions(options), options)),
         matcher_(options),
         motion_(options),
-        rng_(options.seed) {}
+        rng_(options.seed) {
+    if (options_.loopClosure != 0) loop_ = std::make_unique<LoopCloser>(options_, &matcher_);
+  }
 
   bool AddScan(const LaserScan& scan, const Pose2& odom);
   Pose2 BestPose() const;
@@ -116,8 +124,22 @@ class RbpfSlam::Impl {
   double linear_ = 0.0, angular_ = 0.0;  // motion since the last processed scan
   int processed_ = 0;
   int resamples_ = 0;
+  std::unique_ptr<LoopCloser> loop_;
+  int closures_ = 0;
+
+  // Optimises the pose graph and, when the correction is large enough, rebuilds the map and resets
+  // the particles onto the corrected trajectory (`stamped`, `poses`: the best trajectory now).
+  void OptimizeAndApply(const std::vector<StampedPose>& stamped, const std::vector<Pose2>& poses);
+  void FinishLoops() {
+    if (!loop_ || loop_->constraints().empty()) return;
+    std::vector<StampedPose> stamped = BestTrajectory();
+    std::vector<Pose2> poses(stamped.size());
+    for (std::size_t i = 0; i < stamped.size(); ++i) poses[i] = stamped[i].pose;
+    OptimizeAndApply(stamped, poses);
+  }
 
  private:
+  void CloseLoops(const PreparedScan& scan);
   void Process(const LaserScan& scan);
   void Resample(const std::vector<double>& weights);
 };
@@ -133,7 +155,9 @@ bool RbpfSlam::Impl::AddScan(const LaserScan& scan, const Pose2& odom) {
     // the first scan's map.
     Particle first(options_.delta);
     first.pose = odom;
-    matcher_.Register(matcher_.Prepare(scan), odom, &first.grid);
+    const PreparedScan prepared = matcher_.Prepare(scan);
+    matcher_.Register(prepared, odom, &first.grid);
+    if (loop_) loop_->AddNode(prepared);
     first.node = std::make_shared<TrajectoryNode>(StampedPose{scan.time, odom}, nullptr);
     particles_.assign(static_cast<std::size_t>(options_.particles), first);
     last_odom_ = processed_odom_ = odom;
@@ -190,6 +214,44 @@ void RbpfSlam::Impl::Process(const LaserScan& scan) {
   for (double x : w) sum_sq += x * x;
   const double neff = 1.0 / sum_sq;
   if (neff < options_.resampleThreshold * static_cast<double>(particles_.size())) Resample(w);
+  if (loop_) CloseLoops(prepared);
+}
+
+void RbpfSlam::Impl::CloseLoops(const PreparedScan& scan) {
+  loop_->AddNode(scan);
+  std::vector<StampedPose> stamped = BestTrajectory();
+  std::vector<Pose2> poses(stamped.size());
+  for (std::size_t i = 0; i < stamped.size(); ++i) poses[i] = stamped[i].pose;
+  if (!loop_->Detect(poses)) return;
+  OptimizeAndApply(stamped, poses);
+}
+
+void RbpfSlam::Impl::OptimizeAndApply(const std::vector<StampedPose>& stamped, const std::vector<Pose2>& poses) {
+  const std::vector<Pose2> corrected = loop_->Optimize(poses);
+  // A correction smaller than the filter's own precision is left out: resetting the particles
+  // costs the filter its diversity and a map rebuild, and moves nodes by the constraints'
+  // centimetre noise (on the Intel log, where the filter alone stays consistent, applying every
+  // optimisation made the relations error worse). The constraints stay in the graph.
+  // Judged at the newest node: that is where the filter goes on mapping, and where a closed loop
+  // moves the estimate most; a deformation far back in the graph alone (a few constraints pulling
+  // one old node) is no reason to reset the filter.
+  const double shift = std::hypot(poses.back().x - corrected.back().x, poses.back().y - corrected.back().y);
+  const double turn = std::fabs(NormalizeAngle(poses.back().theta - corrected.back().theta));
+  if (shift < LoopCloser::kApplyShift && turn < LoopCloser::kApplyTurn) return;
+  // Reset every particle onto the corrected trajectory and its map (loop_closer.h: why).
+  const Particle& best = particles_[static_cast<std::size_t>(BestIndex())];
+  Particle reset(options_.delta);
+  reset.weight = 0.0;
+  reset.weight_sum = best.weight_sum;
+  loop_->RenderMap(corrected, &reset.grid);
+  std::shared_ptr<TrajectoryNode> node;
+  for (std::size_t i = 0; i < corrected.size(); ++i) {
+    node = std::make_shared<TrajectoryNode>(StampedPose{stamped[i].time, corrected[i]}, std::move(node));
+  }
+  reset.node = std::move(node);
+  reset.pose = corrected.back();
+  particles_.assign(particles_.size(), reset);
+  ++closures_;
 }
 
 void RbpfSlam::Impl::Resample(const std::vector<double>& weights) {
@@ -306,6 +368,29 @@ std::vector<StampedPose> RbpfSlam::BestTrajectory() const { return impl_->BestTr
 double RbpfSlam::Entropy() const { return impl_->Entropy(); }
 int RbpfSlam::processed_scans() const { return impl_->processed_; }
 int RbpfSlam::resamples() const { return impl_->resamples_; }
+Pose2 RbpfSlam::Localize(const LaserScan& scan, const Pose2& guess) const {
+  if (!impl_->initialized_) return guess;
+  const Grid& grid = impl_->particles_[static_cast<std::size_t>(impl_->BestIndex())].grid;
+  const PreparedScan prepared = impl_->matcher_.Prepare(scan);
+  Pose2 mode;
+  const double score = impl_->matcher_.Optimize(grid, prepared, guess, &mode);
+  if (score <= impl_->options_.minimumScore) return guess;
+  if (impl_->options_.subcellMatch != 0) mode = impl_->matcher_.Refine(grid, prepared, mode);
+  return mode;
+}
+void RbpfSlam::FinishLoops() { impl_->FinishLoops(); }
+std::size_t RbpfSlam::MapMemoryBytes() const {
+  std::unordered_set<const void*> tiles;
+  for (const Particle& p : impl_->particles_) {
+    p.grid.ForEachTile([&](const Grid::Tile* t) { tiles.insert(t); });
+  }
+  return tiles.size() * sizeof(Grid::Tile);
+}
+std::size_t RbpfSlam::LoopScanBytes() const { return impl_->loop_ ? impl_->loop_->ScanBytes() : 0; }
+int RbpfSlam::loop_closures() const { return impl_->closures_; }
+int RbpfSlam::loop_constraints() const {
+  return impl_->loop_ ? static_cast<int>(impl_->loop_->constraints().size()) : 0;
+}
 const GmappingOptions& RbpfSlam::options() const { return impl_->options_; }
 
 }  // namespace minibot3d_slam

@@ -105,6 +105,14 @@ class SlamGmappingNode {
     get_d("xmax", &o.xmax);
     get_d("ymax", &o.ymax);
     get_d("occ_thresh", &o.occ_thresh);
+    get_i("subcellMatch", &o.subcellMatch);
+    get_i("sampleProposal", &o.sampleProposal);
+    get_i("loopClosure", &o.loopClosure);
+    get_d("loopSearchWindow", &o.loopSearchWindow);
+    get_d("loopSearchAngle", &o.loopSearchAngle);
+    get_d("loopMinScore", &o.loopMinScore);
+    get_i("loopSubmapScans", &o.loopSubmapScans);
+    get_d("loopMinTravel", &o.loopMinTravel);
     int seed = 0;
     get_i("seed", &seed);
     o.seed = static_cast<unsigned>(seed);
@@ -233,7 +241,16 @@ class SlamGmappingNode {
         entropy.data = slam_->Entropy();
       }
       entropy_pub_.publish(entropy);
-      if (!got_map_ || (msg->header.stamp - last_map_update_).toSec() >= node_.map_update_interval) {
+      // A loop closure rewrites the map and the pose: publish the corrected map at once.
+      int closures;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        closures = slam_->loop_closures();
+      }
+      const bool corrected = closures != published_closures_;
+      published_closures_ = closures;
+      if (corrected || !got_map_ ||
+          (msg->header.stamp - last_map_update_).toSec() >= node_.map_update_interval) {
         PublishMap(msg->header.stamp);
         last_map_update_ = msg->header.stamp;
         got_map_ = true;
@@ -301,6 +318,7 @@ class SlamGmappingNode {
   GmappingOptions options_;
   NodeOptions node_;
   std::unique_ptr<RbpfSlam> slam_;
+  int published_closures_ = 0;  // loop closures already reflected in the published map
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;

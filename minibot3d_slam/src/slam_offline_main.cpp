@@ -3,7 +3,7 @@
 //
 //   slam_offline --log FILE | --bag FILE [--scan-topic /scan] [--odom-topic T] [--base-frame F]
 //                [--odom-frame F]  [--out DIR] [--particles N] [--param-file YAML]
-//                [--param NAME=VALUE ...] [--quiet]
+//                [--param NAME=VALUE ...] [--odometry-between] [--quiet]
 //
 // DIR/trajectory.txt has one line "timestamp x y theta" for every laser reading fed to the filter:
 // the final best particle's pose at processed readings, and for the readings in between, the pose
@@ -21,6 +21,7 @@
 #include <iostream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <yaml-cpp/yaml.h>
@@ -44,7 +45,7 @@ void OnSigint(int) { g_interrupted = 1; }
 constexpr char kUsage[] =
     "usage: slam_offline (--log FILE | --bag FILE [--scan-topic T] [--odom-topic T]\n"
     "                    [--base-frame F] [--odom-frame F]) [--out DIR] [--particles N]\n"
-    "                    [--param-file YAML] [--param NAME=VALUE ...] [--quiet]\n"
+    "                    [--param-file YAML] [--param NAME=VALUE ...] [--odometry-between] [--quiet]\n"
     "  --log FILE          CARMEN log (FLASER / ROBOTLASER1 with odometry)\n"
     "  --bag FILE          ROS bag: scans from --scan-topic (default /scan), odometry from /tf\n"
     "                      (--odom-frame → --base-frame, default odom → base_footprint) or from a\n"
@@ -54,6 +55,9 @@ constexpr char kUsage[] =
     "  --out DIR           output folder for map.pgm, map.yaml, trajectory.txt (default: .)\n"
     "  --particles N       number of particles (gmapping's 'particles', default 30)\n"
     "  --param NAME=VALUE  any gmapping option by its gmapping name (e.g. linearUpdate=0.5)\n"
+    "  --odometry-between  readings between processed scans take the processed pose moved by\n"
+    "                      odometry (gmapping's output) instead of being matched against the\n"
+    "                      final map\n"
     "  --quiet             no progress on stderr\n";
 
 [[noreturn]] void UsageError(const std::string& what) {
@@ -67,6 +71,7 @@ struct Args {
   minibot3d_slam::BagLogOptions bag_options;
   std::string out = ".";
   bool quiet = false;
+  bool localize = true;
   GmappingOptions options;
 };
 
@@ -137,6 +142,9 @@ Args ParseArgs(int argc, char** argv) {
       const auto p = nv.find('=');
       if (p == std::string::npos || p == 0) UsageError("--param expects NAME=VALUE, got '" + nv + "'");
       params.emplace_back(nv.substr(0, p), nv.substr(p + 1));
+    } else if (arg == "--odometry-between") {
+      if (inline_value) UsageError("option --odometry-between takes no value");
+      a.localize = false;
     } else if (arg == "--quiet") {
       if (inline_value) UsageError("option --quiet takes no value");
       a.quiet = true;
@@ -234,10 +242,14 @@ int main(int argc, char** argv) {
   std::vector<int> processed_index(n, -1);  // index into the best trajectory, or -1
   std::size_t fed = 0;
   int processed = 0;
+  std::size_t peak_map_bytes = 0;  // map cells of all particles, sampled every 10 processed scans
   double last_report = 0.0;
   for (; fed < n && !g_interrupted; ++fed) {
     const minibot3d_slam::LogScan& s = log.scans[fed];
-    if (slam.AddScan(s.scan, s.odom)) processed_index[fed] = processed++;
+    if (slam.AddScan(s.scan, s.odom)) {
+      processed_index[fed] = processed++;
+      if (processed % 10 == 0) peak_map_bytes = std::max(peak_map_bytes, slam.MapMemoryBytes());
+    }
     if (!args.quiet && (wall() - last_report >= 1.0 || fed + 1 == n)) {
       last_report = wall();
       std::fprintf(stderr, "\rslam_offline: %5.1f%%  scans %zu/%zu  processed %d  %.0f scans/s   ",
@@ -250,6 +262,7 @@ int main(int argc, char** argv) {
     std::cerr << "slam_offline: interrupted after " << fed << " of " << n << " scans; writing what was processed\n";
   }
 
+  slam.FinishLoops();
   // Trajectory: processed readings take the best particle's poses; the others the previous
   // processed pose moved by the odometry increment.
   const std::vector<minibot3d_slam::StampedPose> best = slam.BestTrajectory();
@@ -260,15 +273,35 @@ int main(int argc, char** argv) {
     std::cerr << "slam_offline: cannot write " << traj_tmp << ": " << std::strerror(errno) << "\n";
     return 1;
   }
+  // The pose of every reading: processed ones from the trajectory; the others first moved from
+  // the last processed one by odometry, then (unless --odometry-between) matched against the final
+  // map — independent matches against a map no longer changing, so on two threads.
+  std::vector<Pose2> poses(fed);
+  std::vector<std::size_t> to_localize;
   std::size_t anchor = 0;
   for (std::size_t i = 0; i < fed; ++i) {
     if (processed_index[i] >= 0) anchor = i;
     const int k = processed_index[anchor];
     if (k < 0 || static_cast<std::size_t>(k) >= best.size()) continue;  // cannot happen: scan 0 is processed
-    const Pose2 pose = minibot3d_slam::Compose(
-        best[static_cast<std::size_t>(k)].pose,
-        minibot3d_slam::Between(log.scans[i].odom, log.scans[anchor].odom));
-    std::fprintf(out, "%.6f %.6f %.6f %.6f\n", log.scans[i].timestamp, pose.x, pose.y, pose.theta);
+    poses[i] = minibot3d_slam::Compose(best[static_cast<std::size_t>(k)].pose,
+                                       minibot3d_slam::Between(log.scans[i].odom, log.scans[anchor].odom));
+    if (args.localize && i != anchor) to_localize.push_back(i);
+  }
+  {
+    constexpr int kThreads = 2;
+    std::vector<std::thread> workers;
+    for (int t = 0; t < kThreads; ++t) {
+      workers.emplace_back([&, t]() {
+        for (std::size_t j = static_cast<std::size_t>(t); j < to_localize.size(); j += kThreads) {
+          const std::size_t i = to_localize[j];
+          poses[i] = slam.Localize(log.scans[i].scan, poses[i]);
+        }
+      });
+    }
+    for (std::thread& w : workers) w.join();
+  }
+  for (std::size_t i = 0; i < fed; ++i) {
+    std::fprintf(out, "%.6f %.6f %.6f %.6f\n", log.scans[i].timestamp, poses[i].x, poses[i].y, poses[i].theta);
   }
   if (std::fclose(out) != 0 || std::rename(traj_tmp.c_str(), traj_path.c_str()) != 0) {
     std::cerr << "slam_offline: cannot write " << traj_path << ": " << std::strerror(errno) << "\n";
@@ -280,8 +313,15 @@ int main(int argc, char** argv) {
     std::cerr << "slam_offline: " << e.what() << "\n";
     return 1;
   }
+  std::size_t log_bytes = 0;  // the log held in memory (for the memory figures)
+  for (const auto& s : log.scans) {
+    log_bytes += sizeof(s) + (s.scan.ranges.capacity() + s.scan.angles.capacity()) * sizeof(double);
+  }
   const double log_s = fed > 0 ? log.scans[fed - 1].timestamp - log.scans[0].timestamp : 0.0;
-  std::printf("scans %zu processed %d wall_s %.2f log_s %.1f peak_mem_mb %.1f\n", fed, processed, wall(), log_s,
-              PeakMemoryMb());
+  std::printf("scans %zu processed %d wall_s %.2f log_s %.1f peak_mem_mb %.1f loop_closures %d loop_constraints %d "
+              "map_peak_mb %.1f log_mb %.1f loop_scans_mb %.1f\n",
+              fed, processed, wall(), log_s, PeakMemoryMb(), slam.loop_closures(), slam.loop_constraints(),
+              static_cast<double>(peak_map_bytes) / 1048576.0, static_cast<double>(log_bytes) / 1048576.0,
+              static_cast<double>(slam.LoopScanBytes()) / 1048576.0);
   return g_interrupted ? 130 : 0;
 }

@@ -82,6 +82,38 @@ TEST(GmappingOptionsTest, SubcellMatchAndSampleProposalAreSwitches) {
   EXPECT_THROW(SetOption(&o, "subcellMatch", "true"), std::invalid_argument);
 }
 
+TEST(GmappingOptionsTest, LoopClosureOptionsAreValidatedAndSetByName) {
+  GmappingOptions o;
+  EXPECT_EQ(o.loopClosure, 1);
+  SetOption(&o, "loopClosure", "0");
+  SetOption(&o, "loopSearchWindow", "6.5");
+  SetOption(&o, "loopSearchAngle", "0.5");
+  SetOption(&o, "loopMinScore", "0.7");
+  SetOption(&o, "loopSubmapScans", "30");
+  SetOption(&o, "loopMinTravel", "20");
+  EXPECT_EQ(o.loopClosure, 0);
+  EXPECT_DOUBLE_EQ(o.loopSearchWindow, 6.5);
+  EXPECT_DOUBLE_EQ(o.loopSearchAngle, 0.5);
+  EXPECT_DOUBLE_EQ(o.loopMinScore, 0.7);
+  EXPECT_EQ(o.loopSubmapScans, 30);
+  EXPECT_DOUBLE_EQ(o.loopMinTravel, 20.0);
+  EXPECT_NO_THROW(ValidateOptions(o));
+  o.loopClosure = 2;
+  o.loopSearchWindow = 0.0;
+  o.loopSearchAngle = 4.0;
+  o.loopMinScore = 1.5;
+  o.loopSubmapScans = 1;
+  o.loopMinTravel = -1.0;
+  const std::string m = ValidationMessage(o);
+  EXPECT_NE(m.find("loopClosure = 2 (must be 0 or 1)"), std::string::npos) << m;
+  EXPECT_NE(m.find("loopSearchWindow = 0 (must be in (0, 50] m)"), std::string::npos) << m;
+  EXPECT_NE(m.find("loopSearchAngle = 4 (must be in (0, pi] rad)"), std::string::npos) << m;
+  EXPECT_NE(m.find("loopMinScore = 1.5 (must be in (0, 1])"), std::string::npos) << m;
+  EXPECT_NE(m.find("loopSubmapScans = 1 (must be in [2, 1000])"), std::string::npos) << m;
+  EXPECT_NE(m.find("loopMinTravel = -1 (must be >= 0 m)"), std::string::npos) << m;
+  EXPECT_THROW(SetOption(&o, "loopSubmapScans", "2.5"), std::invalid_argument);
+}
+
 TEST(GmappingOptionsTest, SetOptionByGmappingName) {
   GmappingOptions o;
   SetOption(&o, "particles", "80");

@@ -152,5 +152,50 @@ TEST(GridTest, RegisterCutsReadingsAtMaxUrange) {
   EXPECT_EQ(g.At(g.CellX(-1.0), 0).visits, 0);
 }
 
+// Memory follows the explored area, not the bounding box: two short rays 2 km apart allocate the
+// handful of tiles they cross; the 40 000 × 20 000-cell box between them costs a table of tile
+// pointers only, and every cell outside the allocated tiles reads as unknown.
+TEST(GridTest, ReadsOfUnallocatedTilesAreUnknownAndWritesAllocateOnlyTheirTiles) {
+  Grid g(0.05);
+  EXPECT_EQ(g.TileCount(), 0);
+  EXPECT_EQ(g.At(0, 0).visits, 0);
+  EXPECT_EQ(g.TileAt(0, 0), nullptr);
+  EXPECT_DOUBLE_EQ(g.Probability(123456, -654321), -1.0);
+  g.TraceRay(1.01, 1.01, 2.01, 1.01, true);          // 20 cells, one tile
+  g.TraceRay(2001.01, 1001.01, 2002.01, 1001.01, true);  // 2 km east, 1 km north
+  EXPECT_LE(g.TileCount(), 4);
+  int x0, y0, x1, y1;
+  ASSERT_TRUE(g.AllocatedBounds(&x0, &y0, &x1, &y1));
+  EXPECT_GT(static_cast<double>(x1 - x0) * (y1 - y0), 7e8);  // the box: 40 000 × 20 000 cells…
+  const std::size_t bytes = static_cast<std::size_t>(g.TileCount()) * sizeof(Grid::Tile);
+  EXPECT_LT(bytes, 4u * sizeof(Grid::Tile) + 1);  // …the cells are a few tiles
+  // In between: unknown, unallocated.
+  for (double x = 10.0; x < 2000.0; x += 97.3) {
+    EXPECT_EQ(g.At(g.CellX(x), g.CellY(x / 2)).visits, 0) << x;
+    EXPECT_EQ(g.TileAt(g.CellX(x) >> Grid::kTileBits, g.CellY(x / 2) >> Grid::kTileBits), nullptr) << x;
+  }
+  EXPECT_TRUE(g.At(g.CellX(2.01), g.CellY(1.01)).Occupied());
+  EXPECT_TRUE(g.At(g.CellX(2002.01), g.CellY(1001.01)).Occupied());
+}
+
+TEST(GridTest, CopiesAreIndependent) {
+  Grid a(0.05);
+  a.TraceRay(0.01, 0.01, 3.0, 0.01, true);
+  Grid b = a;
+  // Writes to either side, into shared and into new tiles, are invisible to the other.
+  b.TraceRay(0.01, 0.01, 3.0, 0.01, true);
+  b.MarkHit(1000, 1000, 50.01, 50.01);
+  a.MarkFree(-500, 7);
+  EXPECT_EQ(a.At(a.CellX(1.0), 0).visits, 1);
+  EXPECT_EQ(b.At(b.CellX(1.0), 0).visits, 2);
+  EXPECT_EQ(a.At(1000, 1000).visits, 0);
+  EXPECT_EQ(b.At(1000, 1000).hits, 1);
+  EXPECT_EQ(a.At(-500, 7).visits, 1);
+  EXPECT_EQ(b.At(-500, 7).visits, 0);
+  // Destroying the original leaves the copy intact.
+  { Grid gone = std::move(a); }
+  EXPECT_EQ(b.At(b.CellX(3.0), 0).hits, 2);
+}
+
 }  // namespace
 }  // namespace minibot3d_slam

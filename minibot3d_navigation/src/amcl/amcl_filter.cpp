@@ -114,9 +114,32 @@ const char* UpdateStatusName(UpdateStatus status) {
   return "unknown";
 }
 
+double ExplainedFraction(const MapModel& map, const PreparedScan& scan,
+                         const Pose2D& pose, double hit_dist, int* beams_used) {
+  const Pose2D laser = map.WorldToGridFrame(Compose(pose, scan.laser_pose));
+  int used = 0, hit = 0;
+  for (const PreparedScan::Beam& b : scan.beams) {
+    if (b.is_max) continue;
+    ++used;
+    const double a = laser.yaw + b.bearing;
+    const double d = map.DistanceAtGridPoint(laser.x + b.range * std::cos(a),
+                                             laser.y + b.range * std::sin(a));
+    // An off-map end point reads max_occ_dist: unexplained unless hit_dist
+    // is at least that far.
+    if (d <= hit_dist) ++hit;
+  }
+  if (beams_used != nullptr) *beams_used = used;
+  return used > 0 ? static_cast<double>(hit) / used : 0.0;
+}
+
 AmclFilter::AmclFilter(const AmclOptions& options, const OccupancyGrid& grid,
                        Initialization init, uint64_t seed)
-    : AmclFilter(options, BuildMap(options, grid), init, seed) {}
+    : AmclFilter(options, BuildMap(options, grid), init, seed) {
+  search_ = std::make_shared<const GlobalSearch>(grid, options_);
+  if (init == Initialization::kGlobal) {
+    pending_search_ = global_search() != nullptr;
+  }
+}
 
 AmclFilter::AmclFilter(const AmclOptions& options,
                        std::shared_ptr<const MapModel> map, Initialization init,
@@ -167,7 +190,8 @@ void AmclFilter::SetPose(const Pose2D& mean,
   std::vector<Particle> fresh;
   SampleGaussian(mean, covariance, *map_, &fresh);  // throws before any change
   particles_.swap(fresh);
-  ResetAfterInitialization();
+  pending_search_ = false;
+  ResetAfterInitialization(options_.confidence_min_updates);  // user's pose
 }
 
 void AmclFilter::GlobalLocalization() {
@@ -177,13 +201,79 @@ void AmclFilter::GlobalLocalization() {
     p.pose = map_->SampleFreePose(&rng_);
     p.weight = w;
   }
-  ResetAfterInitialization();
+  pending_search_ = global_search() != nullptr;
+  pending_relocalization_ = false;
+  ResetAfterInitialization(0);
+}
+
+void AmclFilter::SeedFromCandidates(
+    const std::vector<SearchCandidate>& candidates) {
+  if (candidates.empty()) return;
+  // Spread round a candidate: the search lattice's error (a cell, a fraction
+  // of a degree) plus room for the filter to settle.
+  constexpr double kSigmaXY = 0.15, kSigmaYaw = 0.1;
+  constexpr int kTries = 10;  // draws before falling back to the candidate
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  const int n = options_.max_particles;
+  const int k = static_cast<int>(candidates.size());
+  std::vector<Particle> fresh(n);
+  double total = 0.0;
+  for (int m = 0; m < n; ++m) {
+    const SearchCandidate& c = candidates[m % k];
+    Pose2D p = c.pose;
+    for (int t = 0; t < kTries; ++t) {
+      const Pose2D q{c.pose.x + kSigmaXY * gauss(rng_),
+                     c.pose.y + kSigmaXY * gauss(rng_),
+                     NormalizeAngle(c.pose.yaw + kSigmaYaw * gauss(rng_))};
+      int i, j;
+      if (map_->WorldToCell(q.x, q.y, &i, &j) && map_->IsFree(i, j)) {
+        p = q;
+        break;
+      }
+    }
+    fresh[m].pose = p;
+    fresh[m].weight = std::max(c.score, 1e-6);
+    total += fresh[m].weight;
+  }
+  for (Particle& p : fresh) p.weight /= total;
+  particles_.swap(fresh);
+  ResetAfterInitialization(0);
+}
+
+void AmclFilter::RunSearch(const LaserScan& scan, bool relocalization) {
+  pending_search_ = false;
+  pending_relocalization_ = false;
+  const GlobalSearch* search = global_search();
+  if (search == nullptr) return;
+  SearchReport report;
+  report.count = last_search_.count + 1;
+  report.relocalization = relocalization;
+  report.candidates =
+      search->Search(scan, &report.seconds, &report.cpu_seconds);
+  std::vector<SearchCandidate> seeds = report.candidates;
+  if (relocalization) {
+    // The filter may only be briefly confused (a crowd in front of the
+    // laser): its own estimate stays one of the hypotheses.
+    bool known = false;
+    double lowest = options_.global_search_min_score;
+    for (const SearchCandidate& c : seeds) {
+      lowest = std::min(lowest, c.score);
+      known = known || (std::hypot(c.pose.x - estimate_.mean.x,
+                                   c.pose.y - estimate_.mean.y) < 1.0 &&
+                        std::fabs(AngleDiff(c.pose.yaw, estimate_.mean.yaw)) <
+                            kPi / 4);
+    }
+    if (!known) seeds.push_back({estimate_.mean, lowest});
+  }
+  last_search_ = report;
+  SeedFromCandidates(seeds);
 }
 
 void AmclFilter::SetMap(const OccupancyGrid& grid, Initialization init) {
   auto new_map =
       std::make_shared<MapModel>(grid, options_.laser_likelihood_max_dist);
   auto new_sensor = CreateSensorModel(options_, new_map);
+  auto new_search = std::make_shared<const GlobalSearch>(grid, options_);
   std::vector<Particle> fresh;
   if (init == Initialization::kGlobal) {
     fresh.resize(options_.max_particles);
@@ -203,11 +293,19 @@ void AmclFilter::SetMap(const OccupancyGrid& grid, Initialization init) {
   }
   map_ = std::move(new_map);
   sensor_ = std::move(new_sensor);
+  search_ = std::move(new_search);
   particles_.swap(fresh);
-  ResetAfterInitialization();
+  pending_relocalization_ = false;
+  pending_search_ = init == Initialization::kGlobal && global_search();
+  ResetAfterInitialization(
+      init == Initialization::kGlobal
+          ? 0
+          : init == Initialization::kFromOptions
+                ? options_.confidence_min_updates
+                : confidence_.evidence_updates);
 }
 
-void AmclFilter::ResetAfterInitialization() {
+void AmclFilter::ResetAfterInitialization(int evidence_updates) {
   // As amcl after pf_init: the next scan re-anchors odometry and is
   // integrated without motion; recovery averages and convergence restart.
   have_odom_ = false;
@@ -215,6 +313,9 @@ void AmclFilter::ResetAfterInitialization() {
   resample_count_ = 0;
   have_w_avg_ = false;
   converged_ = false;
+  measured_ = false;
+  confidence_ = Confidence();
+  confidence_.evidence_updates = evidence_updates;
   UpdateEstimate();
 }
 
@@ -233,12 +334,18 @@ UpdateResult AmclFilter::Update(const Pose2D& odom_pose,
     return result;
   }
 
+  // A pending map-wide search replaces the set by poses at this scan's time,
+  // so no motion is applied to them (SeedFromCandidates clears have_odom_).
+  if (pending_search_) RunSearch(scan, pending_relocalization_);
+
+  bool motion_update = false;  // triggered by motion, not forced
   if (have_odom_) {
     const double moved =
         std::hypot(odom_pose.x - odom_ref_.x, odom_pose.y - odom_ref_.y);
     const double turned = std::fabs(AngleDiff(odom_pose.yaw, odom_ref_.yaw));
-    if (!(moved > options_.update_min_d || turned > options_.update_min_a ||
-          force_update_)) {
+    motion_update =
+        moved > options_.update_min_d || turned > options_.update_min_a;
+    if (!(motion_update || force_update_)) {
       result.status = UpdateStatus::kSkippedNoMotion;
       return result;
     }
@@ -272,6 +379,7 @@ UpdateResult AmclFilter::Update(const Pose2D& odom_pose,
     result.resampled = true;
   }
   UpdateEstimate();
+  UpdateConfidence(motion_update);
   return result;
 }
 
@@ -401,10 +509,96 @@ void AmclFilter::UpdateEstimate() {
   clusters_ = ClusterParticles(particles_);
   estimate_ = PoseEstimate();
   estimate_.cluster_count = static_cast<int>(clusters_.size());
-  if (clusters_.empty()) return;
+  confidence_.modes = 0;
+  if (clusters_.empty()) {
+    UpdateClaim();
+    return;
+  }
   estimate_.mean = clusters_.front().mean;
   estimate_.covariance = clusters_.front().covariance;
   estimate_.weight = clusters_.front().weight;
+  // Modes: the heaviest clusters holding 1 - confidence_mode_weight.
+  const double needed = 1.0 - options_.confidence_mode_weight;
+  double held = 0.0;
+  for (const PoseCluster& c : clusters_) {
+    if (held >= needed - 1e-12) break;
+    held += c.weight;
+    ++confidence_.modes;
+  }
+  UpdateClaim();
+}
+
+void AmclFilter::UpdateClaim() {
+  // Second moment of the modes about the estimate: a mixture's covariance
+  // plus the spread of its means, taken round the mean actually published.
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  double total = 0.0;
+  for (int k = 0; k < confidence_.modes; ++k) {
+    const PoseCluster& c = clusters_[k];
+    const Eigen::Vector3d d(c.mean.x - estimate_.mean.x,
+                            c.mean.y - estimate_.mean.y,
+                            AngleDiff(c.mean.yaw, estimate_.mean.yaw));
+    cov += c.weight * (c.covariance + d * d.transpose());
+    total += c.weight;
+  }
+  if (total > 0.0) cov /= total;
+  confidence_.confident =
+      measured_ &&
+      confidence_.explained_fraction >= options_.confidence_min_explained &&
+      confidence_.modes == 1 &&
+      confidence_.evidence_updates >= options_.confidence_min_updates;
+  if (!confidence_.confident) {
+    cov(0, 0) = std::max(cov(0, 0), kUnconfidentVarianceXY);
+    cov(1, 1) = std::max(cov(1, 1), kUnconfidentVarianceXY);
+    cov(2, 2) = std::max(cov(2, 2), kUnconfidentVarianceYaw);
+  }
+  estimate_.claim_covariance = cov;
+}
+
+void AmclFilter::UpdateConfidence(bool motion_update) {
+  confidence_.explained_fraction = ExplainedFraction(
+      *map_, scan_, estimate_.mean,
+      options_.confidence_hit_dist > 0.0 ? options_.confidence_hit_dist
+                                         : 2.0 * options_.laser_sigma_hit,
+      &confidence_.beams_used);
+  measured_ = true;
+  const bool explained =
+      confidence_.explained_fraction >= options_.confidence_min_explained;
+  if (explained && confidence_.modes == 1) {
+    // Only motion brings new evidence; a forced update re-reads the same view.
+    if (motion_update) ++confidence_.evidence_updates;
+  } else {
+    confidence_.evidence_updates = 0;
+  }
+  // Lost: no hypothesis explains what the robot sees.  (While several modes
+  // remain the heaviest may well be a wrong one; motion decides among them,
+  // not a new search.)  The heaviest clusters are enough: after a kidnapping
+  // augmented MCL sprinkles random poses, a cloud of light clusters.
+  constexpr int kLostCheckClusters = 10;
+  const double hit_dist = options_.confidence_hit_dist > 0.0
+                              ? options_.confidence_hit_dist
+                              : 2.0 * options_.laser_sigma_hit;
+  bool any_explained = explained;
+  for (int k = 1; !any_explained && k < static_cast<int>(clusters_.size()) &&
+                  k < kLostCheckClusters;
+       ++k) {
+    any_explained = ExplainedFraction(*map_, scan_, clusters_[k].mean,
+                                      hit_dist) >=
+                    options_.confidence_min_explained;
+  }
+  if (any_explained) {
+    confidence_.lost_updates = 0;
+  } else if (motion_update) {
+    ++confidence_.lost_updates;
+    if (options_.confidence_lost_updates > 0 &&
+        confidence_.lost_updates >= options_.confidence_lost_updates &&
+        global_search() != nullptr) {
+      pending_search_ = true;
+      pending_relocalization_ = true;
+      confidence_.lost_updates = 0;
+    }
+  }
+  UpdateClaim();
 }
 
 size_t AmclFilter::ParticleMemoryBytes() const {

@@ -52,7 +52,20 @@ const options::OptionTable<O>& Table() {
        Field("initial_pose_a", &O::initial_pose_a),
        Field("initial_cov_xx", &O::initial_cov_xx),
        Field("initial_cov_yy", &O::initial_cov_yy),
-       Field("initial_cov_aa", &O::initial_cov_aa)});
+       Field("initial_cov_aa", &O::initial_cov_aa),
+       Field("confidence_hit_dist", &O::confidence_hit_dist),
+       Field("confidence_min_explained", &O::confidence_min_explained),
+       Field("confidence_mode_weight", &O::confidence_mode_weight),
+       Field("confidence_min_updates", &O::confidence_min_updates),
+       Field("confidence_lost_updates", &O::confidence_lost_updates),
+       Field("global_search", &O::global_search),
+       Field("global_search_budget", &O::global_search_budget),
+       Field("global_search_max_candidates", &O::global_search_max_candidates),
+       Field("global_search_min_score", &O::global_search_min_score),
+       Field("global_search_min_relative_score",
+             &O::global_search_min_relative_score),
+       Field("global_search_depth", &O::global_search_depth),
+       Field("global_search_max_beams", &O::global_search_max_beams)});
   return table;
 }
 
@@ -167,6 +180,32 @@ void ValidateAmclOptions(const AmclOptions& o) {
   non_negative("initial_cov_xx", o.initial_cov_xx);
   non_negative("initial_cov_yy", o.initial_cov_yy);
   non_negative("initial_cov_aa", o.initial_cov_aa);
+
+  finite("confidence_hit_dist", o.confidence_hit_dist);
+  unit_interval("confidence_min_explained", o.confidence_min_explained);
+  require(std::isfinite(o.confidence_mode_weight) &&
+              o.confidence_mode_weight >= 0.0 && o.confidence_mode_weight < 0.5,
+          "confidence_mode_weight=" + Num(o.confidence_mode_weight) +
+              " must be in [0, 0.5)");
+  require(o.confidence_min_updates >= 0,
+          "confidence_min_updates=" + std::to_string(o.confidence_min_updates) +
+              " must be >= 0");
+  require(o.confidence_lost_updates >= 0,
+          "confidence_lost_updates=" +
+              std::to_string(o.confidence_lost_updates) + " must be >= 0");
+  positive("global_search_budget", o.global_search_budget);
+  require(o.global_search_max_candidates >= 1,
+          "global_search_max_candidates=" +
+              std::to_string(o.global_search_max_candidates) + " must be >= 1");
+  unit_interval("global_search_min_score", o.global_search_min_score);
+  unit_interval("global_search_min_relative_score",
+                o.global_search_min_relative_score);
+  require(o.global_search_max_beams >= 1,
+          "global_search_max_beams=" +
+              std::to_string(o.global_search_max_beams) + " must be >= 1");
+  require(o.global_search_depth >= 1 && o.global_search_depth <= 12,
+          "global_search_depth=" + std::to_string(o.global_search_depth) +
+              " must be in [1, 12]");
 
   problems.ThrowIfAny();
 }

@@ -28,7 +28,12 @@ const options::OptionTable<O>& Table() {
        Field("clearing_rotation_allowed", &O::clearing_rotation_allowed),
        Field("conservative_reset_dist", &O::conservative_reset_dist),
        Field("shutdown_costmaps", &O::shutdown_costmaps),
-       Field("recovery_behaviors", &O::recovery_behaviors)});
+       Field("recovery_behaviors", &O::recovery_behaviors),
+       Field("back_out_distance", &O::back_out_distance),
+       Field("back_out_vel", &O::back_out_vel),
+       Field("blocked_radius", &O::blocked_radius),
+       Field("blocked_lookahead", &O::blocked_lookahead),
+       Field("recovery_reset_distance", &O::recovery_reset_distance)});
   return table;
 }
 
@@ -56,10 +61,25 @@ void ValidateMoveBaseOptions(const MoveBaseOptions& o) {
   p.Require(Finite(o.conservative_reset_dist) && o.conservative_reset_dist >= 0.0,
             "conservative_reset_dist=" + Num(o.conservative_reset_dist) + " must be >= 0");
   for (const std::string& r : o.recovery_behaviors) {
-    p.Require(r == "conservative_reset" || r == "rotate_recovery" || r == "aggressive_reset",
+    p.Require(r == "back_out" || r == "conservative_reset" || r == "rotate_recovery" ||
+                  r == "aggressive_reset",
               "recovery_behaviors entry '" + r +
-                  "' is not one of conservative_reset, rotate_recovery, aggressive_reset");
+                  "' is not one of back_out, conservative_reset, rotate_recovery, "
+                  "aggressive_reset");
   }
+  p.Require(Finite(o.back_out_distance) && o.back_out_distance >= 0.0 &&
+                o.back_out_distance <= 5.0,
+            "back_out_distance=" + Num(o.back_out_distance) + " must be in [0, 5] m (0 = off)");
+  p.Require(Finite(o.back_out_vel) && o.back_out_vel > 0.0 && o.back_out_vel <= 1.0,
+            "back_out_vel=" + Num(o.back_out_vel) + " must be in (0, 1] m/s");
+  p.Require(Finite(o.blocked_radius) && o.blocked_radius >= 0.0 && o.blocked_radius <= 2.0,
+            "blocked_radius=" + Num(o.blocked_radius) + " must be in [0, 2] m (0 = off)");
+  p.Require(Finite(o.blocked_lookahead) && o.blocked_lookahead >= 0.0 &&
+                o.blocked_lookahead <= 3.0,
+            "blocked_lookahead=" + Num(o.blocked_lookahead) + " must be in [0, 3] m");
+  p.Require(Finite(o.recovery_reset_distance) && o.recovery_reset_distance >= 0.0,
+            "recovery_reset_distance=" + Num(o.recovery_reset_distance) +
+                " must be >= 0 (0 = never restart the list)");
   p.ThrowIfAny();
 }
 

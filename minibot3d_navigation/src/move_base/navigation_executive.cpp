@@ -44,6 +44,7 @@ void NavigationExecutive::SetGoal(const Pose2D& goal, double time) {
   planning_retries_ = 0;
   recovery_index_ = 0;
   recovery_running_ = false;
+  blocked_.clear();
   local_planner_->Reset();
 }
 
@@ -52,9 +53,95 @@ void NavigationExecutive::Cancel() {
   recovery_running_ = false;
 }
 
+namespace {
+constexpr double kTrailSpacing = 0.02;     // m between recorded trail poses
+constexpr double kTrailYawSpacing = 0.1;   // rad (turns on the spot are recorded too)
+constexpr size_t kTrailMaxPoses = 500;     // >= 10 m of trail at kTrailSpacing
+constexpr size_t kMaxBlocked = 32;
+}  // namespace
+
+void NavigationExecutive::RecordTrail(const Pose2D& p) {
+  if (!trail_.empty()) {
+    const Pose2D& last = trail_.back();
+    if (std::hypot(p.x - last.x, p.y - last.y) < kTrailSpacing &&
+        std::abs(AngleDiff(p.yaw, last.yaw)) < kTrailYawSpacing) {
+      return;
+    }
+  }
+  trail_.push_back(p);
+  if (trail_.size() > kTrailMaxPoses) trail_.erase(trail_.begin(), trail_.begin() + 100);
+}
+
+void NavigationExecutive::RememberBlocked(const RobotState& state) {
+  if (options_.blocked_radius <= 0.0 || plan_.empty()) return;
+  // The plan pose nearest the robot, then the first one blocked_lookahead
+  // beyond it (straight-line distance from the robot).
+  const Pose2D& r = state.global_pose;
+  size_t nearest = 0;
+  double best = 1e300;
+  for (size_t i = 0; i < plan_.size(); ++i) {
+    const double d = std::hypot(plan_[i].x - r.x, plan_[i].y - r.y);
+    if (d < best) best = d, nearest = i;
+  }
+  size_t i = nearest;
+  while (i + 1 < plan_.size() &&
+         std::hypot(plan_[i].x - r.x, plan_[i].y - r.y) < options_.blocked_lookahead) {
+    ++i;
+  }
+  // Never the goal itself: the goal stays plannable.
+  const Point2D c{plan_[i].x, plan_[i].y};
+  if (std::hypot(c.x - goal_.x, c.y - goal_.y) < options_.blocked_radius + 0.1) return;
+  blocked_.push_back(c);
+  if (blocked_.size() > kMaxBlocked) blocked_.erase(blocked_.begin());
+}
+
+const Costmap2D& NavigationExecutive::PlanningCostmap(const RobotState& state) {
+  const Costmap2D& g = *state.global_costmap;
+  planning_costmap_ = g;
+  const double res = g.resolution();
+  // The cells round the robot and the goal stay as they are, so the start
+  // and goal remain plannable (a robot that could not back out is still in
+  // its disc: the disc then only counts once it has left).
+  const double keep = options_.blocked_radius;
+  const int rc = static_cast<int>(std::ceil(options_.blocked_radius / res));
+  for (const Point2D& b : blocked_) {
+    int cx, cy;
+    g.WorldToMapNoBounds(b.x, b.y, &cx, &cy);
+    for (int my = cy - rc; my <= cy + rc; ++my) {
+      for (int mx = cx - rc; mx <= cx + rc; ++mx) {
+        if (!g.InBounds(mx, my)) continue;
+        double wx, wy;
+        g.MapToWorld(mx, my, &wx, &wy);
+        if (std::hypot(wx - b.x, wy - b.y) > options_.blocked_radius) continue;
+        if (std::hypot(wx - state.global_pose.x, wy - state.global_pose.y) < keep ||
+            std::hypot(wx - goal_.x, wy - goal_.y) < keep) {
+          continue;
+        }
+        planning_costmap_.set_cost(mx, my, kLethalObstacle);
+      }
+    }
+  }
+  return planning_costmap_;
+}
+
 bool NavigationExecutive::TryPlan(const RobotState& state, double time) {
   next_plan_time_ = options_.planner_frequency > 0.0 ? time + 1.0 / options_.planner_frequency
                                                      : 1e300;
+  // Round the places remembered as blocked; when there is no way round them
+  // all, forget the oldest and try again.
+  while (!blocked_.empty()) {
+    try {
+      plan_ = global_planner_->MakePlan(PlanningCostmap(state), state.global_pose, goal_);
+      if (!plan_.empty()) {
+        last_valid_plan_ = time;
+        planning_retries_ = 0;
+        return true;
+      }
+    } catch (const PlanningError& e) {
+      if (e.code() == PlanningError::Code::kGoalOffMap) throw;
+    }
+    blocked_.erase(blocked_.begin());
+  }
   try {
     plan_ = global_planner_->MakePlan(*state.global_costmap, state.global_pose, goal_);
     if (plan_.empty()) throw PlanningError(PlanningError::Code::kNoPath, "planner returned an empty path");
@@ -80,9 +167,13 @@ CycleResult NavigationExecutive::Abort(const std::string& message) {
 
 CycleResult NavigationExecutive::EnterClearing(Trigger trigger, const RobotState& state) {
   trigger_ = trigger;
+  if (trigger == Trigger::kControlling) RememberBlocked(state);
+  recovery_pose_ = state.global_pose;
   if (options_.recovery_behavior_enabled && recovery_index_ < recoveries_.size()) {
     state_ = NavState::kClearing;
-    recoveries_[recovery_index_]->Start(state);
+    RobotState s = state;
+    s.control_failed = trigger == Trigger::kControlling;
+    recoveries_[recovery_index_]->Start(s);
     recovery_running_ = true;
     CycleResult r;
     r.status = GoalStatus::kActive;
@@ -110,9 +201,13 @@ CycleResult NavigationExecutive::EnterClearing(Trigger trigger, const RobotState
   return Abort(msg.str());
 }
 
-CycleResult NavigationExecutive::Step(const RobotState& state, const Pose2D& global_to_local) {
+CycleResult NavigationExecutive::Step(const RobotState& input, const Pose2D& global_to_local) {
   CycleResult result;
+  RecordTrail(input.local_pose);
   if (state_ == NavState::kIdle) return result;
+  RobotState state = input;
+  state.trail = &trail_;
+  state.control_failed = trigger_ == Trigger::kControlling;
   result.status = GoalStatus::kActive;
   const double t = state.time;
 
@@ -185,6 +280,12 @@ CycleResult NavigationExecutive::Step(const RobotState& state, const Pose2D& glo
     result.cmd = local_planner_->ComputeVelocity(state.local_pose, state.velocity, local_plan_,
                                                  *state.local_costmap);
     last_valid_control_ = t;
+    if (recovery_index_ > 0 && trigger_ != Trigger::kOscillation &&
+        options_.recovery_reset_distance > 0.0 &&
+        std::hypot(state.global_pose.x - recovery_pose_.x,
+                   state.global_pose.y - recovery_pose_.y) >= options_.recovery_reset_distance) {
+      recovery_index_ = 0;
+    }
   } catch (const ControlError& e) {
     last_error_ = e.what();
     result.cmd = Twist2D();

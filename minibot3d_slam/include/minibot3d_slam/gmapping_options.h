@@ -45,6 +45,15 @@ struct GmappingOptions {
   double maxRange = 0.0;      // beyond it a reading is a no-return; 0: the sensor's range_max
   double xmin = -100.0, ymin = -100.0, xmax = 100.0, ymax = 100.0;  // initial map extent
   double occ_thresh = 0.25;   // occupancy probability above which a cell is published occupied
+  // Loop closure (loop_closer.h; not gmapping parameters): a pose graph of the best particle's
+  // trajectory, revisits of older submaps found by a correlative search around the current
+  // estimate, Ceres optimisation, the map rebuilt from the corrected trajectory.
+  int loopClosure = 1;             // 1 on, 0 off (the plain RBPF)
+  double loopSearchWindow = 4.0;   // m: half-width of the search square; also how close a submap must be
+  double loopSearchAngle = 0.35;   // rad: half-width of the heading window
+  double loopMinScore = 0.6;       // correlative score (mean blurred occupancy at the endpoints) to accept
+  int loopSubmapScans = 20;        // processed scans per submap
+  double loopMinTravel = 10.0;     // m of path since a submap ended before the scan is matched against it
   // Random seed of the particle filter (for reproducible runs).
   unsigned seed = 0;
 };

@@ -30,12 +30,40 @@
 //  5. the pose estimate is the weighted mean/covariance of the heaviest
 //     cluster of particles (pose_clusters.h).
 //
+// Confidence (what the published covariance claims; issue "global
+// localization that knows when it is wrong"):
+//  * explained fraction: of the used (non-max-range) beams, the share whose
+//    end point at the estimate lies within confidence_hit_dist of a mapped
+//    obstacle (the likelihood field's distance);
+//  * modes: the heaviest clusters that together hold 1 -
+//    confidence_mode_weight of the weight;
+//  * evidence: consecutive motion-triggered updates with the scan explained
+//    and one mode.  It restarts at 0 on global localization and on a
+//    re-seed, and starts satisfied for a pose the user gave (initial pose).
+//  The claim covariance (PoseEstimate::claim_covariance, what the node
+//  publishes on amcl_pose) is the second moment of all modes about the
+//  estimate, so a split set claims the distance between its modes; unless
+//  the filter is confident (explained >= confidence_min_explained, one mode,
+//  evidence >= confidence_min_updates) its diagonal is raised to at least
+//  kUnconfidentVarianceXY / kUnconfidentVarianceYaw.  Resampling alone never
+//  earns a claim: only updates after motion count.
+//
+// Global localization with the map-wide search (global_search.h): the set is
+// first spread uniformly (amcl); the next Update() runs the search on its
+// scan and, if it finds candidates, replaces the set by Gaussians round them
+// (weights proportional to the scores).  The same happens when the filter
+// finds itself lost: confidence_lost_updates consecutive motion-triggered
+// updates in which none of the ten heaviest clusters explains the scan (a
+// kidnapped robot, or candidates that were all wrong); the current estimate
+// is then kept as one more candidate.
+//
 // Deliberate differences from ROS amcl (each explained where implemented):
 // update gating uses the Euclidean odometry distance (amcl: |dx| or |dy|);
 // KLD gives min_particles for one occupied bin (amcl: max_particles); the
 // average likelihood omits amcl's extra 1/N; only w_fast restarts, and only
 // after an actual injection; the estimate's covariance is that of the chosen
-// cluster (amcl publishes the whole-set one: WholeSetStatistics()).
+// cluster (amcl publishes the whole-set one: WholeSetStatistics()), and the
+// claim covariance covers every mode (see Confidence above).
 //
 // Errors: configuration mistakes (options, map, initial pose) throw
 // std::invalid_argument with a message naming the offending value, and leave
@@ -56,6 +84,7 @@
 #include <Eigen/Core>
 
 #include "minibot3d_navigation/amcl/amcl_options.h"
+#include "minibot3d_navigation/amcl/global_search.h"
 #include "minibot3d_navigation/amcl/motion_model.h"
 #include "minibot3d_navigation/amcl/occupancy_map.h"
 #include "minibot3d_navigation/amcl/pose_clusters.h"
@@ -87,6 +116,43 @@ struct PoseEstimate {
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  // x, y, yaw
   double weight = 0.0;    // probability mass of the chosen cluster
   int cluster_count = 0;  // number of hypotheses in the set
+  // What the filter claims (see the header comment): covers every mode, and
+  // is large while the filter is not confident.  Published on amcl_pose.
+  Eigen::Matrix3d claim_covariance = Eigen::Matrix3d::Identity();
+};
+
+// Floors of the claim covariance's diagonal while the filter is not
+// confident: far above any "converged" threshold (the demo's is
+// cov_xx + cov_yy < 0.05 m^2).
+constexpr double kUnconfidentVarianceXY = 1.0;                   // m^2
+constexpr double kUnconfidentVarianceYaw = (kPi / 4) * (kPi / 4);  // rad^2
+
+// Share of the scan's used (non-max-range) beams whose end points, seen from
+// the robot at `pose`, lie within hit_dist of a mapped obstacle (off-map end
+// points are unexplained).  *beams_used (if given) gets the beam count; 0
+// beams give 0.
+double ExplainedFraction(const MapModel& map, const PreparedScan& scan,
+                         const Pose2D& pose, double hit_dist,
+                         int* beams_used = nullptr);
+
+struct Confidence {
+  // Share of the used beams explained by the map at the estimate, in [0, 1];
+  // 0 before the first correction after an initialization.
+  double explained_fraction = 0.0;
+  int beams_used = 0;         // beams the fraction is over
+  int modes = 0;              // clusters holding 1 - confidence_mode_weight
+  int evidence_updates = 0;   // see the header comment
+  int lost_updates = 0;       // consecutive motion updates no mode explains
+  bool confident = false;
+};
+
+// What the last map-wide search did (for logs and tests).
+struct SearchReport {
+  int count = 0;            // searches run so far (changes when one runs)
+  bool relocalization = false;  // triggered by the lost test, not a request
+  double seconds = 0.0;      // wall
+  double cpu_seconds = 0.0;  // of the calling thread (what the budget is about)
+  std::vector<SearchCandidate> candidates;  // best first; empty: none found
 };
 
 class AmclFilter {
@@ -121,8 +187,26 @@ class AmclFilter {
   void SetPose(const Pose2D& mean, const Eigen::Matrix3d& covariance);
 
   // max_particles particles uniform over free space (amcl's
-  // global_localization service).
+  // global_localization service); with the global search available, the
+  // next Update() replaces them by the search's candidates.
   void GlobalLocalization();
+
+  // Replaces the set by max_particles particles spread round the candidates
+  // (Gaussian, 0.15 m / 0.1 rad; equal shares, weights proportional to the
+  // scores) and restarts the evidence.  Ignored for an empty list.
+  void SeedFromCandidates(const std::vector<SearchCandidate>& candidates);
+
+  // The map-wide search (built with the map when global_search is on and the
+  // map fits global_search_budget).  Null when not available; then
+  // global_search_fallback() says why.
+  const GlobalSearch* global_search() const {
+    return search_ && search_->available() ? search_.get() : nullptr;
+  }
+  std::string global_search_fallback() const {
+    return search_ ? search_->fallback_reason() : "no occupancy grid given";
+  }
+  const SearchReport& last_search() const { return last_search_; }
+  const Confidence& confidence() const { return confidence_; }
 
   // The next Update() corrects even if the robot has not moved (amcl's
   // request_nomotion_update service).
@@ -162,7 +246,7 @@ class AmclFilter {
  private:
   void SampleGaussian(const Pose2D& mean, const Eigen::Matrix3d& cov,
                       const MapModel& map, std::vector<Particle>* out);
-  void ResetAfterInitialization();
+  void ResetAfterInitialization(int evidence_updates);
   // Multiplies weights by exp(log_likelihoods_) and normalises; updates
   // w_slow / w_fast.  False (weights untouched) if no particle has a
   // positive finite likelihood.
@@ -174,6 +258,11 @@ class AmclFilter {
   int LowVarianceDraw(int count, double inject_probability);
   void UpdateConvergence();
   void UpdateEstimate();
+  // After a correction: explained fraction, evidence, lost test.
+  void UpdateConfidence(bool motion_update);
+  // Modes' second moment and the confidence floors -> claim_covariance.
+  void UpdateClaim();
+  void RunSearch(const LaserScan& scan, bool relocalization);
 
   AmclOptions options_;
   std::shared_ptr<const MapModel> map_;
@@ -200,6 +289,13 @@ class AmclFilter {
 
   std::vector<PoseCluster> clusters_;
   PoseEstimate estimate_;
+
+  std::shared_ptr<const GlobalSearch> search_;
+  bool pending_search_ = false;
+  bool pending_relocalization_ = false;
+  SearchReport last_search_;
+  Confidence confidence_;
+  bool measured_ = false;  // explained fraction measured since the last init
 };
 
 }  // namespace amcl

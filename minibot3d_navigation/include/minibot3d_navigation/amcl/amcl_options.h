@@ -66,6 +66,40 @@ struct AmclOptions {
   double initial_cov_xx = 0.5 * 0.5;
   double initial_cov_yy = 0.5 * 0.5;
   double initial_cov_aa = (kPi / 12.0) * (kPi / 12.0);
+
+  // --- Confidence: what the published covariance claims (not in ROS amcl; see
+  // amcl_filter.h "Confidence") ---
+  // A beam end point within this distance (m) of a mapped obstacle counts as
+  // explained by the map at the estimate; <= 0: 2 * laser_sigma_hit (the
+  // sensor model's own idea of a hit).
+  double confidence_hit_dist = -1.0;
+  // The scan counts as explained when at least this fraction of the used
+  // (non-max-range) beams is.
+  double confidence_min_explained = 0.8;
+  // The modes of the particle set are its heaviest clusters that together hold
+  // at least 1 - confidence_mode_weight of the weight; the lighter rest is
+  // ignored.  One mode is needed for a claim.
+  double confidence_mode_weight = 0.05;
+  // Consecutive motion-triggered updates with the scan explained and one mode
+  // before the filter claims a pose after global localization (evidence over
+  // motion; resampling alone earns nothing).  0: claim at once.
+  int confidence_min_updates = 15;
+  // Consecutive motion-triggered updates with the scan not explained after
+  // which the filter counts itself lost (kidnapped) and, with the global
+  // search, seeds again from the map-wide search.  0 disables.
+  int confidence_lost_updates = 8;
+
+  // --- Map-wide correlative search for global localization (see
+  // global_search.h) ---
+  bool global_search = true;            // false: uniform spread only (amcl)
+  double global_search_budget = 1.0;    // s of CPU a search may take
+  int global_search_max_candidates = 6; // poses the filter is seeded with
+  double global_search_min_score = 0.4; // mean occupancy at the end points
+  double global_search_min_relative_score = 0.7;  // of the best candidate
+  int global_search_depth = 7;          // branch-and-bound levels
+  // Returns the search matches at most (evenly spaced over the scan): its time
+  // is nearly proportional to them.
+  int global_search_max_beams = 180;
 };
 
 // Throws std::invalid_argument whose message lists every offending parameter

@@ -29,9 +29,33 @@ struct MoveBaseOptions {
   // Recovery clearing keeps a square of this side centred on the robot.
   double conservative_reset_dist = 3.0;
   bool shutdown_costmaps = false;  // accepted, has no effect (documented)
-  // Names of the recovery behaviours, in order (move_base's default list when
-  // empty): "conservative_reset", "rotate_recovery", "aggressive_reset".
+  // Names of the recovery behaviours, in order: "back_out",
+  // "conservative_reset", "rotate_recovery", "aggressive_reset".  When empty,
+  // move_base's default list, preceded by back_out when back_out_distance > 0.
   std::vector<std::string> recovery_behaviors;
+
+  // --- Not in ROS move_base (issue 18: getting out of clutter) ---
+  // All off by default: on the 50 clutter worlds they do not yet beat
+  // move_base's own behaviour (README, "Mapless navigation"); typical values
+  // to try: back_out_distance 0.6, blocked_radius 0.2,
+  // recovery_reset_distance 0.5.
+  // back_out: metres to reverse along the poses the robot drove through (its
+  // trail, in the local frame) when the way ahead is blocked; 0 = no back_out
+  // in the default list.  back_out_vel: its speed, m/s.
+  double back_out_distance = 0.0;
+  double back_out_vel = 0.15;
+  // When control fails (controller_patience) or the robot oscillates, the
+  // stretch of plan it could not pass — a disc of this radius round the plan
+  // point blocked_lookahead metres ahead — is kept out of later plans for this
+  // goal, so the global planner goes round it and does not send the robot back
+  // into a pocket.  0 = off.  Forgotten if no plan exists without them.
+  double blocked_radius = 0.0;
+  double blocked_lookahead = 0.15;
+  // A recovery sequence starts again from the first behaviour once the robot
+  // has driven this far from where the last recovery began (ROS move_base
+  // restarts it after any valid command; with 0 the list is never restarted
+  // within a goal).
+  double recovery_reset_distance = 0.0;
 };
 
 // Throws std::invalid_argument listing every offending value.

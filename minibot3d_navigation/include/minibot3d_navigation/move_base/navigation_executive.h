@@ -15,6 +15,15 @@
 //               With no behaviour left the goal is ABORTED, and the message
 //               says what kept failing (the planner's or controller's own
 //               error: which goal, which obstacle) — not just "failed".
+// Not in ROS move_base (issue 18, getting through clutter): the executive
+// keeps the robot's trail (poses driven through, local frame) for the
+// back_out recovery; when control fails or the robot oscillates it remembers
+// the stretch of plan it could not pass (a disc of blocked_radius round the
+// plan point blocked_lookahead ahead, in the global frame) and plans round
+// those discs for the rest of the goal — the pocket or gap is not tried again —
+// forgetting them only if no plan exists without them; and it restarts the
+// recovery list once the robot has driven recovery_reset_distance from where
+// the last recovery began (move_base restarts it after any valid command).
 // Differences, on purpose: planning runs synchronously in the control cycle
 // (our planners take milliseconds, and a simulator at 10x real time would
 // otherwise see plans arrive at random points of sim time), and a goal off the
@@ -69,11 +78,20 @@ class NavigationExecutive {
   const Path& plan() const { return plan_; }        // global frame
   const Path& local_plan() const { return local_plan_; }  // last plan handed down, local frame
   const std::string& last_error() const { return last_error_; }
+  // Poses driven through (local frame, oldest first) and the remembered
+  // blocked places (global frame) of the current goal.
+  const std::vector<Pose2D>& trail() const { return trail_; }
+  const std::vector<Point2D>& blocked() const { return blocked_; }
 
  private:
   enum class Trigger { kPlanning, kControlling, kOscillation };
 
   bool TryPlan(const RobotState& state, double time);
+  void RecordTrail(const Pose2D& local_pose);
+  void RememberBlocked(const RobotState& state);
+  // The global costmap with the blocked discs made lethal (except round the
+  // robot and the goal), in planning_costmap_.
+  const Costmap2D& PlanningCostmap(const RobotState& state);
   CycleResult EnterClearing(Trigger trigger, const RobotState& state);
   CycleResult Abort(const std::string& message);
 
@@ -94,6 +112,10 @@ class NavigationExecutive {
   Pose2D oscillation_pose_;
   int planning_retries_ = 0;
   size_t recovery_index_ = 0;
+  Pose2D recovery_pose_;
+  std::vector<Pose2D> trail_;
+  std::vector<Point2D> blocked_;
+  Costmap2D planning_costmap_;
   bool recovery_running_ = false;
   Trigger trigger_ = Trigger::kPlanning;
 };

@@ -9,11 +9,16 @@
 //  - RotateRecovery: turns in place one full turn so the sensors see all
 //    around (rotate_recovery), stopping early if the footprint would hit
 //    something it can see on the local costmap.
+//  - BackOutRecovery (back_out, not in ROS): reverses along the poses the
+//    robot drove through, newest first, so a robot that squeezed into a spot
+//    it cannot leave forwards (a pocket, a gap narrower than its footprint
+//    turns in) leaves it the way it came: ground it has already covered.
 #ifndef MINIBOT3D_NAVIGATION_MOVE_BASE_RECOVERY_BEHAVIOR_H_
 #define MINIBOT3D_NAVIGATION_MOVE_BASE_RECOVERY_BEHAVIOR_H_
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "minibot3d_navigation/costmap/costmap_2d.h"
 #include "minibot3d_navigation/costmap/footprint.h"
@@ -30,6 +35,12 @@ struct RobotState {
   Twist2D velocity;       // in the robot's frame
   const Costmap2D* global_costmap = nullptr;
   const Costmap2D* local_costmap = nullptr;
+  // Poses the robot drove through, in the local frame, oldest first (the
+  // executive records them; nullptr when nobody does).
+  const std::vector<Pose2D>* trail = nullptr;
+  // Set while recovering because the local planner found no command (not
+  // because of oscillation or a planning failure).
+  bool control_failed = false;
 };
 
 class RecoveryBehavior {
@@ -80,6 +91,49 @@ class RotateRecovery : public RecoveryBehavior {
   double start_time_ = 0.0;
   double last_yaw_ = 0.0;
   double turned_ = 0.0;
+};
+
+struct BackOutOptions {
+  double distance = 0.6;          // m from the start, along the trail
+  double vel = 0.15;              // m/s backwards
+  double max_rotational_vel = 1.0;  // rad/s while straightening up
+  double min_rotational_vel = 0.4;  // rad/s at least when turning on the spot
+  double timeout_factor = 3.0;    // gives up after timeout_factor * distance / vel + 2 s
+};
+
+// Acts only after a control failure (state.control_failed: the way ahead is
+// blocked); after oscillation or a planning failure it does nothing, since
+// reversing would undo progress the robot is still making.
+// Reverse pure pursuit along the trail (Coulter, "Implementation of the Pure
+// Pursuit Path Tracking Algorithm", CMU-RI-TR-92-01, driven backwards).  Start
+// takes the trail poses, newest first, up to the first one `distance` from the
+// robot in a straight line, so a robot that wiggled its way into a spot gets
+// that far out of it.  Each Step steers the robot's back at the first of them
+// at least 0.1 m away: turning on the spot while it lies more than 0.6 rad
+// off the back, else reversing at `vel` on the arc through it
+// (w = v * 2 dy / d^2).  Positions only: the turns of the way in are not
+// replayed.  It stops when the last pose is reached, on
+// timeout, or when the footprint 0.2 s ahead is lethal on the local costmap —
+// unless the robot is wedged (its footprint touches a lethal cell already)
+// and that pose is on the trail: poses it drove through are free, a cell they
+// touch is lethal only by rounding.
+class BackOutRecovery : public RecoveryBehavior {
+ public:
+  BackOutRecovery(std::string name, const BackOutOptions& options, Footprint footprint);
+  std::string name() const override { return name_; }
+  void Start(const RobotState& state) override;
+  bool Step(const RobotState& state, Twist2D* cmd) override;
+  // The poses still to back through (for tests and logs).
+  const std::vector<Pose2D>& route() const { return route_; }
+
+ private:
+  bool OnTrail(const Pose2D& pose) const;
+  std::string name_;
+  BackOutOptions options_;
+  Footprint footprint_;
+  std::vector<Pose2D> route_;  // newest first
+  size_t next_ = 0;
+  double start_time_ = 0.0;
 };
 
 }  // namespace nav

@@ -1,0 +1,125 @@
+#include "minibot3d_navigation/amcl/global_search.h"
+
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <sstream>
+
+#include "minibot3d_slam/correlative_search.h"
+
+namespace minibot3d_navigation {
+namespace amcl {
+namespace {
+
+namespace slam = minibot3d_slam;
+
+double ThreadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+slam::CorrelativeSearchOptions SearchOptions(const AmclOptions& o) {
+  slam::CorrelativeSearchOptions s;
+  s.linear_search_window = slam::CorrelativeSearchOptions::kWholeMap;
+  s.angular_search_window = kPi;  // full circle
+  s.branch_and_bound_depth = o.global_search_depth;
+  s.min_score = o.global_search_min_score;
+  s.max_candidates = o.global_search_max_candidates;
+  s.min_relative_score = o.global_search_min_relative_score;
+  s.min_separation_linear = 1.0;
+  s.min_separation_angular = kPi / 4.0;
+  return s;
+}
+
+}  // namespace
+
+GlobalSearch::GlobalSearch(const OccupancyGrid& grid,
+                           const AmclOptions& options)
+    : options_(options) {
+  if (!options.global_search) {
+    fallback_reason_ = "global_search is false";
+    return;
+  }
+  const double cells = static_cast<double>(grid.width) * grid.height;
+  predicted_seconds_ = kFixedSeconds + cells / kCellsPerSecond;
+  if (predicted_seconds_ > options.global_search_budget) {
+    std::ostringstream os;
+    os.precision(3);
+    os << "map " << grid.width << " x " << grid.height << " cells ("
+       << cells * grid.resolution * grid.resolution
+       << " m^2 at " << grid.resolution << " m) needs about "
+       << predicted_seconds_ << " s per map-wide search, over "
+       << "global_search_budget=" << options.global_search_budget
+       << " s; raise it to search anyway";
+    fallback_reason_ = os.str();
+    return;
+  }
+  slam::GridMap map;
+  map.resolution = grid.resolution;
+  map.origin_x = grid.origin_x;
+  map.origin_y = grid.origin_y;
+  map.origin_theta = grid.origin_yaw;
+  map.width = grid.width;
+  map.height = grid.height;
+  map.data = grid.data;
+  search_.reset(new slam::CorrelativeSearch(map, SearchOptions(options)));
+}
+
+GlobalSearch::~GlobalSearch() = default;
+
+std::vector<SearchCandidate> GlobalSearch::Search(const LaserScan& scan,
+                                                  double* seconds,
+                                                  double* cpu_seconds) const {
+  std::vector<SearchCandidate> out;
+  if (seconds != nullptr) *seconds = 0.0;
+  if (cpu_seconds != nullptr) *cpu_seconds = 0.0;
+  if (!search_ || scan.ranges.size() != scan.angles.size()) return out;
+  // End points in the base frame, as the filter's sensor model sees them.
+  double range_max = scan.range_max;
+  if (options_.laser_max_range > 0.0) {
+    range_max = std::min(range_max, options_.laser_max_range);
+  }
+  double range_min = scan.range_min;
+  if (options_.laser_min_range > 0.0) {
+    range_min = std::max(range_min, options_.laser_min_range);
+  }
+  const Pose2D& l = scan.laser_pose;
+  std::vector<Eigen::Vector2d> points;
+  points.reserve(scan.ranges.size());
+  for (size_t k = 0; k < scan.ranges.size(); ++k) {
+    const double r = scan.ranges[k];
+    if (!std::isfinite(r) || !(r > range_min) || !(r < range_max)) continue;
+    const Pose2D end = Compose(l, {r * std::cos(scan.angles[k]),
+                                   r * std::sin(scan.angles[k]), 0.0});
+    points.emplace_back(end.x, end.y);
+  }
+  if (points.empty()) return out;
+  const size_t max_points = static_cast<size_t>(options_.global_search_max_beams);
+  if (points.size() > max_points) {
+    std::vector<Eigen::Vector2d> kept;
+    kept.reserve(max_points);
+    for (size_t k = 0; k < max_points; ++k) {
+      kept.push_back(points[k * points.size() / max_points]);
+    }
+    points.swap(kept);
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = ThreadCpuSeconds();
+  const std::vector<slam::CorrelativeMatch> matches =
+      search_->SearchAll(points, slam::Pose2{}, SearchOptions(options_));
+  if (seconds != nullptr) {
+    *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                             start)
+                   .count();
+  }
+  if (cpu_seconds != nullptr) *cpu_seconds = ThreadCpuSeconds() - cpu_start;
+  for (const slam::CorrelativeMatch& m : matches) {
+    out.push_back({{m.pose.x, m.pose.y, NormalizeAngle(m.pose.theta)},
+                   m.score});
+  }
+  return out;
+}
+
+}  // namespace amcl
+}  // namespace minibot3d_navigation

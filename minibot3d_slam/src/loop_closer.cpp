@@ -1,0 +1,275 @@
+// Loop closure for the RBPF (see loop_closer.h for the design).
+#include "loop_closer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+namespace minibot3d_slam {
+
+namespace {
+
+constexpr int kSubmapCacheSize = 4;
+
+}  // namespace
+
+LoopCloser::LoopCloser(const GmappingOptions& options, const ScanMatcher* matcher)
+    : options_(options), matcher_(matcher) {
+  search_options_.linear_search_window = options.loopSearchWindow;
+  search_options_.angular_search_window = options.loopSearchAngle;
+  search_options_.min_score = options.loopMinScore;
+  search_options_.branch_and_bound_depth = 7;
+  search_options_.unknown_probability = 0.1;
+  search_options_.blur_sigma = options.delta;
+  // Angular step: one cell of motion at kAngularStepRange metres (the default, one cell at the
+  // farthest endpoint, makes hundreds of angles for a long-range laser).
+  search_options_.angular_step = std::acos(1.0 - options.delta * options.delta /
+                                                     (2.0 * kAngularStepRange * kAngularStepRange));
+  search_options_.max_candidates = 2;
+  search_options_.min_relative_score = kAmbiguityRatio;
+  search_options_.min_separation_linear = kAmbiguitySeparation;
+  search_options_.min_separation_angular = M_PI;  // any heading at another place is another place
+  CheckCorrelativeSearchOptions(search_options_);
+}
+
+void LoopCloser::AddNode(const PreparedScan& scan) {
+  StoredScan s;
+  s.sensor_in_base = scan.sensor_in_base;
+  const std::size_t n = scan.map_range.size();
+  s.range.resize(n);
+  s.cos.resize(n);
+  s.sin.resize(n);
+  s.hit = scan.map_hit;
+  for (std::size_t i = 0; i < n; ++i) {
+    s.range[i] = static_cast<float>(scan.map_range[i]);
+    s.cos[i] = static_cast<float>(scan.map_cos[i]);
+    s.sin[i] = static_cast<float>(scan.map_sin[i]);
+  }
+  const double c = std::cos(scan.sensor_in_base.theta), si = std::sin(scan.sensor_in_base.theta);
+  s.points.reserve(scan.match_range.size());
+  for (std::size_t i = 0; i < scan.match_range.size(); ++i) {
+    const double lx = scan.match_range[i] * scan.match_cos[i], ly = scan.match_range[i] * scan.match_sin[i];
+    s.points.emplace_back(static_cast<float>(scan.sensor_in_base.x + c * lx - si * ly),
+                          static_cast<float>(scan.sensor_in_base.y + si * lx + c * ly));
+  }
+  scans_.push_back(std::move(s));
+  path_.push_back(0.0);  // filled in by Detect, which sees the poses
+}
+
+std::size_t LoopCloser::ScanBytes() const {
+  std::size_t bytes = 0;
+  for (const StoredScan& s : scans_) {
+    bytes += sizeof(StoredScan) + s.range.capacity() * 3 * sizeof(float) + s.hit.capacity() +
+             s.points.capacity() * sizeof(Eigen::Vector2f);
+  }
+  return bytes;
+}
+
+void LoopCloser::Render(const StoredScan& s, const Pose2& pose, Grid* grid) const {
+  const Pose2 lp = Compose(pose, s.sensor_in_base);
+  const double c = std::cos(lp.theta), sn = std::sin(lp.theta);
+  for (std::size_t i = 0; i < s.range.size(); ++i) {
+    const double dx = c * s.cos[i] - sn * s.sin[i];
+    const double dy = sn * s.cos[i] + c * s.sin[i];
+    const double r = s.range[i];
+    grid->TraceRay(lp.x, lp.y, lp.x + r * dx, lp.y + r * dy, s.hit[i] != 0);
+  }
+}
+
+void LoopCloser::RenderMap(const std::vector<Pose2>& trajectory, Grid* grid) const {
+  const std::size_t n = std::min(trajectory.size(), scans_.size());
+  for (std::size_t i = 0; i < n; ++i) Render(scans_[i], trajectory[i], grid);
+}
+
+LoopCloser::RenderedSubmap* LoopCloser::Submap(int index, const std::vector<Pose2>& trajectory) {
+  for (auto it = cache_.begin(); it != cache_.end(); ++it) {
+    if ((*it)->index != index) continue;
+    cache_.splice(cache_.begin(), cache_, it);
+    return cache_.front().get();
+  }
+  auto submap = std::make_unique<RenderedSubmap>(options_.delta);
+  submap->index = index;
+  const int first = index * options_.loopSubmapScans;
+  const int last = std::min(first + options_.loopSubmapScans, size());
+  for (int i = first; i < last; ++i) Render(scans_[i], trajectory[i], &submap->grid);
+  int ix0, iy0, ix1, iy1;
+  if (!submap->grid.AllocatedBounds(&ix0, &iy0, &ix1, &iy1)) return nullptr;
+  GridMap map;
+  map.resolution = options_.delta;
+  map.origin_x = ix0 * options_.delta;
+  map.origin_y = iy0 * options_.delta;
+  map.width = ix1 - ix0 + 1;
+  map.height = iy1 - iy0 + 1;
+  map.data.assign(static_cast<std::size_t>(map.width) * map.height, -1);
+  for (int y = 0; y < map.height; ++y) {
+    for (int x = 0; x < map.width; ++x) {
+      const GridCell& c = submap->grid.At(ix0 + x, iy0 + y);
+      if (c.visits == 0) continue;
+      map.data[static_cast<std::size_t>(y) * map.width + x] =
+          static_cast<std::int8_t>(std::lround(100.0 * c.hits / c.visits));
+    }
+  }
+  submap->search = std::make_unique<CorrelativeSearch>(map, search_options_);
+  cache_.push_front(std::move(submap));
+  while (static_cast<int>(cache_.size()) > kSubmapCacheSize) cache_.pop_back();
+  return cache_.front().get();
+}
+
+bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
+  if (trajectory.size() != scans_.size()) {
+    throw std::invalid_argument("LoopCloser::Detect: " + std::to_string(trajectory.size()) + " poses for " +
+                                std::to_string(scans_.size()) + " nodes");
+  }
+  const int cur = size() - 1;
+  if (cur <= 0) return false;
+  const Pose2& here = trajectory[cur];
+  path_[cur] = path_[cur - 1] + std::hypot(here.x - trajectory[cur - 1].x, here.y - trajectory[cur - 1].y);
+  if (cur % kSearchEvery != 0) return false;
+  const int per = options_.loopSubmapScans;
+  const int finished = size() / per;  // submaps [k·per, (k+1)·per) with every node present
+  std::vector<std::pair<double, int>> candidates;  // (distance, submap)
+  for (int k = 0; k < finished; ++k) {
+    const int last = (k + 1) * per - 1;
+    if (last >= cur || path_[cur] - path_[last] < options_.loopMinTravel) continue;
+    double best = std::numeric_limits<double>::infinity();
+    for (int i = k * per; i <= last; ++i) {
+      best = std::min(best, std::hypot(trajectory[i].x - here.x, trajectory[i].y - here.y));
+    }
+    if (best <= options_.loopSearchWindow) candidates.emplace_back(best, k);
+  }
+  std::sort(candidates.begin(), candidates.end());
+  if (candidates.size() > static_cast<std::size_t>(kMaxSearchesPerScan)) candidates.resize(kMaxSearchesPerScan);
+
+  std::vector<Eigen::Vector2d> points;
+  points.reserve(scans_[cur].points.size());
+  for (const Eigen::Vector2f& p : scans_[cur].points) points.push_back(p.cast<double>());
+  if (points.empty()) return false;
+  PreparedScan prepared;  // the matching beams, for the refinement on the submap's grid
+  {
+    const StoredScan& s = scans_[cur];
+    prepared.sensor_in_base = s.sensor_in_base;
+    for (std::size_t i = 0; i < s.range.size(); ++i) {
+      if (!s.hit[i]) continue;
+      prepared.match_range.push_back(s.range[i]);
+      prepared.match_cos.push_back(s.cos[i]);
+      prepared.match_sin.push_back(s.sin[i]);
+    }
+  }
+  for (const auto& cand : candidates) {
+    RenderedSubmap* submap = Submap(cand.second, trajectory);
+    if (submap == nullptr) continue;
+    ++searches_;
+    // The two best places at least kAmbiguitySeparation apart: a second one scoring nearly as well
+    // (a corridor seen along its axis, twin rooms) makes the match ambiguous, and it is dropped.
+    const std::vector<CorrelativeMatch> found = submap->search->SearchAll(points, here, search_options_);
+    if (found.empty()) continue;
+    if (found.size() > 1) {
+      ++ambiguous_;
+      continue;
+    }
+    const std::optional<CorrelativeMatch> match = found.front();
+    // Polish the lattice pose on the submap's own grid (the RBPF's matcher: hill climber from the
+    // lattice pose, then sub-cell refinement); a refinement that wanders off means the match was
+    // not a clear one.
+    Pose2 climbed;
+    matcher_->Optimize(submap->grid, prepared, match->pose, &climbed);
+    const Pose2 refined = matcher_->Refine(submap->grid, prepared, climbed);
+    if (std::hypot(refined.x - match->pose.x, refined.y - match->pose.y) > 3.0 * options_.delta ||
+        std::fabs(NormalizeAngle(refined.theta - match->pose.theta)) > 0.05) {
+      continue;
+    }
+    const int anchor = cand.second * per;
+    LoopConstraint c;
+    c.from = anchor;
+    c.to = cur;
+    c.measurement = Between(refined, trajectory[anchor]);
+    c.score = match->score;
+    c.correction = Compose(refined, Between(Pose2{}, here));
+    if (std::hypot(refined.x - here.x, refined.y - here.y) <= kBigCorrection &&
+        std::fabs(NormalizeAngle(refined.theta - here.theta)) <= kBigCorrection / 10.0) {
+      constraints_.push_back(c);
+      ++pending_;
+      continue;
+    }
+    // A constraint that says the estimate is far off enters the graph only once a constraint of
+    // another scan in another submap agrees with it (the rigid correction of the map one implies puts this scan
+    // within a third of kBigCorrection of where its own match puts it): a graph cannot
+    // check a lone loop edge — the chain of odometry edges bends to fit any one — so one
+    // look-alike place must not be able to move the trajectory by metres.
+    bool confirmed = false;
+    for (LoopConstraint& t : tentative_) {
+      // Another scan, and another submap: scans matched against the same submap share its
+      // errors (a submap slightly bent inside, a place it aliases), so they are not two opinions.
+      if (t.to == cur || t.from == c.from) continue;
+      const Pose2 predicted = Compose(t.correction, here);  // where the other one puts this scan
+      if (std::hypot(predicted.x - refined.x, predicted.y - refined.y) < kBigCorrection / 3.0 &&
+          std::fabs(NormalizeAngle(predicted.theta - refined.theta)) < kBigCorrection / 30.0) {
+        if (!t.confirmed) {
+          t.confirmed = true;
+          constraints_.push_back(t);
+          ++pending_;
+        }
+        confirmed = true;
+      }
+    }
+    if (confirmed) {
+      c.confirmed = true;
+      constraints_.push_back(c);
+      ++pending_;
+      big_pending_ = true;
+    }
+    tentative_.push_back(c);
+  }
+  // Tentative constraints expire after kTentativeNodes processed scans.
+  tentative_.erase(std::remove_if(tentative_.begin(), tentative_.end(),
+                                  [&](const LoopConstraint& t) { return cur - t.to > kTentativeNodes; }),
+                   tentative_.end());
+  return pending_ > 0 && (big_pending_ || size() - last_optimized_ >= kOptimizeEvery);
+}
+
+std::vector<Pose2> LoopCloser::Optimize(const std::vector<Pose2>& trajectory) {
+  if (trajectory.size() != scans_.size()) {
+    throw std::invalid_argument("LoopCloser::Optimize: " + std::to_string(trajectory.size()) + " poses for " +
+                                std::to_string(scans_.size()) + " nodes");
+  }
+  std::vector<PoseGraphEdge> edges;
+  edges.reserve(trajectory.size() + constraints_.size());
+  for (std::size_t i = 1; i < trajectory.size(); ++i) {
+    PoseGraphEdge e;
+    e.from = static_cast<int>(i - 1);
+    e.to = static_cast<int>(i);
+    e.measurement = Between(trajectory[i], trajectory[i - 1]);
+    e.sigma_xy = kSequentialSigmaXy;
+    e.sigma_theta = kSequentialSigmaTheta;
+    edges.push_back(e);
+  }
+  const std::size_t first_loop = edges.size();
+  for (const LoopConstraint& c : constraints_) {
+    PoseGraphEdge e;
+    e.from = c.from;
+    e.to = c.to;
+    e.measurement = c.measurement;
+    e.sigma_xy = kLoopSigmaXy;
+    e.sigma_theta = kLoopSigmaTheta;
+    e.robust = true;
+    edges.push_back(e);
+  }
+  const PoseGraphResult result = OptimizePoseGraph(trajectory, edges);
+  // Constraints the optimum rejects are forgotten, so they do not come back at the next solve.
+  std::vector<LoopConstraint> kept;
+  for (std::size_t k = 0; k < constraints_.size(); ++k) {
+    if (result.edge_inlier[first_loop + k]) kept.push_back(constraints_[k]);
+  }
+  outliers_ += static_cast<int>(constraints_.size() - kept.size());
+  constraints_ = std::move(kept);
+  pending_ = 0;
+  big_pending_ = false;
+  last_optimized_ = size();
+  ++optimizations_;
+  cache_.clear();  // submaps were rendered at the old poses
+  return result.poses;
+}
+
+}  // namespace minibot3d_slam

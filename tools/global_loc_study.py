@@ -1,0 +1,187 @@
+#!/usr/bin/env python3
+"""Global-localization study (make bench; issue 14 item 3 / issue 20 item 5): N seeded random starts
+in one world, each: the robot is carried (the simulator's set_pose; odometry is not told) to a
+random free pose, amcl's /global_localization is called once, and tools/wanderer.py drives it
+(ahead where the laser shows room, turning away where not) for --travel metres. Every amcl_pose
+after the call is compared with /ground_truth/odom:
+  claim        cov_xx + cov_yy < 0.05 m^2 (make demo's threshold)
+  false claim  a claim while > 1 m or > 30 deg from the truth
+  right        < 0.3 m and < 10 deg
+Prints one line per start and a summary: share right at the end, false claims, travel until the
+first right claim. Run by tools/global_loc_study.sh (which starts the simulator, map_server and
+amcl on lock-step time: this script is a participant, so a seed gives the same figures every run).
+
+  global_loc_study.py --map MAP.yaml --starts N [--seed S] [--travel M] [--timeout SIM_S]
+                      [--spawn X,Y]"""
+import argparse
+import math
+import os
+import random
+import sys
+import threading
+
+from minibot3d_lockstep import Participant  # before rospy.init_node: it counts messages
+
+import rospy
+from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
+from minibot3d_sim.srv import SetPose
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import LaserScan
+from std_srvs.srv import Empty
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from demo_report import load_trinary, route_driver  # noqa: E402
+from wanderer import Wanderer  # noqa: E402
+
+CLAIM = 0.05
+FALSE_DIST, FALSE_YAW = 1.0, math.radians(30.0)
+RIGHT_DIST, RIGHT_YAW = 0.3, math.radians(10.0)
+
+
+def yaw_of(q):
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+
+
+def angle_diff(a, b):
+    return abs(math.atan2(math.sin(a - b), math.cos(a - b)))
+
+
+class State(object):
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.truth, self.truth_t, self.scan = None, 0.0, None
+        self.travel = 0.0
+        self.events = []  # (travel, dist, dyaw, cov) per amcl_pose
+        rospy.Subscriber('/ground_truth/odom', Odometry, self.on_truth, queue_size=50)
+        rospy.Subscriber('/amcl_pose', PoseWithCovarianceStamped, self.on_pose, queue_size=50)
+        rospy.Subscriber('/scan', LaserScan, self.on_scan, queue_size=1)
+
+    def on_truth(self, m):
+        p = m.pose.pose
+        pose = (p.position.x, p.position.y, yaw_of(p.orientation))
+        with self.lock:
+            if self.truth is not None:
+                d = math.hypot(pose[0] - self.truth[0], pose[1] - self.truth[1])
+                if d < 0.5:  # a teleport is not travel
+                    self.travel += d
+            self.truth, self.truth_t = pose, m.header.stamp.to_sec()
+
+    def on_pose(self, m):
+        p = m.pose.pose
+        c = m.pose.covariance
+        with self.lock:
+            if self.truth is None:
+                return
+            t = self.truth
+            self.events.append((self.travel, math.hypot(p.position.x - t[0], p.position.y - t[1]),
+                                angle_diff(yaw_of(p.orientation), t[2]), c[0] + c[7]))
+
+    def on_scan(self, m):
+        with self.lock:
+            self.scan = m
+
+
+def free_poses(map_yaml, rng, spawn, clearance=0.3):
+    """Random poses on free cells at least `clearance` from obstacles and unknown space that
+    the robot could reach from `spawn` (not, say, the yard round a building's outer walls)."""
+    from collections import deque
+    free, occ, res, origin = load_trinary(map_yaml)
+    ok = free & ~route_driver().inflate(occ | ~free, int(math.ceil(clearance / res)))
+    h, w = ok.shape
+    si, sj = int((spawn[0] - origin[0]) / res), int((spawn[1] - origin[1]) / res)
+    if not (0 <= si < w and 0 <= sj < h and ok[sj, si]):
+        raise SystemExit('global_loc_study: spawn (%g, %g) is not on a free cell of %s'
+                         % (spawn[0], spawn[1], map_yaml))
+    seen = {(sj, si)}
+    queue = deque([(sj, si)])
+    while queue:
+        j, i = queue.popleft()
+        for dj, di in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+            c = (j + dj, i + di)
+            if 0 <= c[0] < h and 0 <= c[1] < w and ok[c] and c not in seen:
+                seen.add(c)
+                queue.append(c)
+    cells = sorted(seen)
+    while True:
+        j, i = cells[rng.randrange(len(cells))]
+        yield (origin[0] + (i + 0.5) * res, origin[1] + (j + 0.5) * res,
+               rng.uniform(-math.pi, math.pi))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('--map', required=True)
+    ap.add_argument('--starts', type=int, default=10)
+    ap.add_argument('--seed', type=int, default=1)
+    ap.add_argument('--travel', type=float, default=12.0, help='m driven per start')
+    ap.add_argument('--timeout', type=float, default=150.0, help='sim s per start')
+    ap.add_argument('--spawn', default='-3.0,-1.5', help='x,y: starts are reachable from here')
+    args = ap.parse_args(rospy.myargv()[1:])
+    rospy.init_node('global_loc_study')
+    lockstep = Participant(wake_topics=['/amcl_pose', '/ground_truth/odom'],
+                           wake_on_participants=True)
+    st = State()
+    cmd_pub = rospy.Publisher('/cmd_vel', Twist, queue_size=1)
+    if not lockstep.wait_for(lambda: st.truth is not None and st.scan is not None, 120.0):
+        print('global_loc_study: no /ground_truth/odom or /scan', flush=True)
+        return 1
+    rospy.wait_for_service('/global_localization', 60)
+    set_pose = rospy.ServiceProxy('/minibot3d_sim/set_pose', SetPose)
+    global_loc = rospy.ServiceProxy('/global_localization', Empty)
+    rng = random.Random(args.seed)
+    poses = free_poses(args.map, rng, [float(v) for v in args.spawn.split(',')])
+    rows = []
+    for k in range(args.starts):
+        for _ in range(50):
+            x, y, yaw = next(poses)
+            t_set = rospy.Time.now().to_sec()
+            if set_pose(x, y, yaw).success:
+                break
+        lockstep.wait_for(lambda: st.truth_t > t_set and math.hypot(
+            st.truth[0] - x, st.truth[1] - y) < 0.05, 10.0)
+        with st.lock:
+            st.events = []
+            travel0 = st.travel
+        global_loc()
+        wanderer = Wanderer(laser_yaw=math.pi)
+        start = rospy.Time.now()
+        cmd = Twist()
+        while (st.travel - travel0 < args.travel and
+               (rospy.Time.now() - start).to_sec() < args.timeout):
+            cmd.linear.x, cmd.angular.z = wanderer.command(st.scan)
+            cmd_pub.publish(cmd)
+            lockstep.sleep(0.05)
+        cmd_pub.publish(Twist())
+        lockstep.sleep(0.1)
+        with st.lock:
+            events = list(st.events)
+            travelled = st.travel - travel0
+        false = [e for e in events if e[3] < CLAIM and (e[1] > FALSE_DIST or e[2] > FALSE_YAW)]
+        right = [e for e in events if e[3] < CLAIM and e[1] < RIGHT_DIST and e[2] < RIGHT_YAW]
+        first = right[0][0] - travel0 if right else None
+        last = events[-1] if events else None
+        right_end = bool(last and last[3] < CLAIM and last[1] < RIGHT_DIST and last[2] < RIGHT_YAW)
+        rows.append((right_end, len(false), first))
+        print('start %2d (%6.2f, %6.2f, %5.2f): %s; %d false claims%s; first right claim %s; '
+              'driven %.1f m; end %.2f m / %.0f deg off, cov %.3g' % (
+                  k, x, y, yaw, 'right at the end' if right_end else 'NOT right at the end',
+                  len(false), ' (first %.1f m off after %.1f m)' % (false[0][1], false[0][0] - travel0)
+                  if false else '', 'after %.1f m' % first if first is not None else 'never',
+                  travelled, last[1] if last else float('nan'),
+                  math.degrees(last[2]) if last else float('nan'), last[3] if last else float('nan')),
+              flush=True)
+    n = len(rows)
+    firsts = sorted(r[2] for r in rows if r[2] is not None)
+    within10 = sum(1 for r in rows if r[2] is not None and r[2] <= 10.0)
+    print('global_loc_study %s: %d starts (seed %d, %.0f m each): right at the end %d/%d; '
+          'false claims %d (in %d starts); right claim within 10 m %d/%d; travel to the first right '
+          'claim median %s m, max %s m' % (
+              os.path.basename(args.map), n, args.seed, args.travel, sum(r[0] for r in rows), n,
+              sum(r[1] for r in rows), sum(1 for r in rows if r[1]), within10, n,
+              '%.1f' % firsts[len(firsts) // 2] if firsts else '-',
+              '%.1f' % firsts[-1] if firsts else '-'), flush=True)
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
