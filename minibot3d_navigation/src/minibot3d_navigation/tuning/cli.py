@@ -6,7 +6,7 @@ command gives the same times), driven through a route.
   tune_planner [--set NAME=v1,v2,...]... [--repeats 3] [--jobs 2] [--rtf R] [--no-lockstep]
                [--out DIR]
                [--world W] [--map M] [--start X,Y,YAW] [--goals "x,y x,y ..."] [--timeout S]
-  tune_planner --optimize [--set NAME=lo:hi]... [--trials 30] [--storage URL]
+  tune_planner --optimize [--set NAME=lo:hi]... [--trials 30] [--storage URL] [--sampler-seed N]
 
 Without --set it runs the seed's six settings: min_vel_x in {0.01, 0.1} x max_vel_x in
 {0.1, 0.5, 1.0}.  Writes DIR/results.csv, DIR/results.md (also printed), DIR/time_to_goal.png and
@@ -114,6 +114,9 @@ def build_parser():
                    'postgresql://user@host/db for workers on several machines '
                    '(default sqlite:///OUT/optuna.db)')
     p.add_argument('--study-name', default='tune_planner', help='--optimize: Optuna study name')
+    p.add_argument('--sampler-seed', type=int, help='--optimize: seed of the TPE sampler (default: '
+                   '--seed). Give each worker sharing a --storage its own: workers with the same '
+                   'one suggest the same settings')
     p.add_argument('--report-only', action='store_true',
                    help='rewrite the table and plots from OUT/results.csv; run nothing')
     p.add_argument('--no-progress', action='store_true', help='no progress bar')
@@ -232,7 +235,8 @@ def main(argv=None):
             if not args.report_only:
                 st = study.run_optuna(setup, sweeps, args.repeats, results, args.jobs, registry,
                                       stop, storage, args.study_name, args.trials,
-                                      progress=not args.no_progress)
+                                      progress=not args.no_progress,
+                                      sampler_seed=args.sampler_seed)
             else:
                 import optuna
                 st = optuna.load_study(study_name=args.study_name, storage=storage)

@@ -342,8 +342,25 @@ def optuna_space(sweeps):
     return space
 
 
+def open_study(optuna, study_name, storage, sampler, attempts=5):
+    """Creates the study, or loads it if another worker has.  Workers started together on a fresh
+    database race to create Optuna's schema: on PostgreSQL the loser's CREATE TYPE fails with a
+    unique violation on pg_type once the winner's transaction commits.  The schema is then there,
+    so the loser tries again (create_all skips what exists), a bounded number of times."""
+    import sqlalchemy.exc
+    for attempt in range(attempts):
+        try:
+            return optuna.create_study(study_name=study_name, storage=storage, sampler=sampler,
+                                       direction='minimize', load_if_exists=True)
+        except sqlalchemy.exc.IntegrityError:
+            if attempt == attempts - 1:
+                raise
+
+
 def run_optuna(setup, sweeps, repeats, results, jobs, registry, stop, storage, study_name,
-               n_trials, progress=True):
+               n_trials, progress=True, sampler_seed=None):
+    """sampler_seed: the TPE sampler's seed (default setup.seed).  Workers sharing a study need
+    different ones: with the same seed they suggest the same settings."""
     import warnings
     import optuna
     from tqdm import tqdm
@@ -351,9 +368,9 @@ def run_optuna(setup, sweeps, repeats, results, jobs, registry, stop, storage, s
     warnings.filterwarnings('ignore', category=optuna.exceptions.ExperimentalWarning)
     space = optuna_space(sweeps)
     sampler = optuna.samplers.TPESampler(
-        seed=setup.seed, constraints_func=lambda t: [t.user_attrs.get('constraint', 1.0)])
-    study = optuna.create_study(study_name=study_name, storage=storage, sampler=sampler,
-                                direction='minimize', load_if_exists=True)
+        seed=setup.seed if sampler_seed is None else sampler_seed,
+        constraints_func=lambda t: [t.user_attrs.get('constraint', 1.0)])
+    study = open_study(optuna, study_name, storage, sampler)
     done = len([t for t in study.trials if t.state == optuna.trial.TrialState.COMPLETE])
     remaining = max(0, n_trials - done)
     bar = tqdm(total=n_trials, initial=min(done, n_trials), unit='trial',
