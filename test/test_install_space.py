@@ -18,6 +18,8 @@ import time
 
 import pytest
 
+from minibot3d_lockstep.run_checks import descendants  # root and every process below it
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SYSTEM_PATH = '/usr/local/bin:/usr/bin:/bin:/usr/sbin:/sbin'
 EXCLUDED = {'build', 'devel', 'install', 'out', '.git'}
@@ -167,21 +169,3 @@ def master_online(env):
     return subprocess.run(['/usr/bin/python3', '-c', 'import rosgraph, sys; '
                            'sys.exit(0 if rosgraph.is_master_online() else 1)'],
                           env=env).returncode == 0
-
-
-def descendants(root):
-    children = {}
-    for entry in os.listdir('/proc'):
-        if entry.isdigit():
-            try:
-                stat = open('/proc/%s/stat' % entry).read()
-            except OSError:
-                continue
-            ppid = int(stat[stat.rindex(')') + 2:].split()[1])
-            children.setdefault(ppid, []).append(int(entry))
-    out, todo = [], [root]
-    while todo:
-        pid = todo.pop()
-        out.append(pid)
-        todo.extend(children.get(pid, []))
-    return out

@@ -15,39 +15,13 @@ import os
 import re
 import subprocess
 import sys
-import threading
 
 from minibot3d_lockstep import Participant  # before rospy.init_node: it counts messages
 
 import rospy
-from minibot3d_sim.msg import SimStatus
-from nav_msgs.msg import Odometry
 
-
-def write_json(path, data):
-    tmp = path + '.tmp'
-    with open(tmp, 'w') as f:
-        json.dump(data, f)
-    os.replace(tmp, path)
-
-
-class Recorder(object):
-    def __init__(self):
-        self.lock = threading.Lock()
-        self.path = []
-        self.collisions = 0
-        rospy.Subscriber('/ground_truth/odom', Odometry, self.on_truth, queue_size=20)
-        rospy.Subscriber('/minibot3d_sim/status', SimStatus, self.on_status, queue_size=5)
-
-    def on_truth(self, m):
-        p = m.pose.pose.position
-        with self.lock:
-            if not self.path or math.hypot(p.x - self.path[-1][0], p.y - self.path[-1][1]) > 0.02:
-                self.path.append((p.x, p.y))
-
-    def on_status(self, m):
-        with self.lock:
-            self.collisions = int(m.collisions)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from demo_phase import Recorder, write_json  # noqa: E402  (make demo's recorder of the truth)
 
 
 def main():
@@ -62,7 +36,7 @@ def main():
     lockstep = Participant(wake_on_participants=True)
     lockstep.add_periodic(0.05, lambda now: None)
     rec = Recorder()
-    if not lockstep.wait_for(lambda: bool(rec.path), 60.0):
+    if not lockstep.wait_for(lambda: rec.truth is not None, 60.0):
         print('%s: no /ground_truth/odom within 60 s of sim time' % world['name'], flush=True)
         return 1
     goal = world['goal']
@@ -76,8 +50,9 @@ def main():
         proc.send_signal(2)
     stdout, _ = proc.communicate(timeout=60)
     m = re.findall(r'Result: (\w+) \((.*)\) after ([0-9.]+) s', stdout)
+    path = rec.take_path()  # (x, y, yaw) every 2 cm, world frame
     with rec.lock:
-        path, collisions = list(rec.path), rec.collisions
+        collisions = rec.collisions
     if m:
         status, text, sim_s = m[-1][0], m[-1][1], float(m[-1][2])
     else:
@@ -87,7 +62,7 @@ def main():
     write_json(args.out_json, dict(
         world=world['name'], gap=world['achieved_gap'], status=status, message=text, sim_s=sim_s,
         exit=proc.returncode, collisions=collisions, goal_error=math.hypot(
-            end[0] - goal['x'], end[1] - goal['y']), path=path))
+            end[0] - goal['x'], end[1] - goal['y']), path=[p[:2] for p in path]))
     print('%s gap %.3f m: %s%s, exit %d, collisions %d, true end (%.2f, %.2f)' % (
         world['name'], world['achieved_gap'], status,
         ' after %.2f s' % sim_s if sim_s is not None else ' (%s)' % text, proc.returncode,

@@ -361,69 +361,70 @@ class DetourPlanner : public GlobalPlanner {
   bool fail_if_blocked = false;
 };
 
-TEST(NavigationExecutive, RemembersWhereControlFailedAndPlansRoundIt) {
-  MoveBaseOptions o;
-  o.controller_patience = 1.0;
-  o.blocked_radius = 0.3;
-  o.blocked_lookahead = 0.5;
-  Costmap2D costmap(100, 100, 0.05, -2.5, -2.5);
+// The executive with blocked-place memory on, driven until control has
+// failed for controller_patience and one place is remembered.
+struct BlockedHarness {
+  explicit BlockedHarness(bool fail_if_blocked)
+      : costmap(100, 100, 0.05, -2.5, -2.5), r1("conservative_reset"),
+        exec(Options(), &planner, &controller, {&r1}) {
+    planner.fail_if_blocked = fail_if_blocked;
+    controller.fail = true;
+    state.global_costmap = &costmap;
+    state.local_costmap = &costmap;
+    exec.SetGoal({2.0, 0.0, 0.0}, 0.0);
+    for (; state.time < 1.5 && exec.blocked().empty(); state.time += 0.1) {
+      exec.Step(state, Pose2D());
+    }
+  }
+  static MoveBaseOptions Options() {
+    MoveBaseOptions o;
+    o.controller_patience = 1.0;
+    o.blocked_radius = 0.3;
+    o.blocked_lookahead = 0.5;
+    return o;
+  }
+  Costmap2D costmap;
   DetourPlanner planner;
   GoToGoal controller;
-  controller.fail = true;
-  CountingRecovery r1("conservative_reset");
-  NavigationExecutive exec(o, &planner, &controller, {&r1});
+  CountingRecovery r1;
+  NavigationExecutive exec;
   RobotState state;
-  state.global_costmap = &costmap;
-  state.local_costmap = &costmap;
-  exec.SetGoal({2.0, 0.0, 0.0}, 0.0);
-  for (; state.time < 1.5 && exec.blocked().empty(); state.time += 0.1) {
-    exec.Step(state, Pose2D());
-  }
+};
+
+TEST(NavigationExecutive, RemembersWhereControlFailedAndPlansRoundIt) {
+  BlockedHarness h(false);
+  NavigationExecutive& exec = h.exec;
+  RobotState& state = h.state;
   ASSERT_EQ(exec.blocked().size(), 1u);
   // Half a metre ahead along the plan (straight at the goal).
   EXPECT_NEAR(exec.blocked()[0].x, 0.5, 0.11);
   EXPECT_NEAR(exec.blocked()[0].y, 0.0, 1e-9);
-  controller.fail = false;
+  h.controller.fail = false;
   // Let the recovery finish, then the next plan goes round the disc.
-  for (int i = 0; i < 10 && !planner.last_blocked; ++i, state.time += 0.1) {
+  for (int i = 0; i < 10 && !h.planner.last_blocked; ++i, state.time += 0.1) {
     exec.Step(state, Pose2D());
   }
-  EXPECT_TRUE(planner.last_blocked);
+  EXPECT_TRUE(h.planner.last_blocked);
   EXPECT_NEAR(exec.plan()[20].y, 1.0, 1e-9);  // via the detour waypoint
   // The original costmap is untouched.
   int mx, my;
-  ASSERT_TRUE(costmap.WorldToMap(0.5, 0.0, &mx, &my));
-  EXPECT_EQ(costmap.cost(mx, my), 0);
+  ASSERT_TRUE(h.costmap.WorldToMap(0.5, 0.0, &mx, &my));
+  EXPECT_EQ(h.costmap.cost(mx, my), 0);
 }
 
 TEST(NavigationExecutive, ForgetsBlockedPlacesWhenNoPlanGoesRoundThem) {
-  MoveBaseOptions o;
-  o.controller_patience = 1.0;
-  o.blocked_radius = 0.3;
-  o.blocked_lookahead = 0.5;
-  Costmap2D costmap(100, 100, 0.05, -2.5, -2.5);
-  DetourPlanner planner;
-  planner.fail_if_blocked = true;
-  GoToGoal controller;
-  controller.fail = true;
-  CountingRecovery r1("conservative_reset");
-  NavigationExecutive exec(o, &planner, &controller, {&r1});
-  RobotState state;
-  state.global_costmap = &costmap;
-  state.local_costmap = &costmap;
-  exec.SetGoal({2.0, 0.0, 0.0}, 0.0);
-  for (; state.time < 1.5 && exec.blocked().empty(); state.time += 0.1) {
-    exec.Step(state, Pose2D());
-  }
+  BlockedHarness h(true);
+  NavigationExecutive& exec = h.exec;
+  RobotState& state = h.state;
   ASSERT_EQ(exec.blocked().size(), 1u);
-  controller.fail = false;
+  h.controller.fail = false;
   bool replanned = false;
   for (int i = 0; i < 10 && !replanned; ++i, state.time += 0.1) {
     replanned = exec.Step(state, Pose2D()).new_plan;
   }
   EXPECT_TRUE(replanned);
   EXPECT_TRUE(exec.blocked().empty());  // no way round: forgotten, plain plan
-  EXPECT_FALSE(planner.last_blocked);
+  EXPECT_FALSE(h.planner.last_blocked);
 }
 
 TEST(NavigationExecutive, RecordsTheTrailItDrives) {

@@ -95,7 +95,7 @@ def _is_loopback(address):
     return address.startswith('127.') or address == '::1' or address.startswith('::ffff:127.')
 
 
-def _descendants(root):
+def descendants(root):
     """root and every process below it."""
     children = collections.defaultdict(list)
     for entry in os.listdir('/proc'):
@@ -174,7 +174,7 @@ def non_loopback_listeners(root_pid=None, caller_id=None):
     listening = _listening_sockets()
     forced_ports = _xmlrpc_ports(caller)
     problems = []
-    for pid in _descendants(root):
+    for pid in descendants(root):
         for inode in _socket_inodes(pid):
             if inode not in listening:
                 continue
