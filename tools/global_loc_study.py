@@ -8,11 +8,14 @@ after the call is compared with /ground_truth/odom:
   false claim  a claim while > 1 m or > 30 deg from the truth
   right        < 0.3 m and < 10 deg
 Prints one line per start and a summary: share right at the end, false claims, travel until the
-first right claim. Run by tools/global_loc_study.sh (which starts the simulator, map_server and
+first right claim. With --kidnaps N, after each of the first N starts the robot is carried again,
+at least --kidnap-distance away, without telling amcl (a kidnapping), and driven --kidnap-travel
+metres: every amcl_pose from then on is scored the same way (a claim of the old place is false),
+with the travel until amcl is right again. Run by tools/global_loc_study.sh (which starts the simulator, map_server and
 amcl on lock-step time: this script is a participant, so a seed gives the same figures every run).
 
   global_loc_study.py --map MAP.yaml --starts N [--seed S] [--travel M] [--timeout SIM_S]
-                      [--spawn X,Y]"""
+                      [--spawn X,Y] [--kidnaps N] [--kidnap-distance M] [--kidnap-travel M]"""
 import argparse
 import math
 import os
@@ -23,7 +26,7 @@ import threading
 from minibot3d_lockstep import Participant  # before rospy.init_node: it counts messages
 
 import rospy
-from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
+from geometry_msgs.msg import PoseArray, PoseWithCovarianceStamped, Twist
 from minibot3d_sim.srv import SetPose
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import LaserScan
@@ -51,10 +54,12 @@ class State(object):
         self.lock = threading.Lock()
         self.truth, self.truth_t, self.scan = None, 0.0, None
         self.travel = 0.0
-        self.events = []  # (travel, dist, dyaw, cov) per amcl_pose
+        self.events = []  # (travel, dist, dyaw, cov, stamp) per amcl_pose
+        self.recording = None  # for --picture: {'truth': [...], 'estimates': [...], 'searches': [...]}
         rospy.Subscriber('/ground_truth/odom', Odometry, self.on_truth, queue_size=50)
         rospy.Subscriber('/amcl_pose', PoseWithCovarianceStamped, self.on_pose, queue_size=50)
         rospy.Subscriber('/scan', LaserScan, self.on_scan, queue_size=1)
+        rospy.Subscriber('/amcl/search_candidates', PoseArray, self.on_candidates, queue_size=5)
 
     def on_truth(self, m):
         p = m.pose.pose
@@ -65,6 +70,8 @@ class State(object):
                 if d < 0.5:  # a teleport is not travel
                     self.travel += d
             self.truth, self.truth_t = pose, m.header.stamp.to_sec()
+            if self.recording is not None:
+                self.recording['truth'].append(pose[:2])
 
     def on_pose(self, m):
         p = m.pose.pose
@@ -74,7 +81,16 @@ class State(object):
                 return
             t = self.truth
             self.events.append((self.travel, math.hypot(p.position.x - t[0], p.position.y - t[1]),
-                                angle_diff(yaw_of(p.orientation), t[2]), c[0] + c[7]))
+                                angle_diff(yaw_of(p.orientation), t[2]), c[0] + c[7],
+                                m.header.stamp.to_sec()))
+            if self.recording is not None:
+                self.recording['estimates'].append((p.position.x, p.position.y, c[0] + c[7]))
+
+    def on_candidates(self, m):
+        with self.lock:
+            if self.recording is not None:
+                self.recording['searches'].append(
+                    [(q.position.x, q.position.y, yaw_of(q.orientation)) for q in m.poses])
 
     def on_scan(self, m):
         with self.lock:
@@ -108,6 +124,62 @@ def free_poses(map_yaml, rng, spawn, clearance=0.3):
                rng.uniform(-math.pi, math.pi))
 
 
+def draw(path, map_yaml, rec, k):
+    """The picture of one start: map, candidates of every search, true path, estimates (grey while
+    amcl makes no claim, green when it claims the pose), the kidnapping (second search) in orange."""
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    import numpy as np
+    free, occ, res, origin = load_trinary(map_yaml)
+    img = np.where(occ, 0.0, np.where(free, 1.0, 0.75))
+    h, w = img.shape
+    fig, ax = plt.subplots(figsize=(12, 10.8))
+    ax.imshow(img, cmap='gray', vmin=0, vmax=1, origin='lower', interpolation='nearest',
+              extent=(origin[0], origin[0] + w * res, origin[1], origin[1] + h * res))
+    cut_t, cut_e = rec['kidnap_at'] or (len(rec['truth']), len(rec['estimates']))
+    for part, (truth, est) in enumerate(((rec['truth'][:cut_t], rec['estimates'][:cut_e]),
+                                         (rec['truth'][cut_t:], rec['estimates'][cut_e:]))):
+        if truth:
+            t = np.array(truth)
+            # A jump is the carrying, not a path: split there.
+            breaks = np.nonzero(np.hypot(*np.diff(t, axis=0).T) > 0.5)[0] + 1
+            for i, seg in enumerate(np.split(t, breaks)):
+                ax.plot(seg[:, 0], seg[:, 1], '-', color='black' if part == 0 else 'saddlebrown',
+                        lw=1.5, label=None if i else
+                        'true path' if part == 0 else 'true path after the kidnapping')
+        if est:
+            e = np.array(est)
+            claimed = e[:, 2] < CLAIM
+            ax.plot(e[~claimed, 0], e[~claimed, 1], '.', color='0.55', ms=4,
+                    label='estimate, no claim' if part == 0 else None)
+            ax.plot(e[claimed, 0], e[claimed, 1], '.', color='green', ms=4,
+                    label='estimate, claimed' if part == 0 else None)
+    for s_i, cands in enumerate(rec['searches']):
+        color = 'tab:blue' if s_i == 0 else 'tab:orange'
+        for rank, (cx, cy, cyaw) in enumerate(cands):
+            ax.arrow(cx, cy, 1.2 * math.cos(cyaw), 1.2 * math.sin(cyaw), width=0.12,
+                     color=color, length_includes_head=True,
+                     label=('search candidates (global_localization)' if s_i == 0 else
+                            'search candidates (lost: re-search)') if rank == 0 else None)
+            ax.annotate(str(rank + 1), (cx, cy), xytext=(4, 4), textcoords='offset points',
+                        color=color, fontsize=9, weight='bold')
+    if rec['truth']:
+        ax.plot(*rec['truth'][0], 'o', color='black', ms=7, label='start')
+    ax.set_aspect('equal')
+    ax.set_xlabel('x (m)')
+    ax.set_ylabel('y (m)')
+    ax.set_title('Global localization, %s, start %d: candidates ranked by score' % (
+        os.path.basename(map_yaml), k))
+    ax.legend(loc='upper center', bbox_to_anchor=(0.5, -0.07), ncol=4, fontsize=9)
+    fig.tight_layout()
+    tmp = path + '.tmp.png'
+    fig.savefig(tmp, dpi=90)
+    plt.close(fig)
+    os.replace(tmp, path)
+    print('global_loc_study: picture of start %d written to %s' % (k, path), flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('--map', required=True)
@@ -116,7 +188,25 @@ def main():
     ap.add_argument('--travel', type=float, default=12.0, help='m driven per start')
     ap.add_argument('--timeout', type=float, default=150.0, help='sim s per start')
     ap.add_argument('--spawn', default='-3.0,-1.5', help='x,y: starts are reachable from here')
+    ap.add_argument('--kidnaps', type=int, default=0,
+                    help='after each of the first N starts, carry the robot elsewhere (amcl not '
+                    'told) and drive on')
+    ap.add_argument('--kidnap-distance', type=float, default=5.0, help='m: how far at least')
+    ap.add_argument('--kidnap-travel', type=float, default=15.0, help='m driven after a kidnap')
+    ap.add_argument('--wanderer', choices=('openings', 'sides'), default='openings',
+                    help='tools/wanderer.py: head for the deepest opening, or only steer towards '
+                    'the side with more room (the first version)')
+    ap.add_argument('--picture', help='PNG: the map, the search candidates, the true and estimated '
+                    'paths of one start (and its kidnapping)')
+    ap.add_argument('--picture-start', type=int, default=0, help='which start --picture shows')
     args = ap.parse_args(rospy.myargv()[1:])
+    for name, ok in (('--starts', args.starts >= 1), ('--travel', args.travel > 0),
+                     ('--timeout', args.timeout > 0), ('--kidnaps', args.kidnaps >= 0),
+                     ('--kidnap-distance', args.kidnap_distance >= 0),
+                     ('--kidnap-travel', args.kidnap_travel > 0),
+                     ('--picture-start', 0 <= args.picture_start < args.starts)):
+        if not ok:
+            ap.error('%s=%s: out of range' % (name, getattr(args, name[2:].replace('-', '_'))))
     rospy.init_node('global_loc_study')
     lockstep = Participant(wake_topics=['/amcl_pose', '/ground_truth/odom'],
                            wake_on_participants=True)
@@ -130,23 +220,29 @@ def main():
     global_loc = rospy.ServiceProxy('/global_localization', Empty)
     rng = random.Random(args.seed)
     poses = free_poses(args.map, rng, [float(v) for v in args.spawn.split(',')])
-    rows = []
-    for k in range(args.starts):
+    def carry(pose_source):
+        """Teleports the robot to the next pose that the simulator accepts; waits for the truth."""
         for _ in range(50):
-            x, y, yaw = next(poses)
+            x, y, yaw = next(pose_source)
             t_set = rospy.Time.now().to_sec()
             if set_pose(x, y, yaw).success:
                 break
         lockstep.wait_for(lambda: st.truth_t > t_set and math.hypot(
             st.truth[0] - x, st.truth[1] - y) < 0.05, 10.0)
         with st.lock:
+            return x, y, yaw, st.truth_t  # the first ground truth at the new place
+
+    def drive(travel, since):
+        """Wanders `travel` metres (or until --timeout); returns (events, metres driven) from now.
+        Only poses amcl computed from data after `since` (the carrying) count: one stamped before
+        it describes the robot before it was moved."""
+        with st.lock:
             st.events = []
             travel0 = st.travel
-        global_loc()
-        wanderer = Wanderer(laser_yaw=math.pi)
+        wanderer = Wanderer(laser_yaw=math.pi, seek_openings=args.wanderer == 'openings')
         start = rospy.Time.now()
         cmd = Twist()
-        while (st.travel - travel0 < args.travel and
+        while (st.travel - travel0 < travel and
                (rospy.Time.now() - start).to_sec() < args.timeout):
             cmd.linear.x, cmd.angular.z = wanderer.command(st.scan)
             cmd_pub.publish(cmd)
@@ -154,22 +250,60 @@ def main():
         cmd_pub.publish(Twist())
         lockstep.sleep(0.1)
         with st.lock:
-            events = list(st.events)
-            travelled = st.travel - travel0
+            return ([(e[0] - travel0,) + e[1:] for e in st.events if e[4] > since],
+                    st.travel - travel0)
+
+    def score(events):
+        """(right at the end, false claims, travel to the first right claim or None, last event)."""
         false = [e for e in events if e[3] < CLAIM and (e[1] > FALSE_DIST or e[2] > FALSE_YAW)]
         right = [e for e in events if e[3] < CLAIM and e[1] < RIGHT_DIST and e[2] < RIGHT_YAW]
-        first = right[0][0] - travel0 if right else None
         last = events[-1] if events else None
-        right_end = bool(last and last[3] < CLAIM and last[1] < RIGHT_DIST and last[2] < RIGHT_YAW)
+        right_end = bool(last and last[3] < CLAIM and last[1] < RIGHT_DIST and
+                         last[2] < RIGHT_YAW)
+        return right_end, false, right[0][0] if right else None, last
+
+    def describe(right_end, false, first, last, travelled):
+        return '%s; %d false claims%s; first right claim %s; driven %.1f m; end %.2f m / %.0f deg ' \
+            'off, cov %.3g' % (
+                'right at the end' if right_end else 'NOT right at the end', len(false),
+                ' (first %.1f m off after %.1f m)' % (false[0][1], false[0][0]) if false else '',
+                'after %.1f m' % first if first is not None else 'never', travelled,
+                last[1] if last else float('nan'), math.degrees(last[2]) if last else float('nan'),
+                last[3] if last else float('nan'))
+
+    rows, kidnaps = [], []
+    for k in range(args.starts):
+        x, y, yaw, t_set = carry(poses)
+        if args.picture and k == args.picture_start:
+            with st.lock:
+                st.recording = {'truth': [], 'estimates': [], 'searches': [], 'kidnap_at': None}
+        global_loc()
+        events, travelled = drive(args.travel, t_set)
+        right_end, false, first, last = score(events)
         rows.append((right_end, len(false), first))
-        print('start %2d (%6.2f, %6.2f, %5.2f): %s; %d false claims%s; first right claim %s; '
-              'driven %.1f m; end %.2f m / %.0f deg off, cov %.3g' % (
-                  k, x, y, yaw, 'right at the end' if right_end else 'NOT right at the end',
-                  len(false), ' (first %.1f m off after %.1f m)' % (false[0][1], false[0][0] - travel0)
-                  if false else '', 'after %.1f m' % first if first is not None else 'never',
-                  travelled, last[1] if last else float('nan'),
-                  math.degrees(last[2]) if last else float('nan'), last[3] if last else float('nan')),
-              flush=True)
+        print('start %2d (%6.2f, %6.2f, %5.2f): %s' % (
+            k, x, y, yaw, describe(right_end, false, first, last, travelled)), flush=True)
+        if k < args.kidnaps:
+            # Kidnapped: carried somewhere else at least --kidnap-distance away, amcl not told.
+            with st.lock:
+                here = st.truth
+            far = (p for p in poses if math.hypot(p[0] - here[0], p[1] - here[1]) >=
+                   args.kidnap_distance)
+            kx, ky, kyaw, t_set = carry(far)
+            with st.lock:
+                if st.recording is not None:
+                    st.recording['kidnap_at'] = (len(st.recording['truth']),
+                                                 len(st.recording['estimates']))
+            events, travelled = drive(args.kidnap_travel, t_set)
+            right_end, false, first, last = score(events)
+            kidnaps.append((right_end, len(false), first))
+            print('  kidnapped %5.1f m to (%6.2f, %6.2f, %5.2f): %s' % (
+                math.hypot(kx - here[0], ky - here[1]), kx, ky, kyaw,
+                describe(right_end, false, first, last, travelled)), flush=True)
+        with st.lock:
+            recording, st.recording = st.recording, None
+        if recording is not None:
+            draw(args.picture, args.map, recording, k)
     n = len(rows)
     firsts = sorted(r[2] for r in rows if r[2] is not None)
     within10 = sum(1 for r in rows if r[2] is not None and r[2] <= 10.0)
@@ -180,6 +314,18 @@ def main():
               sum(r[1] for r in rows), sum(1 for r in rows if r[1]), within10, n,
               '%.1f' % firsts[len(firsts) // 2] if firsts else '-',
               '%.1f' % firsts[-1] if firsts else '-'), flush=True)
+    if kidnaps:
+        n = len(kidnaps)
+        firsts = sorted(r[2] for r in kidnaps if r[2] is not None)
+        print('global_loc_study %s kidnapping: %d runs (each >= %.0f m away, %.0f m driven): right '
+              'at the end %d/%d; false claims %d (in %d runs); right again within 10 m %d/%d; '
+              'travel until right again median %s m, max %s m' % (
+                  os.path.basename(args.map), n, args.kidnap_distance, args.kidnap_travel,
+                  sum(r[0] for r in kidnaps), n, sum(r[1] for r in kidnaps),
+                  sum(1 for r in kidnaps if r[1]),
+                  sum(1 for r in kidnaps if r[2] is not None and r[2] <= 10.0), n,
+                  '%.1f' % firsts[len(firsts) // 2] if firsts else '-',
+                  '%.1f' % firsts[-1] if firsts else '-'), flush=True)
     return 0
 
 

@@ -2,7 +2,12 @@
 # Global-localization study (part of make bench): for each world, the simulator + map_server +
 # amcl on lock-step time (full speed) and tools/global_loc_study.py: N seeded random starts, each
 # carried there, /global_localization called once, driven by tools/wanderer.py.
-#   tools/global_loc_study.sh [STARTS] [WORLD ...]     (default: 10 starts; default arena)
+# OUT=DIR: where logs and pictures go (build/bench/global_loc); AMCL_PARAMS=YAML: loaded over
+# config/amcl.yaml; WANDERER=sides: the older wanderer (see tools/wanderer.py).
+# With KIDNAPS=N the first N starts of each world are followed by a kidnapping (see the .py).
+#   [KIDNAPS=N] tools/global_loc_study.sh [STARTS] [WORLD ...]   (default: 10 starts; default arena)
+# Writes build/bench/global_loc/global_loc_WORLD.png: the map, the candidates, the paths of start 0.
+# Worlds: default, arena, office (minibot3d_sim/worlds/office.world, made by tools/office_world.py).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 source tools/ros_env.sh
@@ -10,7 +15,7 @@ starts=${1:-10}
 shift || true
 worlds=("$@")
 [ ${#worlds[@]} -gt 0 ] || worlds=(default arena)
-out=build/bench/global_loc && mkdir -p "$out"
+out=${OUT:-build/bench/global_loc} && mkdir -p "$out"
 # Stops a roslaunch started with setsid (its whole process group): SIGINT, then SIGKILL after 15 s.
 stop_group() {
   kill -INT -- -"$1" 2>/dev/null || return 0
@@ -25,7 +30,8 @@ for w in "${worlds[@]}"; do
   case "$w" in
     default) map=maps/default_world.yaml; spawn=(-3.0 -1.5 0.0) ;;
     arena) map=maps/arena.yaml; spawn=(0.0 0.0 0.0) ;;
-    *) echo "global_loc_study.sh: unknown world '$w' (default, arena)" >&2; exit 2 ;;
+    office) map=maps/office.yaml; spawn=(1.0 6.1667 0.0) ;;
+    *) echo "global_loc_study.sh: unknown world '$w' (default, arena, office)" >&2; exit 2 ;;
   esac
   map=$(realpath "$map")
   setsid roslaunch -p "$ROS_PORT" minibot3d_sim minibot3d_gazebo.launch \
@@ -37,10 +43,11 @@ for w in "${worlds[@]}"; do
   trap 'stop_group $sim; [ -z "${amcl:-}" ] || stop_group $amcl' EXIT
   wait_for_master 60
   setsid roslaunch -p "$ROS_PORT" --wait minibot3d_navigation amcl_bench_stack.launch map:="$map" \
-    x:=${spawn[0]} y:=${spawn[1]} yaw:=${spawn[2]} > "$out/amcl_$w.log" 2>&1 &
+    x:=${spawn[0]} y:=${spawn[1]} yaw:=${spawn[2]} amcl_params:="${AMCL_PARAMS:-}" \
+    > "$out/amcl_$w.log" 2>&1 &
   amcl=$!
   /usr/bin/python3 tools/global_loc_study.py --map "$map" --starts "$starts" --seed 1 \
-    --spawn="${spawn[0]},${spawn[1]}" || true
+    --spawn="${spawn[0]},${spawn[1]}"  --kidnaps "${KIDNAPS:-0}" --wanderer "${WANDERER:-openings}" --picture "$out/global_loc_$w.png" || true
   stop_group "$amcl"
   stop_group "$sim"
   trap - EXIT

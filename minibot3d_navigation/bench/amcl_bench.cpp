@@ -4,8 +4,13 @@
 // 5 cm cells; the three sensor models alone; the per-map precomputation; and
 // the memory the filter holds per particle (counter "bytes_per_particle");
 // global localization's map-wide search (GlobalSearch, minibot3d_slam's
-// correlative search) on a synthetic 54 m x 59 m office floor.
+// correlative search) on a synthetic 54 m x 59 m office floor and on the
+// shipped office world's map (maps/office.yaml, 2,775 m^2 free; the
+// environment variable OFFICE_MAP overrides its path).
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <memory>
 #include <random>
 #include <string>
@@ -15,6 +20,7 @@
 
 #include "minibot3d_navigation/amcl/amcl_filter.h"
 #include "minibot3d_navigation/amcl/global_search.h"
+#include "minibot3d_slam/map_io.h"
 #include "synthetic_building.h"  // minibot3d_slam/test: the search's own test floors
 
 namespace minibot3d_navigation {
@@ -201,6 +207,114 @@ void BM_GlobalSearchOffice(benchmark::State& state) {
   state.counters["best_right"] = static_cast<double>(right) / std::max(1, runs);
 }
 BENCHMARK(BM_GlobalSearchOffice)->Iterations(5)->Unit(benchmark::kMillisecond);
+
+// A 360-beam, 12 m scan cast on `grid` from `pose` (cells >= 65 % occupied stop
+// a beam; quarter-cell steps), as the simulator's lidar would see the world
+// the map was rendered from.
+LaserScan CastScan(const OccupancyGrid& grid, const Pose2D& pose) {
+  LaserScan scan;
+  scan.range_min = 0.15;
+  scan.range_max = 12.0;
+  const int beams = 360;
+  for (int b = 0; b < beams; ++b) {
+    const double a = -M_PI + 2.0 * M_PI * b / beams;
+    const double c = std::cos(pose.yaw + a), s = std::sin(pose.yaw + a);
+    const double step = grid.resolution / 4.0;
+    double r = 0.0, hit = std::numeric_limits<double>::infinity();
+    for (; r < scan.range_max; r += step) {
+      const int i = static_cast<int>(std::floor((pose.x + r * c - grid.origin_x) / grid.resolution));
+      const int j = static_cast<int>(std::floor((pose.y + r * s - grid.origin_y) / grid.resolution));
+      if (i < 0 || j < 0 || i >= grid.width || j >= grid.height) break;
+      if (grid.data[static_cast<size_t>(j) * grid.width + i] >= 65) {
+        hit = r;
+        break;
+      }
+    }
+    scan.angles.push_back(a);
+    scan.ranges.push_back(hit);
+  }
+  return scan;
+}
+
+// One map-wide search with the shipped options on the shipped office world's
+// map, the scan cast from a new seeded random pose each iteration (a free cell
+// >= 0.3 m from anything occupied or unknown).  Counters: the slowest and the
+// median CPU time of a search (the budget is global_search_budget = 1 s), and
+// how often the best candidate was within 0.3 m / 10 deg of the truth.  Args:
+// global_search_angular_step (in 1e-4 rad; 0 derives it from the farthest
+// return) and global_search_max_beams.
+void BM_GlobalSearchShippedOffice(benchmark::State& state) {
+  const char* env = std::getenv("OFFICE_MAP");
+  const std::string path = env != nullptr ? env : MINIBOT3D_OFFICE_MAP;
+  OccupancyGrid grid;
+  try {
+    const minibot3d_slam::GridMap m = minibot3d_slam::LoadMap(path);
+    grid.resolution = m.resolution;
+    grid.origin_x = m.origin_x;
+    grid.origin_y = m.origin_y;
+    grid.width = m.width;
+    grid.height = m.height;
+    grid.data = m.data;
+  } catch (const std::exception& e) {
+    state.SkipWithError(("cannot load the office map (OFFICE_MAP): " + std::string(e.what())).c_str());
+    return;
+  }
+  AmclOptions o;
+  o.laser_max_range = 12.0;
+  o.global_search_angular_step = state.range(0) * 1e-4;  // arg 0: step in 0.1 mrad
+  o.global_search_max_beams = static_cast<int>(state.range(1));
+  const GlobalSearch search(grid, o);
+  if (!search.available()) {
+    state.SkipWithError("the office map is over global_search_budget");
+    return;
+  }
+  // Free poses with clearance: a cell whose 13 x 13 neighbourhood is all free.
+  std::vector<std::pair<int, int>> cells;
+  const int c = static_cast<int>(std::ceil(0.3 / grid.resolution));
+  for (int j = c; j < grid.height - c; j += 3) {
+    for (int i = c; i < grid.width - c; i += 3) {
+      bool ok = true;
+      for (int dj = -c; ok && dj <= c; ++dj)
+        for (int di = -c; ok && di <= c; ++di)
+          ok = grid.data[static_cast<size_t>(j + dj) * grid.width + i + di] == 0;
+      if (ok) cells.emplace_back(i, j);
+    }
+  }
+  std::mt19937 rng(1);
+  std::vector<double> cpu;
+  int right = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    const auto& cell = cells[std::uniform_int_distribution<size_t>(0, cells.size() - 1)(rng)];
+    const Pose2D truth{grid.origin_x + (cell.first + 0.5) * grid.resolution,
+                       grid.origin_y + (cell.second + 0.5) * grid.resolution,
+                       std::uniform_real_distribution<double>(-M_PI, M_PI)(rng)};
+    const LaserScan scan = CastScan(grid, truth);
+    state.ResumeTiming();
+    double wall = 0.0, cpu_s = 0.0;
+    const std::vector<SearchCandidate> found = search.Search(scan, &wall, &cpu_s);
+    cpu.push_back(cpu_s);
+    if (!found.empty() &&
+        std::hypot(found[0].pose.x - truth.x, found[0].pose.y - truth.y) < 0.3 &&
+        std::abs(std::remainder(found[0].pose.yaw - truth.yaw, 2.0 * M_PI)) < 0.175) {
+      ++right;
+    }
+  }
+  std::sort(cpu.begin(), cpu.end());
+  state.counters["cells"] = static_cast<double>(grid.data.size());
+  state.counters["median_cpu_s"] = cpu.empty() ? 0.0 : cpu[cpu.size() / 2];
+  state.counters["max_cpu_s"] = cpu.empty() ? 0.0 : cpu.back();
+  state.counters["best_right"] = static_cast<double>(right) / std::max<size_t>(1, cpu.size());
+}
+BENCHMARK(BM_GlobalSearchShippedOffice)
+    ->ArgNames({"step_1e-4rad", "beams"})
+    ->Args({0, 180})
+    ->Args({85, 180})
+    ->Args({85, 120})
+    ->Args({120, 180})
+    ->Args({120, 120})
+    ->Iterations(30)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace amcl

@@ -6,7 +6,10 @@
 // claim (it covers every mode and stays large until the filter is confident,
 // amcl_filter.h), amcl/confidence says why (std_msgs/Float32MultiArray, one
 // labelled dimension: explained_fraction, modes, confident, evidence_updates,
-// beams_used), and global_localization runs the map-wide search.  All estimation logic lives in the core; this file only
+// beams_used), and global_localization runs the map-wide search, whose
+// candidate poses (best first) are published latched on
+// amcl/search_candidates (geometry_msgs/PoseArray; scores in the log).
+// All estimation logic lives in the core; this file only
 // converts messages and transforms.
 #include <cmath>
 #include <cstdlib>
@@ -110,6 +113,7 @@ class AmclNode {
     pose_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("amcl_pose", 2, true);
     cloud_pub_ = nh_.advertise<geometry_msgs::PoseArray>("particlecloud", 2, true);
     confidence_pub_ = nh_.advertise<std_msgs::Float32MultiArray>("amcl/confidence", 2, true);
+    candidates_pub_ = nh_.advertise<geometry_msgs::PoseArray>("amcl/search_candidates", 1, true);
     // Other participants call these while they work: answered between ticks too.
     ros::NodeHandle snh = lockstep_.ServiceHandle(nh_);
     global_srv_ = snh.advertiseService("global_localization", &AmclNode::OnGlobal, this);
@@ -245,7 +249,7 @@ class AmclNode {
     scan.range_max = msg->range_max;
 
     const amcl::UpdateResult r = filter_->Update(odom_pose, scan);
-    ReportSearch();
+    ReportSearch(msg->header.stamp);
     switch (r.status) {
       case amcl::UpdateStatus::kUpdated:
       case amcl::UpdateStatus::kMotionOnly:
@@ -312,17 +316,23 @@ class AmclNode {
     confidence_pub_.publish(m);
   }
 
-  // Logs a map-wide search the last update ran.
-  void ReportSearch() {
+  // Logs a map-wide search the last update ran and publishes its candidates.
+  void ReportSearch(const ros::Time& stamp) {
     const amcl::SearchReport& s = filter_->last_search();
     if (s.count == reported_searches_) return;
     reported_searches_ = s.count;
     std::ostringstream os;
+    geometry_msgs::PoseArray a;
+    a.header.stamp = stamp;
+    a.header.frame_id = global_frame_;
     for (const amcl::SearchCandidate& c : s.candidates) {
       os << " (" << c.pose.x << ", " << c.pose.y << ", " << c.pose.yaw << ": " << c.score << ")";
+      a.poses.push_back(PoseMsg(c.pose));
     }
+    candidates_pub_.publish(a);
     ROS_INFO("amcl: map-wide search (%s) in %.3f s CPU (%.3f s wall): %zu candidate(s)%s",
-             s.relocalization ? "no hypothesis explains the scan" : "global localization",
+             s.challenge ? "look-alikes before a claim"
+             : s.relocalization ? "no hypothesis explains the scan" : "global localization",
              s.cpu_seconds, s.seconds, s.candidates.size(), os.str().c_str());
     if (s.cpu_seconds > options_.global_search_budget) {
       ROS_WARN("amcl: the map-wide search took %.2f s CPU, over global_search_budget=%.2f s",
@@ -342,14 +352,19 @@ class AmclNode {
     a.header.frame_id = global_frame_;
     a.poses.resize(filter_->particles().size());
     for (size_t k = 0; k < a.poses.size(); ++k) {
-      const amcl::Pose2D& p = filter_->particles()[k].pose;
-      a.poses[k].position.x = p.x;
-      a.poses[k].position.y = p.y;
-      tf2::Quaternion q;
-      q.setRPY(0, 0, p.yaw);
-      a.poses[k].orientation = tf2::toMsg(q);
+      a.poses[k] = PoseMsg(filter_->particles()[k].pose);
     }
     cloud_pub_.publish(a);
+  }
+
+  static geometry_msgs::Pose PoseMsg(const amcl::Pose2D& p) {
+    geometry_msgs::Pose m;
+    m.position.x = p.x;
+    m.position.y = p.y;
+    tf2::Quaternion q;
+    q.setRPY(0, 0, p.yaw);
+    m.orientation = tf2::toMsg(q);
+    return m;
   }
 
   void OnInitialPose(const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& msg) {
@@ -459,7 +474,7 @@ class AmclNode {
 
   int reported_searches_ = 0;
   ros::Time global_request_stamp_;  // scans older than the last global_localization are dropped
-  ros::Publisher pose_pub_, cloud_pub_, confidence_pub_;
+  ros::Publisher pose_pub_, cloud_pub_, confidence_pub_, candidates_pub_;
   ros::Subscriber initial_sub_, map_sub_;
   ros::ServiceServer global_srv_, nomotion_srv_;
   ros::WallTimer save_timer_;

@@ -357,6 +357,51 @@ void ExpectNoFalseClaimsThenRight(AmclFilter* filter, RobotSim* sim,
   }
 }
 
+// The search seeds only one of two identical rooms (max_candidates = 1): the
+// filter's hypotheses all agree, yet the map holds a look-alike.  Before the
+// first claim the challenge search finds the twin and adds it, so the filter
+// never claims while the robot stays in a room that cannot be told apart
+// (without the challenge it claims whichever room it was given).
+TEST(AmclConfidenceTest, ChallengeAddsTheLookAlikeTheSearchMissedSoNoClaim) {
+  const OccupancyGrid grid = MakeTwinRooms();
+  for (int challenges : {0, 1}) {
+    AmclOptions o = ShippedOptions();
+    o.global_search_max_candidates = 1;
+    o.confidence_challenges = challenges;
+    AmclFilter filter(o, grid, AmclFilter::Initialization::kGlobal);
+    ASSERT_NE(filter.global_search(), nullptr);
+    RobotSim sim(grid, {2.2, 1.6, 0.4}, 35);
+    filter.Update(sim.odom(), sim.Scan());
+    ASSERT_EQ(filter.last_search().candidates.size(), 1u);
+    bool claimed = false, challenged = false;
+    for (int lap = 0; lap < 2; ++lap) {
+      for (int k = 0; k < 10; ++k) {
+        sim.Move({0.1, 0.0, 0.0});
+        ASSERT_FALSE(HasFatalFailure());
+        filter.Update(sim.odom(), sim.Scan());
+        claimed = claimed || filter.confidence().confident;
+        challenged = challenged || filter.last_search().challenge;
+      }
+      for (int k = 0; k < 10; ++k) {
+        sim.Move({0.0, 0.0, 18 * kDeg});
+        ASSERT_FALSE(HasFatalFailure());
+        filter.Update(sim.odom(), sim.Scan());
+        claimed = claimed || filter.confidence().confident;
+        challenged = challenged || filter.last_search().challenge;
+      }
+    }
+    if (challenges == 0) {
+      EXPECT_TRUE(claimed) << "the unchallenged filter claims its one room";
+      EXPECT_FALSE(challenged);
+    } else {
+      EXPECT_TRUE(challenged);
+      EXPECT_FALSE(claimed) << "claimed one of two identical rooms";
+      EXPECT_GE(filter.confidence().modes, 2);
+      EXPECT_GT(ClaimXY(filter), kDemoThreshold);
+    }
+  }
+}
+
 TEST(AmclConfidenceTest, GlobalSearchSeedsTheFilterWhichClaimsOnlyAfterMotion) {
   const OccupancyGrid grid = testing::MakeAsymmetricRoom();
   AmclOptions o = ShippedOptions();
@@ -601,6 +646,7 @@ TEST(AmclOptionsTest, ValidationNamesEveryOffendingParameter) {
   o.recovery_alpha_fast = 0.1;
   o.beam_skip_threshold = 1.5;
   o.initial_cov_xx = kNaN;
+  o.global_search_angular_step = 0.5;
   try {
     ValidateAmclOptions(o);
     FAIL() << "expected std::invalid_argument";
@@ -611,7 +657,8 @@ TEST(AmclOptionsTest, ValidationNamesEveryOffendingParameter) {
           "laser_model_type='sonar'", "laser_sigma_hit=-0.1",
           "laser_z_hit+laser_z_rand=0", "kld_err=0", "resample_interval=0",
           "recovery_alpha_slow=0.2 must be < recovery_alpha_fast=0.1",
-          "beam_skip_threshold=1.5", "initial_cov_xx=nan"}) {
+          "beam_skip_threshold=1.5", "initial_cov_xx=nan",
+          "global_search_angular_step=0.5"}) {
       EXPECT_NE(msg.find(part), std::string::npos) << part << " in: " << msg;
     }
   }
@@ -641,7 +688,7 @@ TEST(AmclOptionsTest, SetOptionParsesRosParameterText) {
                std::invalid_argument);
   EXPECT_FALSE(IsAmclOptionName("base_frame_id"));
   EXPECT_TRUE(IsAmclOptionName("laser_likelihood_max_dist"));
-  EXPECT_EQ(AmclOptionNames().size(), 48u);
+  EXPECT_EQ(AmclOptionNames().size(), 51u);
   // Defaults are amcl's.
   const AmclOptions d;
   EXPECT_EQ(d.min_particles, 100);

@@ -10,7 +10,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, '..', '..'))
 RENDER = os.path.join(ROOT, 'devel', 'lib', 'minibot3d_sim', 'render_world_map')
 PAIRS = [('default.world', 'default_world'), ('arena.world', 'arena'),
-         ('tight_spaces.world', 'tight_spaces')]
+         ('tight_spaces.world', 'tight_spaces'), ('office.world', 'office')]
 
 
 @pytest.mark.parametrize('world,name', PAIRS)

@@ -316,6 +316,9 @@ void AmclFilter::ResetAfterInitialization(int evidence_updates) {
   measured_ = false;
   confidence_ = Confidence();
   confidence_.evidence_updates = evidence_updates;
+  challenges_left_ = evidence_updates >= options_.confidence_min_updates
+                         ? 0
+                         : options_.confidence_challenges;
   UpdateEstimate();
 }
 
@@ -379,7 +382,7 @@ UpdateResult AmclFilter::Update(const Pose2D& odom_pose,
     result.resampled = true;
   }
   UpdateEstimate();
-  UpdateConfidence(motion_update);
+  UpdateConfidence(motion_update, scan);
   return result;
 }
 
@@ -555,7 +558,37 @@ void AmclFilter::UpdateClaim() {
   estimate_.claim_covariance = cov;
 }
 
-void AmclFilter::UpdateConfidence(bool motion_update) {
+void AmclFilter::Challenge(const LaserScan& scan) {
+  const GlobalSearch* search = global_search();
+  if (search == nullptr) return;
+  SearchReport report;
+  report.count = last_search_.count + 1;
+  report.challenge = true;
+  // One more than the seeding search keeps: the estimate itself is one.
+  report.candidates =
+      search->Search(scan, &report.seconds, &report.cpu_seconds,
+                     options_.global_search_max_candidates + 1);
+  std::vector<SearchCandidate> seeds;
+  double best = options_.global_search_min_score;
+  for (const SearchCandidate& c : report.candidates) best = std::max(best, c.score);
+  for (const SearchCandidate& c : report.candidates) {
+    if (c.score < options_.confidence_challenge_min_relative_score * best) continue;
+    const bool here = std::hypot(c.pose.x - estimate_.mean.x,
+                                 c.pose.y - estimate_.mean.y) < 1.0 &&
+                      std::fabs(AngleDiff(c.pose.yaw, estimate_.mean.yaw)) <
+                          kPi / 4;
+    if (!here) seeds.push_back(c);
+  }
+  last_search_ = report;
+  if (seeds.empty()) return;  // the view has no look-alike: claim
+  // The estimate stays, as heavy as the best place the search found.
+  seeds.insert(seeds.begin(), SearchCandidate{estimate_.mean, best});
+  const int left = challenges_left_;
+  SeedFromCandidates(seeds);  // restarts the evidence
+  challenges_left_ = left;
+}
+
+void AmclFilter::UpdateConfidence(bool motion_update, const LaserScan& scan) {
   confidence_.explained_fraction = ExplainedFraction(
       *map_, scan_, estimate_.mean,
       options_.confidence_hit_dist > 0.0 ? options_.confidence_hit_dist
@@ -569,6 +602,15 @@ void AmclFilter::UpdateConfidence(bool motion_update) {
     if (motion_update) ++confidence_.evidence_updates;
   } else {
     confidence_.evidence_updates = 0;
+  }
+  if (confidence_.evidence_updates >= options_.confidence_min_updates &&
+      challenges_left_ > 0) {
+    --challenges_left_;
+    Challenge(scan);
+    if (confidence_.evidence_updates == 0) {  // re-seeded: nothing to check
+      UpdateClaim();
+      return;
+    }
   }
   // Lost: no hypothesis explains what the robot sees.  (While several modes
   // remain the heaviest may well be a wrong one; motion decides among them,

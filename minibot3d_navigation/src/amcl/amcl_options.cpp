@@ -58,6 +58,9 @@ const options::OptionTable<O>& Table() {
        Field("confidence_mode_weight", &O::confidence_mode_weight),
        Field("confidence_min_updates", &O::confidence_min_updates),
        Field("confidence_lost_updates", &O::confidence_lost_updates),
+       Field("confidence_challenges", &O::confidence_challenges),
+       Field("confidence_challenge_min_relative_score",
+             &O::confidence_challenge_min_relative_score),
        Field("global_search", &O::global_search),
        Field("global_search_budget", &O::global_search_budget),
        Field("global_search_max_candidates", &O::global_search_max_candidates),
@@ -65,7 +68,8 @@ const options::OptionTable<O>& Table() {
        Field("global_search_min_relative_score",
              &O::global_search_min_relative_score),
        Field("global_search_depth", &O::global_search_depth),
-       Field("global_search_max_beams", &O::global_search_max_beams)});
+       Field("global_search_max_beams", &O::global_search_max_beams),
+       Field("global_search_angular_step", &O::global_search_angular_step)});
   return table;
 }
 
@@ -190,6 +194,11 @@ void ValidateAmclOptions(const AmclOptions& o) {
   require(o.confidence_min_updates >= 0,
           "confidence_min_updates=" + std::to_string(o.confidence_min_updates) +
               " must be >= 0");
+  unit_interval("confidence_challenge_min_relative_score",
+                o.confidence_challenge_min_relative_score);
+  require(o.confidence_challenges >= 0,
+          "confidence_challenges=" + std::to_string(o.confidence_challenges) +
+              " must be >= 0");
   require(o.confidence_lost_updates >= 0,
           "confidence_lost_updates=" +
               std::to_string(o.confidence_lost_updates) + " must be >= 0");
@@ -200,6 +209,11 @@ void ValidateAmclOptions(const AmclOptions& o) {
   unit_interval("global_search_min_score", o.global_search_min_score);
   unit_interval("global_search_min_relative_score",
                 o.global_search_min_relative_score);
+  require(o.global_search_angular_step >= 0.0 &&
+              o.global_search_angular_step <= 0.1,
+          "global_search_angular_step=" +
+              std::to_string(o.global_search_angular_step) +
+              " must be in [0, 0.1] rad (0: derived from the farthest return)");
   require(o.global_search_max_beams >= 1,
           "global_search_max_beams=" +
               std::to_string(o.global_search_max_beams) + " must be >= 1");

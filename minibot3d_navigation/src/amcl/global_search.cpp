@@ -23,6 +23,7 @@ slam::CorrelativeSearchOptions SearchOptions(const AmclOptions& o) {
   slam::CorrelativeSearchOptions s;
   s.linear_search_window = slam::CorrelativeSearchOptions::kWholeMap;
   s.angular_search_window = kPi;  // full circle
+  s.angular_step = o.global_search_angular_step;
   s.branch_and_bound_depth = o.global_search_depth;
   s.min_score = o.global_search_min_score;
   s.max_candidates = o.global_search_max_candidates;
@@ -70,7 +71,8 @@ GlobalSearch::~GlobalSearch() = default;
 
 std::vector<SearchCandidate> GlobalSearch::Search(const LaserScan& scan,
                                                   double* seconds,
-                                                  double* cpu_seconds) const {
+                                                  double* cpu_seconds,
+                                                  int max_candidates) const {
   std::vector<SearchCandidate> out;
   if (seconds != nullptr) *seconds = 0.0;
   if (cpu_seconds != nullptr) *cpu_seconds = 0.0;
@@ -106,8 +108,10 @@ std::vector<SearchCandidate> GlobalSearch::Search(const LaserScan& scan,
   }
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = ThreadCpuSeconds();
+  slam::CorrelativeSearchOptions so = SearchOptions(options_);
+  if (max_candidates > 0) so.max_candidates = max_candidates;
   const std::vector<slam::CorrelativeMatch> matches =
-      search_->SearchAll(points, slam::Pose2{}, SearchOptions(options_));
+      search_->SearchAll(points, slam::Pose2{}, so);
   if (seconds != nullptr) {
     *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() -
                                              start)

@@ -47,6 +47,15 @@
 //  evidence >= confidence_min_updates) its diagonal is raised to at least
 //  kUnconfidentVarianceXY / kUnconfidentVarianceYaw.  Resampling alone never
 //  earns a claim: only updates after motion count.
+//  * challenge: one mode only says that the filter's own hypotheses agree.
+//    When the evidence first reaches confidence_min_updates after a global
+//    localization or a re-seed, the map-wide search runs on the current scan
+//    (up to confidence_challenges times per seeding); places that explain it
+//    nearly as well (>= confidence_challenge_min_relative_score of the best
+//    place found) and lie >= 1 m or >= 45 deg from the estimate (a
+//    look-alike room the search's first few candidates missed) are added as
+//    hypotheses beside the estimate, evidence restarts, and motion must
+//    decide again.  A pose the user gave is never challenged.
 //
 // Global localization with the map-wide search (global_search.h): the set is
 // first spread uniformly (amcl); the next Update() runs the search on its
@@ -150,6 +159,7 @@ struct Confidence {
 struct SearchReport {
   int count = 0;            // searches run so far (changes when one runs)
   bool relocalization = false;  // triggered by the lost test, not a request
+  bool challenge = false;       // run before a claim (see Confidence above)
   double seconds = 0.0;      // wall
   double cpu_seconds = 0.0;  // of the calling thread (what the budget is about)
   std::vector<SearchCandidate> candidates;  // best first; empty: none found
@@ -259,7 +269,9 @@ class AmclFilter {
   void UpdateConvergence();
   void UpdateEstimate();
   // After a correction: explained fraction, evidence, lost test.
-  void UpdateConfidence(bool motion_update);
+  void UpdateConfidence(bool motion_update, const LaserScan& scan);
+  // The look-alike check before a claim (see Confidence above).
+  void Challenge(const LaserScan& scan);
   // Modes' second moment and the confidence floors -> claim_covariance.
   void UpdateClaim();
   void RunSearch(const LaserScan& scan, bool relocalization);
@@ -296,6 +308,7 @@ class AmclFilter {
   SearchReport last_search_;
   Confidence confidence_;
   bool measured_ = false;  // explained fraction measured since the last init
+  int challenges_left_ = 0;  // look-alike checks left before the next claim
 };
 
 }  // namespace amcl

@@ -88,6 +88,13 @@ struct AmclOptions {
   // which the filter counts itself lost (kidnapped) and, with the global
   // search, seeds again from the map-wide search.  0 disables.
   int confidence_lost_updates = 8;
+  // Map-wide look-alike checks before the first claim after a global
+  // localization or re-seed (amcl_filter.h, "challenge"); 0 disables (the
+  // default: on the office study it cost ~4 m more travel per claim, README).
+  int confidence_challenges = 0;
+  // ... counting only places that score at least this fraction of the best
+  // one the check found (near-equals: a weaker place dies in a few updates).
+  double confidence_challenge_min_relative_score = 0.9;
 
   // --- Map-wide correlative search for global localization (see
   // global_search.h) ---
@@ -99,7 +106,13 @@ struct AmclOptions {
   int global_search_depth = 7;          // branch-and-bound levels
   // Returns the search matches at most (evenly spaced over the scan): its time
   // is nearly proportional to them.
-  int global_search_max_beams = 180;
+  int global_search_max_beams = 120;
+  // Heading step (rad) of the search lattice; 0 derives it from the farthest
+  // return d (acos(1 - r^2 / 2d^2): about one cell at d, 0.24 deg at 12 m).
+  // The search time is nearly proportional to the number of headings; the
+  // filter refines the candidates, so a step that moves the farthest return
+  // by two cells loses no candidate in our studies (README).
+  double global_search_angular_step = 0.012;
 };
 
 // Throws std::invalid_argument whose message lists every offending parameter

@@ -70,9 +70,11 @@ class GlobalSearch {
   // if no pose scores global_search_min_score (or no beam returned).  Sets
   // *seconds / *cpu_seconds (if given) to the wall time and the calling
   // thread's CPU time the search took (a loaded machine stretches the first).
+  // max_candidates > 0 overrides global_search_max_candidates.
   std::vector<SearchCandidate> Search(const LaserScan& scan,
                                       double* seconds = nullptr,
-                                      double* cpu_seconds = nullptr) const;
+                                      double* cpu_seconds = nullptr,
+                                      int max_candidates = 0) const;
 
  private:
   AmclOptions options_;

@@ -1,0 +1,84 @@
+"""tools/wanderer.py on scans cast in hand-made rooms: it heads for the door of a closed room, keeps
+going along a corridor, turns in place when blocked, and copes with NaN / inf readings and a laser
+mounted backwards."""
+import math
+import os
+import sys
+from types import SimpleNamespace
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, 'tools'))
+from wanderer import Wanderer  # noqa: E402
+
+
+def cast(segments, x, y, yaw, laser_yaw=0.0, beams=360, range_max=12.0):
+    """A full-circle scan from (x, y, yaw) against line segments ((x0, y0), (x1, y1))."""
+    ranges = []
+    for i in range(beams):
+        a = yaw + laser_yaw - math.pi + 2.0 * math.pi * i / beams
+        dx, dy = math.cos(a), math.sin(a)
+        best = float('inf')
+        for (x0, y0), (x1, y1) in segments:
+            ex, ey = x1 - x0, y1 - y0
+            den = dx * ey - dy * ex
+            if abs(den) < 1e-12:
+                continue
+            t = ((x0 - x) * ey - (y0 - y) * ex) / den
+            u = ((x0 - x) * dy - (y0 - y) * dx) / den
+            if t > 0 and 0 <= u <= 1:
+                best = min(best, t)
+        ranges.append(best if best <= range_max else float('inf'))
+    return SimpleNamespace(ranges=ranges, angle_min=-math.pi, angle_increment=2.0 * math.pi / beams,
+                           range_min=0.15, range_max=range_max)
+
+
+def room_with_door(door_x0, door_x1):
+    """A 4 m x 4 m room ([-2, 2]^2) with a door in its north wall, a corridor beyond (y 2..4)."""
+    return [((-2, -2), (2, -2)), ((-2, -2), (-2, 2)), ((2, -2), (2, 2)),
+            ((-2, 2), (door_x0, 2)), ((door_x1, 2), (2, 2)),
+            ((-8, 4), (8, 4)), ((-8, 2), (-2, 2)), ((2, 2), (8, 2))]
+
+
+def test_heads_for_the_door_of_a_closed_room():
+    segs = room_with_door(0.6, 1.6)  # door centre (1.1, 2)
+    for yaw in (0.0, math.pi / 2, -2.5):
+        scan = cast(segs, 0.0, 0.0, yaw)
+        b = Wanderer(laser_yaw=0.0)._deepest_opening(scan)
+        door = math.atan2(2.0, 1.1) - yaw
+        err = abs(math.atan2(math.sin(b - door), math.cos(b - door)))
+        if abs(math.atan2(math.sin(door), math.cos(door))) < math.radians(100):
+            assert err < math.radians(15), (yaw, math.degrees(b), math.degrees(door))
+
+
+def test_a_door_too_narrow_to_pass_does_not_attract():
+    segs = room_with_door(1.0, 1.2)  # 0.2 m wide: the robot does not fit
+    facing = math.atan2(2.0, 1.1)   # straight at it
+    b = Wanderer(laser_yaw=0.0)._deepest_opening(cast(segs, 0.0, 0.0, facing))
+    assert abs(b) > math.radians(10), math.degrees(b)
+    # The same room with a 1 m door there: straight through it.
+    b = Wanderer(laser_yaw=0.0)._deepest_opening(cast(room_with_door(0.6, 1.6), 0.0, 0.0, facing))
+    assert abs(b) < math.radians(10), math.degrees(b)
+
+
+def test_keeps_going_along_a_corridor():
+    segs = [((-20, -1), (20, -1)), ((-20, 1), (20, 1))]
+    w = Wanderer(laser_yaw=0.0)
+    v, omega = w.command(cast(segs, 0.0, 0.0, 0.05))
+    assert v > 0.2 and abs(omega) < 0.2
+
+
+def test_turns_in_place_when_blocked_and_with_a_backwards_laser():
+    segs = [((0.3, -3), (0.3, 3)), ((-3, -3), (0.3, -3)), ((-3, 3), (0.3, 3)), ((-3, -3), (-3, 3))]
+    scan = cast(segs, 0.0, 0.0, 0.0, laser_yaw=math.pi)
+    v, omega = Wanderer(laser_yaw=math.pi).command(scan)
+    assert v == 0.0 and abs(omega) > 0.5
+
+
+def test_nan_and_inf_readings():
+    scan = cast([((-20, -1), (20, -1)), ((-20, 1), (20, 1))], 0.0, 0.0, 0.0)
+    scan.ranges = [float('nan') if i % 3 == 0 else r for i, r in enumerate(scan.ranges)]
+    v, omega = Wanderer(laser_yaw=0.0).command(scan)
+    assert v > 0.2 and math.isfinite(omega)
+    empty = SimpleNamespace(ranges=[float('nan')] * 10, angle_min=-math.pi,
+                            angle_increment=0.6, range_min=0.15, range_max=12.0)
+    assert Wanderer(laser_yaw=0.0)._deepest_opening(empty) is None
