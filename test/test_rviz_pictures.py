@@ -153,11 +153,28 @@ class Stack:
         while True:
             try:
                 master.getSystemState('/test_rviz_pictures')
-                return
+                break
             except OSError:
                 assert self.stack.poll() is None, 'roslaunch exited:\n' + self.log_tail()
                 assert time.time() < deadline, 'no ROS master'
                 time.sleep(0.2)
+        # rviz's window is up when the screen is no longer Xvfb's black. Its start (Ogre, Mesa's
+        # shader compiles) takes a few seconds, minutes on a machine loaded many times over, so
+        # this deadline is long; the picture checks' deadlines count from here.
+        deadline = time.time() + 240
+        while True:
+            self.check_rviz_alive()
+            window = np.asarray(ImageGrab.grab(xdisplay=self.display).crop(WINDOW))
+            if (window.max(axis=2) > 0).mean() > 0.5:
+                return
+            assert time.time() < deadline, 'no rviz window within 240 s:\n' + self.rviz_log()
+            time.sleep(0.5)
+
+    def check_rviz_alive(self):
+        assert self.stack.poll() is None, 'the stack exited:\n' + self.log_tail()
+        died = [line for line in self.log.read_text().splitlines()
+                if '[rviz-' in line and ('died' in line or 'finished' in line)]
+        assert not died, 'rviz exited:\n' + self.rviz_log()
 
     def run(self, *cmd):
         """Starts a helper (goal sender, driver) in the stack's environment."""
@@ -168,6 +185,13 @@ class Stack:
 
     def log_tail(self):
         return self.log.read_text()[-3000:]
+
+    def rviz_log(self):
+        """roslaunch's word on rviz and the tail of rviz's own log (under ROS_HOME)."""
+        said = [line for line in self.log.read_text().splitlines() if 'rviz' in line]
+        logs = sorted(glob.glob(str(self.tmp / 'log' / '*' / 'rviz-*.log')))
+        tail = open(logs[-1], errors='replace').read()[-2000:] if logs else '(no rviz log)'
+        return '\n'.join(said[-10:]) + '\n' + tail
 
     def grab(self):
         self.last = ImageGrab.grab(xdisplay=self.display).crop(WINDOW).convert('RGB')
@@ -180,15 +204,15 @@ class Stack:
         measures after timeout wall seconds."""
         deadline = time.time() + timeout
         while True:
-            assert self.stack.poll() is None, 'the stack exited:\n' + self.log_tail()
+            self.check_rviz_alive()
             m = self.grab()
             if ok(m):
                 return m
             if time.time() > deadline:
                 shot = self.tmp / 'failed.png'
                 self.last.save(shot)
-                pytest.fail('%s: not within %.0f s; last picture (%s): %s' % (
-                    what, timeout, shot, describe(m)))
+                pytest.fail('%s: not within %.0f s; last picture (%s): %s\nrviz:\n%s' % (
+                    what, timeout, shot, describe(m), self.rviz_log()))
             time.sleep(0.25)
 
     def save(self, name):
