@@ -1,4 +1,4 @@
-"""tools/wanderer.py on scans cast in hand-made rooms: it heads for the door of a closed room, keeps
+"""tools/wanderer.py (seek_openings=True) on scans cast in hand-made rooms: it heads for the door of a closed room, keeps
 going along a corridor, turns in place when blocked, and copes with NaN / inf readings and a laser
 mounted backwards."""
 import math
@@ -43,7 +43,7 @@ def test_heads_for_the_door_of_a_closed_room():
     segs = room_with_door(0.6, 1.6)  # door centre (1.1, 2)
     for yaw in (0.0, math.pi / 2, -2.5):
         scan = cast(segs, 0.0, 0.0, yaw)
-        b = Wanderer(laser_yaw=0.0)._deepest_opening(scan)
+        b = Wanderer(laser_yaw=0.0, seek_openings=True)._deepest_opening(scan)
         door = math.atan2(2.0, 1.1) - yaw
         err = abs(math.atan2(math.sin(b - door), math.cos(b - door)))
         if abs(math.atan2(math.sin(door), math.cos(door))) < math.radians(100):
@@ -53,16 +53,16 @@ def test_heads_for_the_door_of_a_closed_room():
 def test_a_door_too_narrow_to_pass_does_not_attract():
     segs = room_with_door(1.0, 1.2)  # 0.2 m wide: the robot does not fit
     facing = math.atan2(2.0, 1.1)   # straight at it
-    b = Wanderer(laser_yaw=0.0)._deepest_opening(cast(segs, 0.0, 0.0, facing))
+    b = Wanderer(laser_yaw=0.0, seek_openings=True)._deepest_opening(cast(segs, 0.0, 0.0, facing))
     assert abs(b) > math.radians(10), math.degrees(b)
     # The same room with a 1 m door there: straight through it.
-    b = Wanderer(laser_yaw=0.0)._deepest_opening(cast(room_with_door(0.6, 1.6), 0.0, 0.0, facing))
+    b = Wanderer(laser_yaw=0.0, seek_openings=True)._deepest_opening(cast(room_with_door(0.6, 1.6), 0.0, 0.0, facing))
     assert abs(b) < math.radians(10), math.degrees(b)
 
 
 def test_keeps_going_along_a_corridor():
     segs = [((-20, -1), (20, -1)), ((-20, 1), (20, 1))]
-    w = Wanderer(laser_yaw=0.0)
+    w = Wanderer(laser_yaw=0.0, seek_openings=True)
     v, omega = w.command(cast(segs, 0.0, 0.0, 0.05))
     assert v > 0.2 and abs(omega) < 0.2
 
@@ -70,15 +70,22 @@ def test_keeps_going_along_a_corridor():
 def test_turns_in_place_when_blocked_and_with_a_backwards_laser():
     segs = [((0.3, -3), (0.3, 3)), ((-3, -3), (0.3, -3)), ((-3, 3), (0.3, 3)), ((-3, -3), (-3, 3))]
     scan = cast(segs, 0.0, 0.0, 0.0, laser_yaw=math.pi)
-    v, omega = Wanderer(laser_yaw=math.pi).command(scan)
+    v, omega = Wanderer(laser_yaw=math.pi, seek_openings=True).command(scan)
     assert v == 0.0 and abs(omega) > 0.5
 
 
 def test_nan_and_inf_readings():
     scan = cast([((-20, -1), (20, -1)), ((-20, 1), (20, 1))], 0.0, 0.0, 0.0)
     scan.ranges = [float('nan') if i % 3 == 0 else r for i, r in enumerate(scan.ranges)]
-    v, omega = Wanderer(laser_yaw=0.0).command(scan)
+    v, omega = Wanderer(laser_yaw=0.0, seek_openings=True).command(scan)
     assert v > 0.2 and math.isfinite(omega)
     empty = SimpleNamespace(ranges=[float('nan')] * 10, angle_min=-math.pi,
                             angle_increment=0.6, range_min=0.15, range_max=12.0)
-    assert Wanderer(laser_yaw=0.0)._deepest_opening(empty) is None
+    assert Wanderer(laser_yaw=0.0, seek_openings=True)._deepest_opening(empty) is None
+
+
+def test_default_wanderer_steers_towards_the_side_with_more_room():
+    # A corridor with the robot near its right wall, heading along it: it drifts left.
+    segs = [((-20, -0.4), (20, -0.4)), ((-20, 1.6), (20, 1.6))]
+    v, omega = Wanderer(laser_yaw=0.0).command(cast(segs, 0.0, 0.0, 0.0))
+    assert v > 0.2 and omega > 0.1

@@ -49,10 +49,9 @@ echo "== AMCL in the simulator: tracking (3 laps of the rooms), global localizat
 tools/amcl_sim_bench.sh
 
 echo "== AMCL global localization study: seeded random starts, a wanderer, claims vs the truth"
-# The office world (tools/office_world.py) and the default world with a kidnapping after every
-# start; the arena without. The office run's picture goes to docs/.
-KIDNAPS=50 tools/global_loc_study.sh 50 default office
-tools/global_loc_study.sh 50 arena
+# The office world (tools/office_world.py), the default world and the arena, a kidnapping after
+# every start. The office run's picture (start 0) goes to docs/.
+KIDNAPS=50 tools/global_loc_study.sh 50 office default arena
 cp build/bench/global_loc/global_loc_office.png docs/global_loc_office.png
 
 echo "== Navigation core: costmap inflation/updates, global planners (A* 2000x2000, OMPL), DWA cycle"

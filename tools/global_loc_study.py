@@ -99,7 +99,9 @@ class State(object):
 
 def free_poses(map_yaml, rng, spawn, clearance=0.3):
     """Random poses on free cells at least `clearance` from obstacles and unknown space that
-    the robot could reach from `spawn` (not, say, the yard round a building's outer walls)."""
+    the robot could reach from `spawn` (not, say, the yard round a building's outer walls). The
+    cells are found at once (seconds on a building's map): call it before joining lock-step,
+    where a participant must answer every tick within ~lockstep_timeout."""
     from collections import deque
     free, occ, res, origin = load_trinary(map_yaml)
     ok = free & ~route_driver().inflate(occ | ~free, int(math.ceil(clearance / res)))
@@ -118,10 +120,13 @@ def free_poses(map_yaml, rng, spawn, clearance=0.3):
                 seen.add(c)
                 queue.append(c)
     cells = sorted(seen)
-    while True:
-        j, i = cells[rng.randrange(len(cells))]
-        yield (origin[0] + (i + 0.5) * res, origin[1] + (j + 0.5) * res,
-               rng.uniform(-math.pi, math.pi))
+
+    def draw():
+        while True:
+            j, i = cells[rng.randrange(len(cells))]
+            yield (origin[0] + (i + 0.5) * res, origin[1] + (j + 0.5) * res,
+                   rng.uniform(-math.pi, math.pi))
+    return draw()
 
 
 def draw(path, map_yaml, rec, k):
@@ -193,9 +198,10 @@ def main():
                     'told) and drive on')
     ap.add_argument('--kidnap-distance', type=float, default=5.0, help='m: how far at least')
     ap.add_argument('--kidnap-travel', type=float, default=15.0, help='m driven after a kidnap')
-    ap.add_argument('--wanderer', choices=('openings', 'sides'), default='openings',
-                    help='tools/wanderer.py: head for the deepest opening, or only steer towards '
-                    'the side with more room (the first version)')
+    ap.add_argument('--wanderer', choices=('sides', 'openings'), default='sides',
+                    help='tools/wanderer.py: steer towards the side with more room (default), or '
+                    'head for the deepest opening (better in the office, wedges in the default '
+                    'world\'s furniture: README)')
     ap.add_argument('--picture', help='PNG: the map, the search candidates, the true and estimated '
                     'paths of one start (and its kidnapping)')
     ap.add_argument('--picture-start', type=int, default=0, help='which start --picture shows')
@@ -208,6 +214,8 @@ def main():
         if not ok:
             ap.error('%s=%s: out of range' % (name, getattr(args, name[2:].replace('-', '_'))))
     rospy.init_node('global_loc_study')
+    rng = random.Random(args.seed)
+    poses = free_poses(args.map, rng, [float(v) for v in args.spawn.split(',')])
     lockstep = Participant(wake_topics=['/amcl_pose', '/ground_truth/odom'],
                            wake_on_participants=True)
     st = State()
@@ -218,8 +226,7 @@ def main():
     rospy.wait_for_service('/global_localization', 60)
     set_pose = rospy.ServiceProxy('/minibot3d_sim/set_pose', SetPose)
     global_loc = rospy.ServiceProxy('/global_localization', Empty)
-    rng = random.Random(args.seed)
-    poses = free_poses(args.map, rng, [float(v) for v in args.spawn.split(',')])
+
     def carry(pose_source):
         """Teleports the robot to the next pose that the simulator accepts; waits for the truth."""
         for _ in range(50):
@@ -271,7 +278,7 @@ def main():
                 last[1] if last else float('nan'), math.degrees(last[2]) if last else float('nan'),
                 last[3] if last else float('nan'))
 
-    rows, kidnaps = [], []
+    rows, kidnaps, picture = [], [], None
     for k in range(args.starts):
         x, y, yaw, t_set = carry(poses)
         if args.picture and k == args.picture_start:
@@ -301,9 +308,13 @@ def main():
                 math.hypot(kx - here[0], ky - here[1]), kx, ky, kyaw,
                 describe(right_end, false, first, last, travelled)), flush=True)
         with st.lock:
-            recording, st.recording = st.recording, None
-        if recording is not None:
-            draw(args.picture, args.map, recording, k)
+            if st.recording is not None:
+                picture = (st.recording, k)
+            st.recording = None
+    # Drawing takes seconds: out of the lock-step loop.
+    lockstep.close()
+    if picture is not None:
+        draw(args.picture, args.map, *picture)
     n = len(rows)
     firsts = sorted(r[2] for r in rows if r[2] is not None)
     within10 = sum(1 for r in rows if r[2] is not None and r[2] <= 10.0)
