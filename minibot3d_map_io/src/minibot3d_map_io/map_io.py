@@ -103,6 +103,8 @@ def _negate(value, yaml_path):
     # map_server reads an int; true/false are accepted too because hand-written YAMLs use them.
     if isinstance(value, bool):
         return value
+    if isinstance(value, str) and value.strip() in ('0', '1'):  # quoted: yaml-cpp reads it too
+        value = int(value)
     if isinstance(value, int) and value in (0, 1):
         return value == 1
     _fail(yaml_path, "'negate' must be 0 or 1, got '%s'" % (value,))
