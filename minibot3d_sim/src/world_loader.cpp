@@ -3,9 +3,9 @@
 // SDF: the world's <model>s and <include>s are walked recursively, composing poses
 // world ← model ← (nested model …) ← link ← collision. Only collision geometry is kept; every shape
 // becomes a static Shape named "model::link::collision" (nested models give "outer::inner::…").
-// Floor plan: the map is read as map_server reads it (minibot3d_map_io), and occupied pixels are merged into
-// maximal horizontal runs, then identical runs of consecutive rows into rectangles, each of which
-// becomes one box wall.
+// Floor plan: the map is read as map_server reads it (minibot3d_map_io); its occupied cells (100,
+// as ROS amcl and costmap_2d's static layer take them) are merged into maximal horizontal runs,
+// then identical runs of consecutive rows into rectangles, each of which becomes one box wall.
 #include "minibot3d_sim/world_loader.h"
 
 #include <algorithm>
@@ -600,8 +600,7 @@ World LoadFloorPlanWorld(const std::string& yaml_path, const WorldLoadOptions& o
   const double resolution = grid.resolution;
   const std::vector<double> origin = {grid.origin_x, grid.origin_y, grid.origin_theta};
 
-  // Occupancy exactly as map_server decides it (minibot3d_map_io): a wall where the cell is 100.
-  // Image rows, top first, as the rectangles below are built.
+  // A wall where the cell is 100. Image rows, top first, as the rectangles below are built.
   const int w = grid.width, h = grid.height;
   std::vector<std::uint8_t> occupied(static_cast<std::size_t>(w) * h, 0);
   for (int r = 0; r < h; ++r) {
