@@ -251,7 +251,7 @@ def test_missing_or_unreadable_image_is_named(tmp_path):
                  'cannot be opened')
 
 
-@pytest.mark.parametrize('name', ['arena', 'default_world', 'tight_spaces'])
+@pytest.mark.parametrize('name', ['arena', 'default_world', 'tight_spaces', 'office'])
 def test_shipped_maps_read_and_write_back_byte_for_byte(tmp_path, name):
     """The repository's ground-truth maps (written by render_world_map through the C++ writer)
     are what this writer makes of what this reader reads."""
