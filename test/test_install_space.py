@@ -108,6 +108,20 @@ def test_install_space_holds_what_a_user_needs(install):
         assert os.access(os.path.join(lib, path), os.X_OK), path
 
 
+def test_map_io_is_installed_for_cpp_and_python(install):
+    for path in ['include/minibot3d_map_io/map_io.h', 'lib/libminibot3d_map_io.so']:
+        assert os.path.exists(os.path.join(install, path)), path
+    read = in_install(
+        install, '/usr/bin/python3 -c "import minibot3d_map_io as m, os, sys; '
+        'g = m.load_map(sys.argv[1]); print(g.width, g.height, os.path.dirname(m.__file__))" '
+        '%s/share/minibot3d_bringup/maps/default_world.yaml' % install,
+        env=bare_env(), capture_output=True, text=True, timeout=60)
+    assert read.returncode == 0, read.stderr
+    width, height, where = read.stdout.split()
+    assert int(width) > 0 and int(height) > 0
+    assert where.startswith(install), 'minibot3d_map_io imported from %s' % where
+
+
 def test_installed_launch_files_use_find_only(install):
     launch_files = glob.glob(os.path.join(install, 'share', '*', 'launch', '*.launch'))
     assert len(launch_files) >= 10

@@ -18,6 +18,7 @@ import sys
 from collections import deque
 
 import numpy as np
+from minibot3d_map_io import load_map
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -32,27 +33,8 @@ def route_driver():
 
 def load_trinary(yaml_path):
     """(free, occupied) boolean arrays, row 0 = lowest y, with resolution and origin."""
-    rd = route_driver()
-    occupied, res, origin = rd.load_map(yaml_path)
-    import yaml
-    with open(yaml_path) as f:
-        meta = yaml.safe_load(f)
-    image = meta['image'] if os.path.isabs(meta['image']) else os.path.join(
-        os.path.dirname(os.path.abspath(yaml_path)), meta['image'])
-    with open(image, 'rb') as f:
-        data = f.read()
-    tokens, pos = [], 0
-    while len(tokens) < 4:
-        end = data.index(b'\n', pos)
-        line = data[pos:end]
-        pos = end + 1
-        if not line.startswith(b'#'):
-            tokens += line.split()
-    w, h = int(tokens[1]), int(tokens[2])
-    pixels = np.frombuffer(data[pos:pos + w * h], dtype=np.uint8).reshape(h, w)[::-1, :]
-    p = (255.0 - pixels) / 255.0
-    free = p < meta.get('free_thresh', 0.196)
-    return free, occupied, res, origin
+    grid = load_map(yaml_path)
+    return grid.free, grid.occupied, grid.resolution, grid.origin
 
 
 def reachable_free(free, occupied, res, origin, start, clearance=0.15):

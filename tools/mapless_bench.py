@@ -24,6 +24,8 @@ def picture(run, out_png):
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
     sys.path.insert(0, os.path.join(HERE, '..', 'minibot3d_slam', 'scripts'))
+    # plot_map needs minibot3d_map_io: from devel/ when sourced, else from the source tree.
+    sys.path.append(os.path.join(HERE, '..', 'minibot3d_map_io', 'src'))
     from plot_map import load_map
     img, res, origin = load_map(os.path.join(WORLDS, run['world'] + '.yaml'))
     with open(os.path.join(WORLDS, run['world'] + '.json')) as f:

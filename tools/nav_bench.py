@@ -21,6 +21,7 @@ import numpy as np
 import rospy
 from actionlib_msgs.msg import GoalStatus
 from geometry_msgs.msg import PoseStamped
+from minibot3d_map_io import load_map
 from minibot3d_sim.msg import SimStatus
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from nav_msgs.msg import Odometry
@@ -74,7 +75,8 @@ def main():
     args = parser.parse_args(rospy.myargv()[1:])
     rospy.init_node('nav_bench')
 
-    occupied, res, origin = load_route_driver().load_map(args.map)
+    grid = load_map(args.map)
+    occupied, res, origin = grid.occupied, grid.resolution, grid.origin
     blocked = load_route_driver().inflate(occupied, int(math.ceil(args.clearance / res)))
     free = np.argwhere(~blocked)  # (row, col), row 0 = lowest y
     rng = random.Random(args.seed)

@@ -18,9 +18,9 @@
 
 #include <benchmark/benchmark.h>
 
+#include "minibot3d_map_io/map_io.h"
 #include "minibot3d_navigation/amcl/amcl_filter.h"
 #include "minibot3d_navigation/amcl/global_search.h"
-#include "minibot3d_slam/map_io.h"
 #include "synthetic_building.h"  // minibot3d_slam/test: the search's own test floors
 
 namespace minibot3d_navigation {
@@ -248,7 +248,7 @@ void BM_GlobalSearchShippedOffice(benchmark::State& state) {
   const std::string path = env != nullptr ? env : MINIBOT3D_OFFICE_MAP;
   OccupancyGrid grid;
   try {
-    const minibot3d_slam::GridMap m = minibot3d_slam::LoadMap(path);
+    const minibot3d_slam::GridMap m = minibot3d_map_io::LoadMap(path);
     grid.resolution = m.resolution;
     grid.origin_x = m.origin_x;
     grid.origin_y = m.origin_y;

@@ -12,7 +12,6 @@ Every wait is on a condition (a message, a process) with a timeout, never a fixe
 The stack runs on lock-step time at full speed (amcl_sim.test): this test, route_driver.py and amcl
 are participants, so the run is the same on any machine load and timeouts are in sim seconds."""
 import bisect
-import importlib.util
 import math
 import os
 import subprocess
@@ -22,8 +21,8 @@ import unittest
 
 from minibot3d_lockstep import Participant  # before rospy.init_node: it counts messages
 from minibot3d_lockstep.run_checks import RunChecks
+from minibot3d_map_io import load_map
 
-import rospkg
 import rospy
 import rostest
 from geometry_msgs.msg import PoseWithCovarianceStamped
@@ -37,14 +36,6 @@ GLOBAL_ROUTE = '-2.1,0.6 -0.3,2.0 0.45,0.6 2.5,-1.0'
 
 def yaw_of(q):
     return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
-
-
-def load_route_driver():
-    path = os.path.join(rospkg.RosPack().get_path('minibot3d_sim'), 'scripts', 'route_driver.py')
-    spec = importlib.util.spec_from_file_location('route_driver', path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 class Recorder(object):
@@ -144,8 +135,8 @@ class AmclSim(unittest.TestCase):
         self.assertLessEqual(final_err, 0.15)
 
         # 2. relocation: initialpose 1 m off the truth, in free space
-        rd = load_route_driver()
-        occ, res, origin = rd.load_map(self.map_yaml)
+        grid = load_map(self.map_yaml)
+        occ, res, origin = grid.occupied, grid.resolution, grid.origin
         tx, ty, tyaw = rec.latest_truth()
         target = None
         for dx, dy in ((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0), (0.7071, 0.7071)):

@@ -14,50 +14,17 @@ waypoint (named). Under lock-step time (/use_lockstep) it is a participant: it s
 import argparse
 import heapq
 import math
-import os
 import sys
-import tempfile
 import threading
 import time
 
 import numpy as np
 from minibot3d_lockstep import Participant  # before rospy.init_node: it counts messages
+from minibot3d_map_io import MapIoError, load_map, write_atomically
 
 import rospy
-import yaml
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
-
-
-def load_map(yaml_path):
-    """map_server YAML + PGM → (occupied bool array [row 0 = bottom], resolution, origin)."""
-    with open(yaml_path) as f:
-        meta = yaml.safe_load(f)
-    for key in ('image', 'resolution', 'origin'):
-        if key not in meta:
-            raise ValueError('%s: missing key %r' % (yaml_path, key))
-    image = meta['image']
-    if not os.path.isabs(image):
-        image = os.path.join(os.path.dirname(os.path.abspath(yaml_path)), image)
-    with open(image, 'rb') as f:
-        data = f.read()
-    tokens, pos = [], 0
-    while len(tokens) < 4:
-        end = data.index(b'\n', pos)
-        line = data[pos:end]
-        pos = end + 1
-        if line.startswith(b'#'):
-            continue
-        tokens += line.split()
-    if tokens[0] != b'P5':
-        raise ValueError('%s: only binary PGM (P5) is supported' % image)
-    w, h = int(tokens[1]), int(tokens[2])
-    pixels = np.frombuffer(data[pos:pos + w * h], dtype=np.uint8).reshape(h, w)
-    p = (255.0 - pixels) / 255.0
-    if meta.get('negate', 0):
-        p = pixels / 255.0
-    occupied = (p > meta.get('occupied_thresh', 0.65))[::-1, :]  # row 0 = lowest y
-    return occupied, float(meta['resolution']), meta['origin']
 
 
 def inflate(occupied, cells):
@@ -126,7 +93,11 @@ def main():
         assert all(len(p) == 2 for p in waypoints) and waypoints
     except (ValueError, AssertionError):
         parser.error('--waypoints must be "x1,y1 x2,y2 ...", got %r' % args.waypoints)
-    occupied, res, origin = load_map(args.map)
+    try:
+        grid = load_map(args.map)
+    except MapIoError as e:
+        parser.error(str(e))
+    occupied, res, origin = grid.occupied, grid.resolution, grid.origin
     blocked = inflate(occupied, int(math.ceil(args.clearance / res)))
 
     def cell(x, y):
@@ -204,12 +175,8 @@ def drive(args, waypoints, blocked, cell, origin, res, lock, state, pub, lockste
     if args.record:
         with lock:
             trail = list(state['trail'])
-        out_dir = os.path.dirname(os.path.abspath(args.record))
-        fd, tmp = tempfile.mkstemp(dir=out_dir, suffix='.tmp')
-        with os.fdopen(fd, 'w') as f:
-            for t, x, y, th in trail:
-                f.write('%.6f %.6f %.6f %.6f\n' % (t, x, y, th))
-        os.replace(tmp, args.record)
+        write_atomically(args.record,
+                         ''.join('%.6f %.6f %.6f %.6f\n' % (t, x, y, th) for t, x, y, th in trail))
     length = sum(math.hypot(b[1] - a[1], b[2] - a[2])
                  for a, b in zip(state['trail'], state['trail'][1:]))
     print('route_driver: %d waypoints reached, %.1f m driven' % (len(route), length))

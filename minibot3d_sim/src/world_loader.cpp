@@ -1,11 +1,11 @@
-// Loading SDF worlds (tinyxml2 + assimp) and map_server floor plans (yaml-cpp + OpenCV).
+// Loading SDF worlds (tinyxml2 + assimp) and map_server floor plans (minibot3d_map_io).
 //
 // SDF: the world's <model>s and <include>s are walked recursively, composing poses
 // world ← model ← (nested model …) ← link ← collision. Only collision geometry is kept; every shape
 // becomes a static Shape named "model::link::collision" (nested models give "outer::inner::…").
-// Floor plan: the image is thresholded as map_server does, and occupied pixels are merged into
-// maximal horizontal runs, then identical runs of consecutive rows into rectangles, each of which
-// becomes one box wall.
+// Floor plan: the map is read as map_server reads it (minibot3d_map_io); its occupied cells (100,
+// as ROS amcl and costmap_2d's static layer take them) are merged into maximal horizontal runs,
+// then identical runs of consecutive rows into rectangles, each of which becomes one box wall.
 #include "minibot3d_sim/world_loader.h"
 
 #include <algorithm>
@@ -19,11 +19,11 @@
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
-#include <opencv2/imgcodecs.hpp>
 #include <tinyxml2.h>
-#include <yaml-cpp/yaml.h>
 
 #include <sys/stat.h>
+
+#include "minibot3d_map_io/map_io.h"
 
 namespace minibot3d_sim {
 namespace {
@@ -584,92 +584,28 @@ TriangleMesh LoadMesh(const std::string& path, const Eigen::Vector3d& scale) {
   return mesh;
 }
 
-namespace {
-
-[[noreturn]] void FailYaml(const std::string& file, const std::string& key,
-                           const std::string& what) {
-  throw WorldError(file + ": key '" + key + "': " + what);
-}
-
-template <typename T>
-T YamlValue(const YAML::Node& root, const std::string& file, const std::string& key) {
-  const YAML::Node node = root[key];
-  if (!node) FailYaml(file, key, "missing");
-  try {
-    return node.as<T>();
-  } catch (const YAML::Exception&) {
-    FailYaml(file, key, "bad value");
-  }
-}
-
-}  // namespace
-
 World LoadFloorPlanWorld(const std::string& yaml_path, const WorldLoadOptions& options,
                          std::vector<std::string>* warnings) {
   (void)warnings;  // a floor plan has nothing to warn about that is not an error
   if (!IsRegularFile(yaml_path)) throw WorldError(yaml_path + ": file not found");
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(yaml_path);
-  } catch (const YAML::Exception& e) {
-    throw WorldError(yaml_path + ": YAML parse error: " + e.what());
-  }
-  if (!root.IsMap()) throw WorldError(yaml_path + ": not a YAML mapping");
-
-  const std::string image = YamlValue<std::string>(root, yaml_path, "image");
-  const double resolution = YamlValue<double>(root, yaml_path, "resolution");
-  if (!(resolution > 0.0) || !std::isfinite(resolution)) {
-    FailYaml(yaml_path, "resolution", "must be positive");
-  }
-  const std::vector<double> origin = YamlValue<std::vector<double>>(root, yaml_path, "origin");
-  if (origin.size() != 3) FailYaml(yaml_path, "origin", "must be [x, y, yaw]");
-  for (double v : origin) {
-    if (!std::isfinite(v)) FailYaml(yaml_path, "origin", "must be finite");
-  }
-  const int negate = YamlValue<int>(root, yaml_path, "negate");
-  if (negate != 0 && negate != 1) FailYaml(yaml_path, "negate", "must be 0 or 1");
-  const double occupied_thresh = YamlValue<double>(root, yaml_path, "occupied_thresh");
-  const double free_thresh = YamlValue<double>(root, yaml_path, "free_thresh");
-  if (!(occupied_thresh >= 0.0 && occupied_thresh <= 1.0)) {
-    FailYaml(yaml_path, "occupied_thresh", "must be within [0, 1]");
-  }
-  if (!(free_thresh >= 0.0 && free_thresh <= 1.0)) {
-    FailYaml(yaml_path, "free_thresh", "must be within [0, 1]");
-  }
-  std::string mode = "trinary";
-  if (root["mode"]) mode = YamlValue<std::string>(root, yaml_path, "mode");
-  if (mode != "trinary" && mode != "scale" && mode != "raw") {
-    FailYaml(yaml_path, "mode", "must be trinary, scale or raw, got '" + mode + "'");
-  }
   if (!(options.floorplan_wall_height > 0.0)) {
     throw WorldError(yaml_path + ": floorplan_wall_height must be positive");
   }
-
-  const std::string image_path = JoinPath(DirName(yaml_path), image);
-  if (!IsRegularFile(image_path)) {
-    FailYaml(yaml_path, "image", "image file " + image_path + " not found");
+  minibot3d_map_io::OccupancyGrid grid;
+  try {
+    grid = minibot3d_map_io::LoadMap(yaml_path);
+  } catch (const minibot3d_map_io::MapIoError& e) {
+    throw WorldError(e.what());
   }
-  const cv::Mat pixels = cv::imread(image_path, cv::IMREAD_GRAYSCALE);
-  if (pixels.empty() || pixels.type() != CV_8UC1) {
-    FailYaml(yaml_path, "image", "cannot read image " + image_path);
-  }
+  const double resolution = grid.resolution;
+  const std::vector<double> origin = {grid.origin_x, grid.origin_y, grid.origin_theta};
 
-  // Occupancy exactly as map_server decides it.
-  const int w = pixels.cols, h = pixels.rows;
+  // A wall where the cell is 100. Image rows, top first, as the rectangles below are built.
+  const int w = grid.width, h = grid.height;
   std::vector<std::uint8_t> occupied(static_cast<std::size_t>(w) * h, 0);
   for (int r = 0; r < h; ++r) {
-    const std::uint8_t* row = pixels.ptr<std::uint8_t>(r);
-    for (int c = 0; c < w; ++c) {
-      const int value = row[c];
-      bool occ;
-      if (mode == "raw") {
-        occ = value <= 100 && value > occupied_thresh * 100.0;
-      } else {
-        const double p = negate ? value / 255.0 : (255.0 - value) / 255.0;
-        occ = p > occupied_thresh;
-      }
-      occupied[static_cast<std::size_t>(r) * w + c] = occ ? 1 : 0;
-    }
+    const std::int8_t* cells = grid.data.data() + static_cast<std::size_t>(h - 1 - r) * w;
+    for (int c = 0; c < w; ++c) occupied[static_cast<std::size_t>(r) * w + c] = cells[c] == 100;
   }
 
   World world;

@@ -7,23 +7,26 @@
 #include "minibot3d_sim/world_map.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
+#include <cstdlib>
 #include <limits>
 #include <map>
-#include <sstream>
 #include <stdexcept>
 
-#include <sys/stat.h>
-#include <unistd.h>
+#include "minibot3d_map_io/map_io.h"
 
 namespace minibot3d_sim {
 namespace {
 
 constexpr double kSnap = 1e-7;
 constexpr double kMaxCells = 1e8;
+
+double RoundToSignificant(double x, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.*g", digits, x);
+  return std::strtod(buf, nullptr);
+}
 
 double Snap(double x) {
   const double r = std::round(x);
@@ -143,40 +146,6 @@ void MarkGridLineSegment(const Seg& s, Raster* raster) {
   }
 }
 
-void WriteAtomically(const std::string& path, const std::string& content) {
-  std::string tmpl = path + ".tmp.XXXXXX";
-  std::vector<char> name(tmpl.begin(), tmpl.end());
-  name.push_back('\0');
-  const int fd = ::mkstemp(name.data());
-  if (fd < 0) {
-    throw std::runtime_error(path + ": cannot create a temporary file: " + std::strerror(errno));
-  }
-  const std::string tmp(name.data());
-  std::size_t done = 0;
-  while (done < content.size()) {
-    const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      const std::string err = std::strerror(errno);
-      ::close(fd);
-      ::unlink(tmp.c_str());
-      throw std::runtime_error(path + ": write failed: " + err);
-    }
-    done += static_cast<std::size_t>(n);
-  }
-  // mkstemp creates 0600; a map is an ordinary shared file.
-  if (::fchmod(fd, 0644) != 0 || ::fsync(fd) != 0 || ::close(fd) != 0) {
-    const std::string err = std::strerror(errno);
-    ::unlink(tmp.c_str());
-    throw std::runtime_error(path + ": cannot finish writing: " + err);
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string err = std::strerror(errno);
-    ::unlink(tmp.c_str());
-    throw std::runtime_error(path + ": rename failed: " + err);
-  }
-}
-
 }  // namespace
 
 OccupancyImage RenderSlice(const WorldSlice& slice, double resolution, double margin) {
@@ -257,34 +226,24 @@ void WriteMapServerFiles(const OccupancyImage& image, const std::string& out_bas
       image.occupied.size() != static_cast<std::size_t>(image.width) * image.height) {
     throw std::invalid_argument(out_basename + ": occupancy image is empty or inconsistent");
   }
-  const std::string pgm_path = out_basename + ".pgm";
-  const std::string yaml_path = out_basename + ".yaml";
-
-  std::ostringstream pgm;
-  pgm << "P5\n# minibot3d_sim ground-truth map\n" << image.width << ' ' << image.height << "\n255\n";
-  std::string pixels(static_cast<std::size_t>(image.width) * image.height, '\0');
-  for (int row = 0; row < image.height; ++row) {
-    // PGM's first row is the top of the map (highest y).
-    const int src = image.height - 1 - row;
-    for (int col = 0; col < image.width; ++col) {
-      pixels[static_cast<std::size_t>(row) * image.width + col] =
-          static_cast<char>(image.at(col, src) ? 0 : 254);
-    }
+  minibot3d_map_io::OccupancyGrid grid;
+  grid.resolution = image.resolution;
+  // The origin is a multiple of the resolution computed in floating point (-73 * 0.05 =
+  // -3.6500000000000004); 12 significant digits give the value meant, which is what the map
+  // files have always said.
+  grid.origin_x = RoundToSignificant(image.origin.x(), 12);
+  grid.origin_y = RoundToSignificant(image.origin.y(), 12);
+  grid.origin_theta = 0.0;
+  grid.width = image.width;
+  grid.height = image.height;
+  grid.data.resize(image.occupied.size());
+  for (std::size_t k = 0; k < image.occupied.size(); ++k) {
+    grid.data[k] = image.occupied[k] ? 100 : 0;  // same row order: row 0 at the lowest y
   }
-  pgm << pixels;
-  WriteAtomically(pgm_path, pgm.str());
-
-  const std::size_t slash = pgm_path.find_last_of('/');
-  const std::string pgm_name = slash == std::string::npos ? pgm_path : pgm_path.substr(slash + 1);
-  std::ostringstream yaml;
-  yaml.precision(12);
-  yaml << "image: " << pgm_name << "\n"
-       << "resolution: " << image.resolution << "\n"
-       << "origin: [" << image.origin.x() << ", " << image.origin.y() << ", 0.0]\n"
-       << "negate: 0\n"
-       << "occupied_thresh: 0.65\n"
-       << "free_thresh: 0.196\n";
-  WriteAtomically(yaml_path, yaml.str());
+  minibot3d_map_io::SaveOptions options;
+  options.pgm_comment = "minibot3d_sim ground-truth map";
+  options.explain_grey_levels = false;  // 0 and 254 only
+  minibot3d_map_io::SaveMap(grid, out_basename, options);
 }
 
 }  // namespace minibot3d_sim

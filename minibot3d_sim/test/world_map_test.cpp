@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include "minibot3d_map_io/map_io.h"
 #include "minibot3d_sim/world_loader.h"
 
 namespace minibot3d_sim {
@@ -169,36 +170,6 @@ TEST(WorldMapTest, RejectsBadArguments) {
   EXPECT_THROW(RenderSlice(empty, 0.05, 0.5), std::invalid_argument);
 }
 
-struct Pgm {
-  int width = 0, height = 0, maxval = 0;
-  std::string pixels;
-};
-
-Pgm ReadPgm(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  Pgm pgm;
-  std::string magic;
-  in >> magic;
-  EXPECT_EQ(magic, "P5");
-  auto next_int = [&in]() {
-    in >> std::ws;
-    while (in.peek() == '#') {
-      std::string comment;
-      std::getline(in, comment);
-      in >> std::ws;
-    }
-    int v = -1;
-    in >> v;
-    return v;
-  };
-  pgm.width = next_int();
-  pgm.height = next_int();
-  pgm.maxval = next_int();
-  in.get();  // the single whitespace before the raster
-  pgm.pixels.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  return pgm;
-}
-
 TEST(WorldMapTest, WritesMapServerFilesThatReadBack) {
   TempDir dir;
   // An L of two boxes, so top and bottom rows differ.
@@ -207,18 +178,23 @@ TEST(WorldMapTest, WritesMapServerFilesThatReadBack) {
   const OccupancyImage im = RenderSlice(slice, 0.05, 0.25);
   WriteMapServerFiles(im, dir / "out");
 
-  const Pgm pgm = ReadPgm(dir / "out.pgm");
-  ASSERT_EQ(pgm.width, im.width);
-  ASSERT_EQ(pgm.height, im.height);
-  EXPECT_EQ(pgm.maxval, 255);
-  ASSERT_EQ(pgm.pixels.size(), static_cast<std::size_t>(im.width) * im.height);
-  for (int row = 0; row < pgm.height; ++row) {
-    for (int col = 0; col < pgm.width; ++col) {
-      const auto v = static_cast<unsigned char>(pgm.pixels[row * pgm.width + col]);
-      // PGM row 0 is the top (highest y), OccupancyImage row 0 the bottom.
-      EXPECT_EQ(v, im.at(col, im.height - 1 - row) ? 0 : 254) << col << "," << row;
+  // Read back as map_server reads it: 0 = occupied (100), 254 = free (0), same row order.
+  const minibot3d_map_io::OccupancyGrid grid = minibot3d_map_io::LoadMap(dir / "out.yaml");
+  ASSERT_EQ(grid.width, im.width);
+  ASSERT_EQ(grid.height, im.height);
+  for (int row = 0; row < grid.height; ++row) {
+    for (int col = 0; col < grid.width; ++col) {
+      EXPECT_EQ(grid.data[static_cast<std::size_t>(row) * grid.width + col],
+                im.at(col, row) ? 100 : 0)
+          << col << "," << row;
     }
   }
+  std::ifstream pgm(dir / "out.pgm", std::ios::binary);
+  std::string magic, comment;
+  std::getline(pgm, magic);
+  std::getline(pgm, comment);
+  EXPECT_EQ(magic, "P5");
+  EXPECT_EQ(comment, "# minibot3d_sim ground-truth map");
 
   const YAML::Node yaml = YAML::LoadFile(dir / "out.yaml");
   EXPECT_EQ(yaml["image"].as<std::string>(), "out.pgm");

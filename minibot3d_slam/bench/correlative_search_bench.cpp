@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "minibot3d_slam/correlative_search.h"
-#include "minibot3d_slam/map_io.h"
+#include "minibot3d_slam/map_files.h"
 #include "synthetic_building.h"
 
 using minibot3d_slam::CorrelativeSearch;
@@ -230,7 +230,7 @@ int main(int argc, char** argv) {
   }
   try {
     for (const std::string& yaml : yamls) {
-      const GridMap map = minibot3d_slam::LoadMap(yaml);
+      const GridMap map = minibot3d_map_io::LoadMap(yaml);
       Run(yaml, map, [&](const Pose2& p) { return GridScan(map, p, settings.range); }, settings);
     }
     if (synthetic) {

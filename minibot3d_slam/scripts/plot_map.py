@@ -13,54 +13,16 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-import yaml  # noqa: E402
-
-
-def read_pgm(path):
-    """Reads a binary (P5) or ASCII (P2) PGM into a uint8/uint16 array, top row first."""
-    with open(path, "rb") as f:
-        data = f.read()
-    tokens, pos = [], 0
-    while len(tokens) < 4:
-        while data[pos:pos + 1].isspace():
-            pos += 1
-        if data[pos:pos + 1] == b"#":
-            while data[pos:pos + 1] not in (b"\n", b""):
-                pos += 1
-            continue
-        start = pos
-        while not data[pos:pos + 1].isspace():
-            pos += 1
-        tokens.append(data[start:pos])
-    magic, width, height, maxval = tokens[0], int(tokens[1]), int(tokens[2]), int(tokens[3])
-    if magic == b"P5":
-        dtype = np.uint8 if maxval < 256 else np.dtype(">u2")
-        img = np.frombuffer(data, dtype=dtype, count=width * height, offset=pos + 1)
-    elif magic == b"P2":
-        img = np.array(data[pos:].split()[: width * height], dtype=np.uint16)
-    else:
-        raise ValueError("%s: not a PGM (magic %r)" % (path, magic))
-    return img.reshape(height, width)
+import minibot3d_map_io  # noqa: E402
 
 
 def load_map(yaml_path):
-    with open(yaml_path) as f:
-        meta = yaml.safe_load(f)
-    for key in ("image", "resolution", "origin"):
-        if key not in meta:
-            raise ValueError("%s: missing key '%s'" % (yaml_path, key))
-    image = meta["image"]
-    if not os.path.isabs(image):
-        image = os.path.join(os.path.dirname(os.path.abspath(yaml_path)), image)
-    if image.lower().endswith(".pgm"):
-        img = read_pgm(image)
-    else:
-        img = plt.imread(image)
-        if img.ndim == 3:
-            img = img[..., :3].mean(axis=2)
-        if img.dtype != np.uint8:
-            img = (img * 255).astype(np.uint8)
-    return img, float(meta["resolution"]), [float(v) for v in meta["origin"][:2]]
+    """The map as map_server reads it, drawn as map_saver writes it (occupied black, free white,
+    unknown grey; scale-mode values in between), top row first; with resolution and (x, y)."""
+    grid = minibot3d_map_io.load_map(yaml_path)
+    cells = grid.data[::-1, :].astype(np.float64)
+    img = np.where(cells < 0, 205.0, 254.0 - 2.54 * np.clip(cells, 0, 100)).astype(np.uint8)
+    return img, grid.resolution, list(grid.origin[:2])
 
 
 def main(argv):
@@ -71,7 +33,7 @@ def main(argv):
     try:
         img, res, origin = load_map(yaml_path)
         traj = np.loadtxt(traj_path, ndmin=2)
-    except (OSError, ValueError, yaml.YAMLError) as e:
+    except (OSError, ValueError) as e:  # MapIoError is a ValueError
         sys.stderr.write("plot_map.py: %s\n" % e)
         return 1
     height, width = img.shape

@@ -11,7 +11,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "minibot3d_slam/map_io.h"
+#include "minibot3d_slam/map_files.h"
 #include "minibot3d_slam/types.h"
 
 namespace {
@@ -136,13 +136,15 @@ class MapSaver {
     ROS_INFO("Received a %u x %u map @ %.3f m/cell from %s", msg->info.width, msg->info.height,
              msg->info.resolution, sub_.getTopic().c_str());
     try {
-      minibot3d_slam::SaveMap(ToGridMap(*msg), options_.name, options_.occupied_percent,
-                              options_.free_percent);
+      const minibot3d_slam::GridMap map = ToGridMap(*msg);
+      minibot3d_map_io::SaveMap(map, options_.name,
+                                minibot3d_slam::SlamMapSaveOptions(map, options_.occupied_percent,
+                                                                   options_.free_percent));
       ROS_INFO("Wrote %s.pgm and %s.yaml (occupied >= %d, free <= %d, others unknown)",
                options_.name.c_str(), options_.name.c_str(), options_.occupied_percent,
                options_.free_percent);
       ok_ = true;
-    } catch (const minibot3d_slam::MapIoError& e) {
+    } catch (const minibot3d_map_io::MapIoError& e) {
       ROS_ERROR("%s", e.what());
     }
   }

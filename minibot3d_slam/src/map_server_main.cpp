@@ -1,6 +1,7 @@
 // map_server: serves a map in map_server's format (NAME.yaml + image) as ROS map_server does:
 // latched `map` (nav_msgs/OccupancyGrid) and `map_metadata` (nav_msgs/MapMetaData), and the
-// service `static_map` (nav_msgs/GetMap). Loading and all its checks live in map_io.
+// service `static_map` (nav_msgs/GetMap). Loading and all its checks live in
+// minibot3d_map_io.
 //
 //   rosrun minibot3d_slam map_server MAP.yaml [_frame_id:=map]
 #include <nav_msgs/GetMap.h>
@@ -12,7 +13,7 @@
 #include <cstdio>
 #include <string>
 
-#include "minibot3d_slam/map_io.h"
+#include "minibot3d_slam/map_files.h"
 #include "minibot3d_slam/types.h"
 
 namespace {
@@ -79,8 +80,8 @@ int main(int argc, char** argv) {
   const std::string yaml_path = argv[1];
   minibot3d_slam::GridMap map;
   try {
-    map = minibot3d_slam::LoadMap(yaml_path);
-  } catch (const minibot3d_slam::MapIoError& e) {
+    map = minibot3d_map_io::LoadMap(yaml_path);
+  } catch (const minibot3d_map_io::MapIoError& e) {
     std::fprintf(stderr, "map_server: %s\n", e.what());
     return 1;
   }

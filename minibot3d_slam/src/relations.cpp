@@ -13,9 +13,12 @@
 #include <sstream>
 #include <utility>
 
-#include "file_util.h"
+#include "minibot3d_map_io/file_util.h"
 
 namespace minibot3d_slam {
+
+using minibot3d_map_io::FormatDouble;
+
 namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
@@ -74,7 +77,7 @@ std::string CommentBlock(const std::string& comment) {
 }
 
 void WriteOrThrow(const std::string& path, const std::string& contents, const char* what) {
-  const std::string error = internal::WriteFileAtomically(path, contents);
+  const std::string error = minibot3d_map_io::WriteFileAtomically(path, contents);
   if (!error.empty()) {
     throw RelationsError(std::string("cannot write ") + what + " file '" + path + "': " + error);
   }
@@ -153,8 +156,8 @@ void WriteTrajectory(const std::string& path, const std::vector<StampedPose>& po
                      const std::string& comment) {
   std::string out = CommentBlock(comment) + "# timestamp x y theta\n";
   for (const StampedPose& p : poses) {
-    out += internal::FormatDouble(p.time) + " " + internal::FormatDouble(p.pose.x) + " " +
-           internal::FormatDouble(p.pose.y) + " " + internal::FormatDouble(p.pose.theta) + "\n";
+    out += FormatDouble(p.time) + " " + FormatDouble(p.pose.x) + " " +
+           FormatDouble(p.pose.y) + " " + FormatDouble(p.pose.theta) + "\n";
   }
   WriteOrThrow(path, out, "trajectory");
 }
@@ -163,9 +166,9 @@ void WriteRelations(const std::string& path, const std::vector<Relation>& relati
                     const std::string& comment) {
   std::string out = CommentBlock(comment) + "# t1 t2 x y z roll pitch yaw\n";
   for (const Relation& r : relations) {
-    out += internal::FormatDouble(r.t1) + " " + internal::FormatDouble(r.t2) + " " +
-           internal::FormatDouble(r.delta.x) + " " + internal::FormatDouble(r.delta.y) +
-           " 0 0 0 " + internal::FormatDouble(r.delta.theta) + "\n";
+    out += FormatDouble(r.t1) + " " + FormatDouble(r.t2) + " " +
+           FormatDouble(r.delta.x) + " " + FormatDouble(r.delta.y) +
+           " 0 0 0 " + FormatDouble(r.delta.theta) + "\n";
   }
   WriteOrThrow(path, out, "relations");
 }
@@ -254,11 +257,11 @@ std::string FormatReport(const RelationsReport& report) {
 std::vector<Relation> MakeRelations(const std::vector<StampedPose>& ground_truth,
                                     const MakeRelationsOptions& options) {
   if (!(options.every >= 0.0) || !std::isfinite(options.every)) {
-    throw RelationsError("every must be >= 0 s, got " + internal::FormatDouble(options.every));
+    throw RelationsError("every must be >= 0 s, got " + FormatDouble(options.every));
   }
   if (!(options.max_span > 0.0) || !std::isfinite(options.max_span)) {
     throw RelationsError("max span must be > 0 s, got " +
-                         internal::FormatDouble(options.max_span));
+                         FormatDouble(options.max_span));
   }
   if (options.random_per_anchor < 0) {
     throw RelationsError("random relations per anchor must be >= 0, got " +

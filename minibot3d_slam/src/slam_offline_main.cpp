@@ -29,7 +29,7 @@
 #include "minibot3d_slam/bag_log.h"
 #include "minibot3d_slam/carmen_log.h"
 #include "minibot3d_slam/gmapping_options.h"
-#include "minibot3d_slam/map_io.h"
+#include "minibot3d_slam/map_files.h"
 #include "minibot3d_slam/rbpf_slam.h"
 
 namespace {
@@ -308,7 +308,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   try {
-    minibot3d_slam::SaveMap(CropToKnown(slam.Map()), args.out + "/map");
+    const minibot3d_slam::GridMap map = CropToKnown(slam.Map());
+    minibot3d_map_io::SaveMap(map, args.out + "/map", minibot3d_slam::SlamMapSaveOptions(map));
   } catch (const std::exception& e) {
     std::cerr << "slam_offline: " << e.what() << "\n";
     return 1;

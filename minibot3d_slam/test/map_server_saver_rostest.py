@@ -10,6 +10,8 @@ import sys
 import tempfile
 import unittest
 
+from minibot3d_map_io import load_map, read_image
+
 import rospy
 import rostest
 import yaml
@@ -22,32 +24,6 @@ EXPECTED_CELLS = [100, 0, 0, 0, 0,
                   100, 0, 100, 0, -1,
                   100, 0, 0, 0, -1,
                   100, 100, 100, 100, -1]
-
-
-def read_pgm(path):
-    """(width, height, pixel bytes) of a binary P5 PGM with maxval 255; '#' comments allowed."""
-    with open(path, 'rb') as f:
-        data = f.read()
-    fields, pos = [], 0
-    while len(fields) < 4:
-        while data[pos:pos + 1].isspace():
-            pos += 1
-        if data[pos:pos + 1] == b'#':
-            pos = data.index(b'\n', pos) + 1
-            continue
-        end = pos
-        while not data[end:end + 1].isspace():
-            end += 1
-        fields.append(data[pos:end])
-        pos = end
-    pos += 1  # the single whitespace byte before the pixels
-    assert fields[0] == b'P5', '%s: not a P5 PGM' % path
-    width, height, maxval = int(fields[1]), int(fields[2]), int(fields[3])
-    assert maxval == 255, '%s: maxval %d' % (path, maxval)
-    pixels = data[pos:]
-    assert len(pixels) == width * height, '%s: %d pixel bytes for %d x %d' % (
-        path, len(pixels), width, height)
-    return width, height, pixels
 
 
 def yaw_of(q):
@@ -100,7 +76,10 @@ class MapServerSaver(unittest.TestCase):
                              'temporary files left behind')
 
             fixture_image = os.path.join(os.path.dirname(self.fixture), self.meta['image'])
-            self.assertEqual(read_pgm(base + '.pgm'), read_pgm(fixture_image))
+            with open(base + '.pgm', 'rb') as f:
+                self.assertEqual(f.read(3), b'P5\n', 'map_saver writes binary PGMs')
+            self.assertEqual(read_image(base + '.pgm').tolist(), read_image(fixture_image).tolist())
+            self.assertEqual(load_map(base + '.yaml').data.ravel().tolist(), EXPECTED_CELLS)
 
             with open(base + '.yaml') as f:
                 saved = yaml.safe_load(f)

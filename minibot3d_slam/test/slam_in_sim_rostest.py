@@ -7,7 +7,6 @@ covers most of what the route could see.
 Under lock-step time (as slam_in_sim.test runs it) this node and route_driver.py are participants:
 the route starts and ends at fixed sim times, and sim time holds while the map is saved, so every
 run saves the same map."""
-import importlib.util
 import math
 import os
 import subprocess
@@ -16,23 +15,15 @@ import tempfile
 import unittest
 
 import numpy as np
-import rospkg
 from minibot3d_lockstep import Participant  # before rospy.init_node: it counts messages
 from minibot3d_lockstep.run_checks import RunChecks
+from minibot3d_map_io import load_map
 
 import rospy
 import rostest
 from nav_msgs.msg import OccupancyGrid
 
 WAYPOINTS = '-2.1,0.6 -2.4,3.0 -2.1,0.6 -0.3,2.0 0.45,0.6 2.5,-1.0 0.8,-2.15 -3,-1.5'
-
-
-def load_route_driver():
-    path = os.path.join(rospkg.RosPack().get_path('minibot3d_sim'), 'scripts', 'route_driver.py')
-    spec = importlib.util.spec_from_file_location('route_driver', path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def occupied_points(occupied, res, origin):
@@ -72,9 +63,9 @@ class SlamInSim(unittest.TestCase):
             self.assertEqual([], checks.problems())
         finally:
             lockstep.close()
-        rd = load_route_driver()
-        saved, res, origin = rd.load_map(os.path.join(out, 'map.yaml'))
-        truth, tres, torigin = rd.load_map(truth_yaml)
+        saved_map, truth_map = load_map(os.path.join(out, 'map.yaml')), load_map(truth_yaml)
+        saved, res, origin = saved_map.occupied, saved_map.resolution, saved_map.origin
+        truth, tres, torigin = truth_map.occupied, truth_map.resolution, truth_map.origin
         pts = occupied_points(saved, res, origin)
         self.assertGreater(len(pts), 300, 'the saved map has almost no walls')
         # SLAM's map frame is where the robot started: put its cells in the world frame.

@@ -39,9 +39,9 @@ struct OccupancyImage {
 OccupancyImage RenderSlice(const WorldSlice& slice, double resolution, double margin);
 
 // Writes OUT_BASENAME.pgm (binary P5, 0 = occupied, 254 = free, top row = highest y) and
-// OUT_BASENAME.yaml (map_server format, image path relative to the yaml). Each file is written to a
-// temporary file in the same directory and renamed into place. Throws std::runtime_error naming the
-// file on any I/O failure.
+// OUT_BASENAME.yaml (map_server format, image path relative to the yaml) with minibot3d_map_io's
+// SaveMap: each file through a temporary file renamed into place. Throws std::runtime_error
+// (minibot3d_map_io::MapIoError) naming the file on any I/O failure.
 void WriteMapServerFiles(const OccupancyImage& image, const std::string& out_basename);
 
 }  // namespace minibot3d_sim

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "minibot3d_map_io/map_io.h"
+
 namespace minibot3d_slam {
 
 struct Pose2 {
@@ -45,13 +47,9 @@ struct LaserScan {
 };
 
 // An occupancy grid as map_server and nav_msgs/OccupancyGrid see it: row-major from the origin
-// (lower-left corner), x to the right, y up; values -1 unknown, 0 free … 100 occupied.
-struct GridMap {
-  double resolution = 0.05;          // m per cell
-  double origin_x = 0.0, origin_y = 0.0, origin_theta = 0.0;
-  int width = 0, height = 0;
-  std::vector<std::int8_t> data;
-};
+// (lower-left corner), x to the right, y up; values -1 unknown, 0 free … 100 occupied. The type
+// of minibot3d_map_io, which reads and writes it in map_server's format.
+using GridMap = minibot3d_map_io::OccupancyGrid;
 
 struct StampedPose {
   double time = 0.0;

@@ -10,10 +10,9 @@ bound, which would say a 0.33 m-wide robot is colliding whenever a wall is withi
 centre while driving parallel to it.
 """
 import math
-import os
 
+import minibot3d_map_io
 import numpy as np
-import yaml
 from scipy import ndimage
 
 
@@ -45,31 +44,9 @@ class GridMap(object):
 
 
 def load_map(yaml_path):
-    """map_server YAML + binary PGM (P5) -> GridMap."""
-    with open(yaml_path) as f:
-        meta = yaml.safe_load(f)
-    for key in ('image', 'resolution', 'origin'):
-        if key not in meta:
-            raise ValueError('%s: missing key %r' % (yaml_path, key))
-    image = meta['image']
-    if not os.path.isabs(image):
-        image = os.path.join(os.path.dirname(os.path.abspath(yaml_path)), image)
-    with open(image, 'rb') as f:
-        data = f.read()
-    tokens, pos = [], 0
-    while len(tokens) < 4:
-        end = data.index(b'\n', pos)
-        line = data[pos:end]
-        pos = end + 1
-        if not line.startswith(b'#'):
-            tokens += line.split()
-    if tokens[0] != b'P5' or int(tokens[3]) > 255:
-        raise ValueError('%s: only 8-bit binary PGM (P5) is supported' % image)
-    w, h = int(tokens[1]), int(tokens[2])
-    pixels = np.frombuffer(data[pos:pos + w * h], dtype=np.uint8).reshape(h, w)
-    p = pixels / 255.0 if meta.get('negate', 0) else (255.0 - pixels) / 255.0
-    occupied = (p > meta.get('occupied_thresh', 0.65))[::-1, :]
-    return GridMap(np.ascontiguousarray(occupied), meta['resolution'], meta['origin'])
+    """map_server YAML + image -> GridMap of the cells map_server calls occupied."""
+    grid = minibot3d_map_io.load_map(yaml_path)
+    return GridMap(grid.occupied, grid.resolution, grid.origin[:2])
 
 
 def outline(footprint, step=0.01):

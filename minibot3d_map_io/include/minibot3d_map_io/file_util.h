@@ -1,6 +1,8 @@
-// Internal helpers shared by map_io.cpp and relations.cpp (not part of the package's API).
-#ifndef MINIBOT3D_SLAM_SRC_FILE_UTIL_H_
-#define MINIBOT3D_SLAM_SRC_FILE_UTIL_H_
+// Writing files that other programs read while they may be written: atomic replacement, and
+// numbers as text that reads back bit for bit. Used by the map writer here and by every other
+// package that writes result files (e.g. minibot3d_slam's trajectories and relations).
+#ifndef MINIBOT3D_MAP_IO_FILE_UTIL_H_
+#define MINIBOT3D_MAP_IO_FILE_UTIL_H_
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -13,8 +15,7 @@
 #include <cstring>
 #include <string>
 
-namespace minibot3d_slam {
-namespace internal {
+namespace minibot3d_map_io {
 
 // Replaces `path` with `contents` through a temporary file in the same folder that is renamed
 // into place: a reader (map_server, amcl, a script) never sees a half-written file, and a failed
@@ -76,7 +77,6 @@ inline std::string FormatDouble(double v) {
   return buf;
 }
 
-}  // namespace internal
-}  // namespace minibot3d_slam
+}  // namespace minibot3d_map_io
 
-#endif  // MINIBOT3D_SLAM_SRC_FILE_UTIL_H_
+#endif  // MINIBOT3D_MAP_IO_FILE_UTIL_H_

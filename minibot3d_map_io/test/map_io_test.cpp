@@ -1,5 +1,6 @@
-// map_io: maps on disk with map_server's (loading) and map_saver's (saving) semantics.
-#include "minibot3d_slam/map_io.h"
+// map_io: maps on disk with map_server's (loading) and map_saver's (saving) semantics. The
+// Python twin (test/test_map_io.py) checks the same cases and the same golden bytes.
+#include "minibot3d_map_io/map_io.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -16,7 +17,7 @@
 #include <string>
 #include <vector>
 
-namespace minibot3d_slam {
+namespace minibot3d_map_io {
 namespace {
 
 namespace fs = std::filesystem;
@@ -89,8 +90,8 @@ void ExpectError(const std::function<void()>& f, const std::vector<std::string>&
   }
 }
 
-GridMap SmallMap() {
-  GridMap m;
+OccupancyGrid SmallMap() {
+  OccupancyGrid m;
   m.resolution = 0.05;
   m.origin_x = -1.5;
   m.origin_y = 2.25;
@@ -104,10 +105,55 @@ GridMap SmallMap() {
   return m;
 }
 
+SaveOptions Percent(int occupied, int free) {
+  SaveOptions options;
+  options.occupied_percent = occupied;
+  options.free_percent = free;
+  return options;
+}
+
+// SmallMap() saved with the default options, byte for byte (test_map_io.py holds the same).
+const char kGoldenPgmHeader[] = "P5\n# CREATOR: minibot3d_map_io 0.05 m/pix\n4 3\n255\n";
+const char kGoldenYaml[] =
+    "image: m.pgm\n"
+    "resolution: 0.05\n"
+    "origin: [-1.5, 2.25, 0.3]\n"
+    "negate: 0\n"
+    "occupied_thresh: 0.65\n"
+    "free_thresh: 0.196\n"
+    "# Cells were written as 0 (occupied, >= 65), 254 (free, 0..25) or 205 (unknown); the "
+    "thresholds above read exactly those grey levels back (as map_saver).\n";
+
+TEST_F(MapIoTest, SavedFilesAreTheGoldenBytes) {
+  SaveMap(SmallMap(), Path("m"));
+  const std::vector<unsigned char> pixels = {205, 254, 254, 0,   254, 0,
+                                             205, 254, 0,   205, 254, 254};
+  EXPECT_EQ(ReadFile(Path("m.pgm")),
+            kGoldenPgmHeader + std::string(pixels.begin(), pixels.end()));
+  EXPECT_EQ(ReadFile(Path("m.yaml")), kGoldenYaml);
+}
+
+TEST_F(MapIoTest, SaveOptionsSetTheCommentsAndFloatsKeepAPoint) {
+  OccupancyGrid m = SmallMap();
+  m.origin_x = -4.0;
+  m.origin_theta = 0.0;
+  SaveOptions options;
+  options.pgm_comment = "minibot3d_sim ground-truth map";
+  options.explain_grey_levels = false;
+  SaveMap(m, Path("g"), options);
+  EXPECT_EQ(ReadFile(Path("g.pgm")).substr(0, 40), "P5\n# minibot3d_sim ground-truth map\n4 3\n");
+  EXPECT_EQ(ReadFile(Path("g.yaml")),
+            "image: g.pgm\nresolution: 0.05\norigin: [-4.0, 2.25, 0.0]\nnegate: 0\n"
+            "occupied_thresh: 0.65\nfree_thresh: 0.196\n");
+  EXPECT_EQ(LoadMap(Path("g.yaml")).origin_x, -4.0);
+  options.pgm_comment = "two\nlines";
+  ExpectError([&] { SaveMap(m, Path("h"), options); }, {Path("h"), "one line"});
+}
+
 TEST_F(MapIoTest, RoundTripKeepsCellsAndGeometry) {
-  const GridMap in = SmallMap();
+  const OccupancyGrid in = SmallMap();
   SaveMap(in, Path("m"));
-  const GridMap out = LoadMap(Path("m.yaml"));
+  const OccupancyGrid out = LoadMap(Path("m.yaml"));
   EXPECT_EQ(out.width, in.width);
   EXPECT_EQ(out.height, in.height);
   EXPECT_EQ(out.data, in.data);
@@ -116,6 +162,18 @@ TEST_F(MapIoTest, RoundTripKeepsCellsAndGeometry) {
   EXPECT_DOUBLE_EQ(out.origin_y, in.origin_y);
   EXPECT_DOUBLE_EQ(out.origin_theta, in.origin_theta);
   EXPECT_EQ(Files(), (std::set<std::string>{"m.pgm", "m.yaml"})) << "temporary files left";
+  // Any double reads back bit for bit.
+  OccupancyGrid odd = in;
+  odd.origin_x = -73 * 0.05;  // -3.6500000000000004
+  odd.origin_y = 1.0 / 3.0;
+  odd.origin_theta = -1e-17;
+  odd.resolution = 0.1 + 0.2;
+  SaveMap(odd, Path("o"));
+  const OccupancyGrid back = LoadMap(Path("o.yaml"));
+  EXPECT_EQ(back.origin_x, odd.origin_x);
+  EXPECT_EQ(back.origin_y, odd.origin_y);
+  EXPECT_EQ(back.origin_theta, odd.origin_theta);
+  EXPECT_EQ(back.resolution, odd.resolution);
 }
 
 TEST_F(MapIoTest, SavedImageIsMapSaversPgmWithTopRowFirst) {
@@ -146,7 +204,7 @@ TEST_F(MapIoTest, SavedYamlHasMapServerKeys) {
 }
 
 TEST_F(MapIoTest, SaveClassifiesByPercentThresholds) {
-  GridMap m;
+  OccupancyGrid m;
   m.width = 8;
   m.height = 1;
   m.data = {0, 25, 26, 64, 65, 100, -1, -100};
@@ -154,13 +212,13 @@ TEST_F(MapIoTest, SaveClassifiesByPercentThresholds) {
   EXPECT_EQ(LoadMap(Path("d.yaml")).data,
             (std::vector<std::int8_t>{0, 0, -1, -1, 100, 100, -1, -1}));
   m.data = {10, 11, 49, 50, 0, 100, -1, 30};
-  SaveMap(m, Path("c"), 50, 10);
+  SaveMap(m, Path("c"), Percent(50, 10));
   EXPECT_EQ(LoadMap(Path("c.yaml")).data,
             (std::vector<std::int8_t>{0, -1, -1, 100, 0, 100, -1, -1}));
 }
 
 TEST_F(MapIoTest, SaveOverwritesAndLeavesNoTemporaries) {
-  GridMap m = SmallMap();
+  OccupancyGrid m = SmallMap();
   SaveMap(m, Path("m"));
   m.data.assign(m.data.size(), 100);
   SaveMap(m, Path("m"));
@@ -177,13 +235,13 @@ TEST_F(MapIoTest, SaveFailureNamesTheFileAndCleansUp) {
 }
 
 TEST_F(MapIoTest, SaveRefusesInconsistentMaps) {
-  GridMap m = SmallMap();
+  OccupancyGrid m = SmallMap();
   m.data.pop_back();
   ExpectError([&] { SaveMap(m, Path("m")); }, {Path("m"), "11 values"});
   m = SmallMap();
   m.resolution = 0.0;
   ExpectError([&] { SaveMap(m, Path("m")); }, {"resolution"});
-  ExpectError([&] { SaveMap(SmallMap(), Path("m"), 25, 65); }, {"free (65)", "occupied (25)"});
+  ExpectError([&] { SaveMap(SmallMap(), Path("m"), Percent(25, 65)); }, {"free (65)", "occupied (25)"});
   EXPECT_TRUE(Files().empty());
 }
 
@@ -197,7 +255,7 @@ const std::vector<std::int8_t> kTrinaryCells = {0, 100, -1, 100, 0, -1};
 TEST_F(MapIoTest, TrinaryThresholdsAndRowOrder) {
   WritePgm("t.pgm", 3, 2, kPixels);
   WriteText("t.yaml", Yaml("t.pgm"));
-  const GridMap m = LoadMap(Path("t.yaml"));
+  const OccupancyGrid m = LoadMap(Path("t.yaml"));
   ASSERT_EQ(m.width, 3);
   ASSERT_EQ(m.height, 2);
   EXPECT_EQ(m.data, kTrinaryCells);
@@ -227,7 +285,7 @@ TEST_F(MapIoTest, ScaleModeIsLinearBetweenThresholds) {
   WriteText("s.yaml", Yaml("s.pgm", "mode: scale\n", "", "0.8", "0.2"));
   // 99 * (p - free) / (occ - free), truncated: 49.18 -> 49; p = 0.6 -> 66 (65 after rounding);
   // p = 0.2 -> 0; p = 0.8 -> 99 (98 after rounding, or 100 if p rounds above occupied_thresh).
-  const GridMap m = LoadMap(Path("s.yaml"));
+  const OccupancyGrid m = LoadMap(Path("s.yaml"));
   auto scaled = [](int v) {
     const double p = (255.0 - v) / 255.0;
     return static_cast<int>(99.0 * (p - 0.2) / (0.8 - 0.2));
@@ -249,6 +307,14 @@ TEST_F(MapIoTest, RawModeKeepsPixelValues) {
   EXPECT_EQ(LoadMap(Path("rn.yaml")).data, (std::vector<std::int8_t>{-1, -51, -101, 55}));
 }
 
+TEST_F(MapIoTest, SixteenBitImagesReadAsEightBit) {
+  cv::Mat wide(2, 3, CV_16UC1);
+  for (int k = 0; k < 6; ++k) wide.at<std::uint16_t>(k / 3, k % 3) = kPixels[k] * 257;
+  ASSERT_TRUE(cv::imwrite(Path("w.pgm"), wide));
+  WriteText("w.yaml", Yaml("w.pgm"));
+  EXPECT_EQ(LoadMap(Path("w.yaml")).data, kTrinaryCells);
+}
+
 TEST_F(MapIoTest, ColourImagesAverageChannels) {
   cv::Mat bgr(1, 3, CV_8UC3);
   bgr.at<cv::Vec3b>(0, 0) = {0, 0, 255};      // mean 85: p 0.667 occupied
@@ -267,7 +333,7 @@ TEST_F(MapIoTest, AlphaChannelAsMapServer) {
   ASSERT_TRUE(cv::imwrite(Path("a.png"), bgra));
   // Scale: alpha is not averaged; a transparent in-between pixel is unknown, an opaque one scaled.
   WriteText("a.yaml", Yaml("a.png", "mode: scale\n", "", "0.8", "0.2"));
-  const GridMap s = LoadMap(Path("a.yaml"));
+  const OccupancyGrid s = LoadMap(Path("a.yaml"));
   EXPECT_EQ(s.data[0], 49);  // p = 127 / 255: 99 * 0.298 / 0.6
   EXPECT_EQ(s.data[1], -1);
   EXPECT_EQ(s.data[2], 0);  // clearly free whatever its alpha
@@ -281,7 +347,7 @@ TEST_F(MapIoTest, RelativeImagePathIsRelativeToTheYaml) {
   WriteText("maps/t.yaml", Yaml("img/t.pgm"));
   const std::string cwd = fs::current_path().string();
   fs::current_path(fs::temp_directory_path());  // not the YAML's folder
-  GridMap m;
+  OccupancyGrid m;
   EXPECT_NO_THROW(m = LoadMap(Path("maps/t.yaml")));
   fs::current_path(cwd);
   EXPECT_EQ(m.data, kTrinaryCells);
@@ -334,13 +400,13 @@ TEST_F(MapIoTest, MissingOrUnreadableImageIsNamed) {
 
 TEST_F(MapIoTest, LoadsTheShippedWorldMaps) {
   // The repository's ground-truth maps, if this test runs from the source tree.
-#ifdef MINIBOT3D_SLAM_SOURCE_DIR
-  const fs::path maps = fs::path(MINIBOT3D_SLAM_SOURCE_DIR) / ".." / "maps";
+#ifdef MINIBOT3D_MAP_IO_SOURCE_DIR
+  const fs::path maps = fs::path(MINIBOT3D_MAP_IO_SOURCE_DIR) / ".." / "maps";
 #else
   const fs::path maps = fs::path(__FILE__).parent_path() / ".." / ".." / "maps";
 #endif
   if (!fs::exists(maps / "arena.yaml")) GTEST_SKIP() << "no " << maps;
-  const GridMap m = LoadMap((maps / "arena.yaml").string());
+  const OccupancyGrid m = LoadMap((maps / "arena.yaml").string());
   EXPECT_GT(m.width, 0);
   EXPECT_EQ(m.data.size(), static_cast<std::size_t>(m.width) * m.height);
   bool has_occupied = false, has_free = false;
@@ -352,4 +418,4 @@ TEST_F(MapIoTest, LoadsTheShippedWorldMaps) {
 }
 
 }  // namespace
-}  // namespace minibot3d_slam
+}  // namespace minibot3d_map_io

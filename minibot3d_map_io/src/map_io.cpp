@@ -2,7 +2,7 @@
 // image_loader: the mean of the colour channels is turned into an occupancy probability
 // p = (255 - mean) / 255 (mean / 255 with negate) and classified by the YAML's thresholds.
 // Saving follows map_saver: three grey levels, classified by the --occ/--free percentages.
-#include "minibot3d_slam/map_io.h"
+#include "minibot3d_map_io/map_io.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "file_util.h"
+#include "minibot3d_map_io/file_util.h"
 
-namespace minibot3d_slam {
+namespace minibot3d_map_io {
 namespace {
 
 namespace fs = std::filesystem;
@@ -128,7 +128,15 @@ std::int8_t CellValue(double mean, int alpha, bool negate, MapMode mode, double 
   return static_cast<std::int8_t>(99.0 * (p - free_th) / (occ_th - free_th));
 }
 
-void CheckGrid(const GridMap& map, const std::string& what) {
+// A YAML float: the shortest text that reads back as `v`, with a decimal point where it would
+// otherwise read as an integer (0.0, -4.0), as YAML's float syntax and map_server's maps have it.
+std::string YamlFloat(double v) {
+  std::string text = FormatDouble(v);
+  if (text.find_first_of(".eEn") == std::string::npos) text += ".0";  // 'n': nan, inf
+  return text;
+}
+
+void CheckGrid(const OccupancyGrid& map, const std::string& what) {
   if (map.width <= 0 || map.height <= 0) {
     throw MapIoError("cannot save " + what + ": the map is empty (" + std::to_string(map.width) +
                      " x " + std::to_string(map.height) + " cells)");
@@ -141,7 +149,7 @@ void CheckGrid(const GridMap& map, const std::string& what) {
   }
   if (!(map.resolution > 0.0) || !std::isfinite(map.resolution)) {
     throw MapIoError("cannot save " + what + ": resolution must be positive, got " +
-                     internal::FormatDouble(map.resolution));
+                     FormatDouble(map.resolution));
   }
   if (!std::isfinite(map.origin_x) || !std::isfinite(map.origin_y) ||
       !std::isfinite(map.origin_theta)) {
@@ -151,7 +159,7 @@ void CheckGrid(const GridMap& map, const std::string& what) {
 
 }  // namespace
 
-GridMap LoadMap(const std::string& yaml_path) {
+OccupancyGrid LoadMap(const std::string& yaml_path) {
   YAML::Node root;
   try {
     root = YAML::LoadFile(yaml_path);
@@ -173,7 +181,7 @@ GridMap LoadMap(const std::string& yaml_path) {
     const double resolution = ReadNumber(Require(root, "resolution", yaml_path), "resolution",
                                          yaml_path);
     if (resolution <= 0.0) {
-      Fail(yaml_path, "'resolution' must be positive, got " + internal::FormatDouble(resolution));
+      Fail(yaml_path, "'resolution' must be positive, got " + FormatDouble(resolution));
     }
     const YAML::Node origin = Require(root, "origin", yaml_path);
     if (!origin.IsSequence() || origin.size() != 3) {
@@ -186,22 +194,22 @@ GridMap LoadMap(const std::string& yaml_path) {
                                       yaml_path);
     if (occ_th < 0.0 || occ_th > 1.0) {
       Fail(yaml_path, "'occupied_thresh' must be within [0, 1], got " +
-                          internal::FormatDouble(occ_th));
+                          FormatDouble(occ_th));
     }
     if (free_th < 0.0 || free_th > 1.0) {
       Fail(yaml_path, "'free_thresh' must be within [0, 1], got " +
-                          internal::FormatDouble(free_th));
+                          FormatDouble(free_th));
     }
     if (occ_th < free_th) {
-      Fail(yaml_path, "'occupied_thresh' (" + internal::FormatDouble(occ_th) +
-                          ") is below 'free_thresh' (" + internal::FormatDouble(free_th) + ")");
+      Fail(yaml_path, "'occupied_thresh' (" + FormatDouble(occ_th) +
+                          ") is below 'free_thresh' (" + FormatDouble(free_th) + ")");
     }
     const MapMode mode = ReadMode(root, yaml_path);
     if (mode == MapMode::kScale && occ_th == free_th) {
       Fail(yaml_path, "mode scale needs 'free_thresh' below 'occupied_thresh'");
     }
 
-    GridMap map;
+    OccupancyGrid map;
     map.resolution = resolution;
     map.origin_x = ReadNumber(origin[0], "origin[0]", yaml_path);
     map.origin_y = ReadNumber(origin[1], "origin[1]", yaml_path);
@@ -239,11 +247,12 @@ GridMap LoadMap(const std::string& yaml_path) {
   }
 }
 
-void SaveMap(const GridMap& map, const std::string& base, int occupied_percent,
-             int free_percent) {
+void SaveMap(const OccupancyGrid& map, const std::string& base, const SaveOptions& options) {
   const std::string pgm_path = base + ".pgm";
   const std::string yaml_path = base + ".yaml";
   CheckGrid(map, "map '" + base + "'");
+  const int occupied_percent = options.occupied_percent;
+  const int free_percent = options.free_percent;
   // map_saver's limits for --occ / --free.
   if (occupied_percent < 1 || occupied_percent > 100 || free_percent < 0 || free_percent > 100 ||
       free_percent >= occupied_percent) {
@@ -251,10 +260,16 @@ void SaveMap(const GridMap& map, const std::string& base, int occupied_percent,
                      std::to_string(free_percent) + ") < occupied (" +
                      std::to_string(occupied_percent) + ") <= 100");
   }
+  if (options.pgm_comment.find_first_of("\n\r") != std::string::npos) {
+    throw MapIoError("cannot save map '" + base + "': the PGM comment must be one line");
+  }
 
-  std::string pgm = "P5\n# CREATOR: minibot3d_slam map_io " +
-                    internal::FormatDouble(map.resolution) + " m/pix\n" +
-                    std::to_string(map.width) + " " + std::to_string(map.height) + "\n255\n";
+  const std::string comment =
+      options.pgm_comment.empty()
+          ? "CREATOR: minibot3d_map_io " + FormatDouble(map.resolution) + " m/pix"
+          : options.pgm_comment;
+  std::string pgm = "P5\n# " + comment + "\n" + std::to_string(map.width) + " " +
+                    std::to_string(map.height) + "\n255\n";
   const std::size_t header = pgm.size();
   pgm.resize(header + map.data.size());
   for (int row = 0; row < map.height; ++row) {
@@ -279,23 +294,25 @@ void SaveMap(const GridMap& map, const std::string& base, int occupied_percent,
   image_name << fs::path(pgm_path).filename().string();
   std::ostringstream yaml;
   yaml << "image: " << image_name.c_str() << "\n"
-       << "resolution: " << internal::FormatDouble(map.resolution) << "\n"
-       << "origin: [" << internal::FormatDouble(map.origin_x) << ", "
-       << internal::FormatDouble(map.origin_y) << ", "
-       << internal::FormatDouble(map.origin_theta) << "]\n"
+       << "resolution: " << YamlFloat(map.resolution) << "\n"
+       << "origin: [" << YamlFloat(map.origin_x) << ", " << YamlFloat(map.origin_y) << ", "
+       << YamlFloat(map.origin_theta) << "]\n"
        << "negate: 0\n"
-       << "occupied_thresh: " << internal::FormatDouble(kSavedOccupiedThresh) << "\n"
-       << "free_thresh: " << internal::FormatDouble(kSavedFreeThresh) << "\n"
-       << "# Cells were written as " << int{kOccupiedPixel} << " (occupied, >= "
-       << occupied_percent << "), " << int{kFreePixel} << " (free, 0.." << free_percent
-       << ") or " << int{kUnknownPixel}
-       << " (unknown); the thresholds above read exactly those grey levels back (as map_saver).\n";
+       << "occupied_thresh: " << YamlFloat(kSavedOccupiedThresh) << "\n"
+       << "free_thresh: " << YamlFloat(kSavedFreeThresh) << "\n";
+  if (options.explain_grey_levels) {
+    yaml << "# Cells were written as " << int{kOccupiedPixel} << " (occupied, >= "
+         << occupied_percent << "), " << int{kFreePixel} << " (free, 0.." << free_percent
+         << ") or " << int{kUnknownPixel}
+         << " (unknown); the thresholds above read exactly those grey levels back (as "
+            "map_saver).\n";
+  }
 
   // Image first: a YAML on disk always points at a complete image.
-  std::string error = internal::WriteFileAtomically(pgm_path, pgm);
+  std::string error = WriteFileAtomically(pgm_path, pgm);
   if (!error.empty()) throw MapIoError("cannot write map image '" + pgm_path + "': " + error);
-  error = internal::WriteFileAtomically(yaml_path, yaml.str());
+  error = WriteFileAtomically(yaml_path, yaml.str());
   if (!error.empty()) throw MapIoError("cannot write map YAML '" + yaml_path + "': " + error);
 }
 
-}  // namespace minibot3d_slam
+}  // namespace minibot3d_map_io

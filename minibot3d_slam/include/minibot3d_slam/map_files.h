@@ -1,0 +1,29 @@
+// minibot3d_slam's maps on disk: minibot3d_map_io's reader and writer, with the PGM comment
+// that map_saver and slam_offline have always written, so that a map saved now is byte for byte
+// the map saved before the map I/O moved to minibot3d_map_io.
+#ifndef MINIBOT3D_SLAM_MAP_FILES_H_
+#define MINIBOT3D_SLAM_MAP_FILES_H_
+
+#include <string>
+
+#include "minibot3d_map_io/file_util.h"
+#include "minibot3d_map_io/map_io.h"
+#include "minibot3d_slam/types.h"
+
+namespace minibot3d_slam {
+
+// map_saver's --occ / --free in percent.
+inline minibot3d_map_io::SaveOptions SlamMapSaveOptions(const GridMap& map,
+                                                        int occupied_percent = 65,
+                                                        int free_percent = 25) {
+  minibot3d_map_io::SaveOptions options;
+  options.occupied_percent = occupied_percent;
+  options.free_percent = free_percent;
+  options.pgm_comment =
+      "CREATOR: minibot3d_slam map_io " + minibot3d_map_io::FormatDouble(map.resolution) + " m/pix";
+  return options;
+}
+
+}  // namespace minibot3d_slam
+
+#endif  // MINIBOT3D_SLAM_MAP_FILES_H_
