@@ -71,9 +71,13 @@ class Recorder(object):
 
 
 def drive(args, laps):
-    return subprocess.run(['rosrun', 'minibot3d_sim', 'route_driver.py', '--map', args.map,
-                           '--waypoints', args.waypoints, '--laps', str(laps), '--speed', '0.3',
-                           '--timeout', '900'], capture_output=True, text=True).returncode
+    r = subprocess.run(['rosrun', 'minibot3d_sim', 'route_driver.py', '--map', args.map,
+                        '--waypoints', args.waypoints, '--laps', str(laps), '--speed', '0.3',
+                        '--timeout', '900'], capture_output=True, text=True)
+    if r.returncode != 0:
+        print('amcl_bench: route_driver.py exited with %d: %s' % (
+            r.returncode, (r.stderr.strip() or r.stdout.strip())[-600:]), flush=True)
+    return r.returncode
 
 
 def converged_after(errors, threshold=0.2):

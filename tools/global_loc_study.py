@@ -55,6 +55,7 @@ class State(object):
         self.truth, self.truth_t, self.scan = None, 0.0, None
         self.travel = 0.0
         self.events = []  # (travel, dist, dyaw, cov, stamp) per amcl_pose
+        self.searches = []  # travel at each map-wide search amcl ran (amcl/search_candidates)
         self.recording = None  # for --picture: {'truth': [...], 'estimates': [...], 'searches': [...]}
         rospy.Subscriber('/ground_truth/odom', Odometry, self.on_truth, queue_size=50)
         rospy.Subscriber('/amcl_pose', PoseWithCovarianceStamped, self.on_pose, queue_size=50)
@@ -88,6 +89,7 @@ class State(object):
 
     def on_candidates(self, m):
         with self.lock:
+            self.searches.append(self.travel)
             if self.recording is not None:
                 self.recording['searches'].append(
                     [(q.position.x, q.position.y, yaw_of(q.orientation)) for q in m.poses])
@@ -245,6 +247,7 @@ def main():
         it describes the robot before it was moved."""
         with st.lock:
             st.events = []
+            st.searches = []
             travel0 = st.travel
         wanderer = Wanderer(laser_yaw=math.pi, seek_openings=args.wanderer == 'openings')
         start = rospy.Time.now()
@@ -258,7 +261,7 @@ def main():
         lockstep.sleep(0.1)
         with st.lock:
             return ([(e[0] - travel0,) + e[1:] for e in st.events if e[4] > since],
-                    st.travel - travel0)
+                    st.travel - travel0, [s - travel0 for s in st.searches])
 
     def score(events):
         """(right at the end, false claims, travel to the first right claim or None, last event)."""
@@ -269,12 +272,13 @@ def main():
                          last[2] < RIGHT_YAW)
         return right_end, false, right[0][0] if right else None, last
 
-    def describe(right_end, false, first, last, travelled):
-        return '%s; %d false claims%s; first right claim %s; driven %.1f m; end %.2f m / %.0f deg ' \
-            'off, cov %.3g' % (
+    def describe(right_end, false, first, last, travelled, searches):
+        return '%s; %d false claims%s; first right claim %s; driven %.1f m; searches at %s; ' \
+            'end %.2f m / %.0f deg off, cov %.3g' % (
                 'right at the end' if right_end else 'NOT right at the end', len(false),
                 ' (first %.1f m off after %.1f m)' % (false[0][1], false[0][0]) if false else '',
                 'after %.1f m' % first if first is not None else 'never', travelled,
+                ', '.join('%.1f' % s for s in searches) + ' m' if searches else '-',
                 last[1] if last else float('nan'), math.degrees(last[2]) if last else float('nan'),
                 last[3] if last else float('nan'))
 
@@ -285,11 +289,11 @@ def main():
             with st.lock:
                 st.recording = {'truth': [], 'estimates': [], 'searches': [], 'kidnap_at': None}
         global_loc()
-        events, travelled = drive(args.travel, t_set)
+        events, travelled, searches = drive(args.travel, t_set)
         right_end, false, first, last = score(events)
         rows.append((right_end, len(false), first))
         print('start %2d (%6.2f, %6.2f, %5.2f): %s' % (
-            k, x, y, yaw, describe(right_end, false, first, last, travelled)), flush=True)
+            k, x, y, yaw, describe(right_end, false, first, last, travelled, searches)), flush=True)
         if k < args.kidnaps:
             # Kidnapped: carried somewhere else at least --kidnap-distance away, amcl not told.
             with st.lock:
@@ -301,12 +305,12 @@ def main():
                 if st.recording is not None:
                     st.recording['kidnap_at'] = (len(st.recording['truth']),
                                                  len(st.recording['estimates']))
-            events, travelled = drive(args.kidnap_travel, t_set)
+            events, travelled, searches = drive(args.kidnap_travel, t_set)
             right_end, false, first, last = score(events)
             kidnaps.append((right_end, len(false), first))
             print('  kidnapped %5.1f m to (%6.2f, %6.2f, %5.2f): %s' % (
                 math.hypot(kx - here[0], ky - here[1]), kx, ky, kyaw,
-                describe(right_end, false, first, last, travelled)), flush=True)
+                describe(right_end, false, first, last, travelled, searches)), flush=True)
         with st.lock:
             if st.recording is not None:
                 picture = (st.recording, k)

@@ -300,6 +300,24 @@ class AmclNode {
     last_pose_ = p;
     have_last_pose_ = true;
     PublishConfidence();
+    ReportClaim(stamp);
+  }
+
+  // Logs each change of the claim: the pose users start to trust (or stop trusting).
+  void ReportClaim(const ros::Time& stamp) {
+    const amcl::Confidence& c = filter_->confidence();
+    if (c.confident == claimed_) return;
+    claimed_ = c.confident;
+    const amcl::PoseEstimate& e = filter_->estimate();
+    if (c.confident) {
+      ROS_INFO("amcl: confident at (%.2f, %.2f, %.3f) at %.3f: %d explained one-mode updates, "
+               "%.0f%% of %d beams explained", e.mean.x, e.mean.y, e.mean.yaw, stamp.toSec(),
+               c.evidence_updates, 100.0 * c.explained_fraction, c.beams_used);
+    } else {
+      ROS_INFO("amcl: no longer confident at (%.2f, %.2f, %.3f) at %.3f: %d mode(s), %.0f%% of "
+               "%d beams explained", e.mean.x, e.mean.y, e.mean.yaw, stamp.toSec(), c.modes,
+               100.0 * c.explained_fraction, c.beams_used);
+    }
   }
 
   void PublishConfidence() {
@@ -332,6 +350,7 @@ class AmclNode {
     candidates_pub_.publish(a);
     ROS_INFO("amcl: map-wide search (%s) in %.3f s CPU (%.3f s wall): %zu candidate(s)%s",
              s.challenge ? "look-alikes before a claim"
+             : s.found_by_injection ? "a place found by random draws explains the scan"
              : s.relocalization ? "no hypothesis explains the scan" : "global localization",
              s.cpu_seconds, s.seconds, s.candidates.size(), os.str().c_str());
     if (s.cpu_seconds > options_.global_search_budget) {
@@ -470,6 +489,7 @@ class AmclNode {
   bool have_odom_tf_ = false;
   geometry_msgs::PoseWithCovarianceStamped last_pose_;
   bool have_last_pose_ = false;
+  bool claimed_ = false;  // the last published claim was confident
   ros::Time last_cloud_;
 
   int reported_searches_ = 0;

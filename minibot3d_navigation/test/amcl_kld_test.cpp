@@ -145,11 +145,14 @@ TEST(AmclClusterTest, SeparatesHypothesesAndSortsByWeight) {
     particles.push_back({{1.0 + 0.01 * (k % 5), 1.0, 0.1}, 0.7 / 60});
   }
   for (int k = 0; k < 40; ++k) {
-    particles.push_back({{5.0, 5.0 + 0.01 * (k % 4), kPi / 2}, 0.3 / 40});
+    // Three in four drawn by augmented MCL (Particle::injected).
+    particles.push_back({{5.0, 5.0 + 0.01 * (k % 4), kPi / 2}, 0.3 / 40, k % 4 != 0});
   }
   const auto clusters = ClusterParticles(particles);
   ASSERT_EQ(clusters.size(), 2u);
   EXPECT_NEAR(clusters[0].weight, 0.7, 1e-12);
+  EXPECT_EQ(clusters[0].injected_weight, 0.0);
+  EXPECT_NEAR(clusters[1].injected_weight, 0.3 * 0.75, 1e-12);
   EXPECT_EQ(clusters[0].particle_count, 60);
   EXPECT_NEAR(clusters[0].mean.x, 1.02, 1e-12);
   EXPECT_NEAR(clusters[0].mean.yaw, 0.1, 1e-12);

@@ -182,6 +182,7 @@ void AmclFilter::SampleGaussian(const Pose2D& mean, const Eigen::Matrix3d& cov,
     const Eigen::Vector3d d = factor * z;
     p.pose = {mean.x + d.x(), mean.y + d.y(), NormalizeAngle(mean.yaw + d.z())};
     p.weight = w;
+    p.injected = false;
   }
 }
 
@@ -200,6 +201,7 @@ void AmclFilter::GlobalLocalization() {
   for (Particle& p : particles_) {
     p.pose = map_->SampleFreePose(&rng_);
     p.weight = w;
+    p.injected = false;
   }
   pending_search_ = global_search() != nullptr;
   pending_relocalization_ = false;
@@ -243,11 +245,14 @@ void AmclFilter::SeedFromCandidates(
 void AmclFilter::RunSearch(const LaserScan& scan, bool relocalization) {
   pending_search_ = false;
   pending_relocalization_ = false;
+  const bool found_by_injection = relocalization && pending_found_by_injection_;
+  pending_found_by_injection_ = false;
   const GlobalSearch* search = global_search();
   if (search == nullptr) return;
   SearchReport report;
   report.count = last_search_.count + 1;
   report.relocalization = relocalization;
+  report.found_by_injection = found_by_injection;
   report.candidates =
       search->Search(scan, &report.seconds, &report.cpu_seconds);
   std::vector<SearchCandidate> seeds = report.candidates;
@@ -444,9 +449,11 @@ int AmclFilter::LowVarianceDraw(int count, double inject_probability) {
     Particle& out = resample_buffer_[m];
     if (inject_probability > 0.0 && unit(rng_) < inject_probability) {
       out.pose = map_->SampleFreePose(&rng_);
+      out.injected = true;
       ++injected;
     } else {
       out.pose = particles_[i].pose;
+      out.injected = particles_[i].injected;
     }
     out.weight = step;
   }
@@ -597,11 +604,27 @@ void AmclFilter::UpdateConfidence(bool motion_update, const LaserScan& scan) {
   measured_ = true;
   const bool explained =
       confidence_.explained_fraction >= options_.confidence_min_explained;
-  if (explained && confidence_.modes == 1) {
+  // A mode made mostly of augmented MCL's random draws (a kidnapped robot's
+  // filter re-finding a place that fits) was never weighed against the map's
+  // look-alikes: resampling found it, not the evidence.  It earns nothing;
+  // the map-wide search runs with it as one more candidate, and the filter
+  // then decides among them as after any search.
+  const bool found_by_injection =
+      global_search() != nullptr && !clusters_.empty() &&
+      clusters_.front().injected_weight > 0.5 * clusters_.front().weight;
+  if (explained && confidence_.modes == 1 && !found_by_injection) {
     // Only motion brings new evidence; a forced update re-reads the same view.
     if (motion_update) ++confidence_.evidence_updates;
   } else {
     confidence_.evidence_updates = 0;
+  }
+  if (found_by_injection && explained) {
+    pending_search_ = true;
+    pending_relocalization_ = true;
+    pending_found_by_injection_ = true;
+    confidence_.lost_updates = 0;
+    UpdateClaim();
+    return;
   }
   if (confidence_.evidence_updates >= options_.confidence_min_updates &&
       challenges_left_ > 0) {
@@ -637,6 +660,7 @@ void AmclFilter::UpdateConfidence(bool motion_update, const LaserScan& scan) {
         global_search() != nullptr) {
       pending_search_ = true;
       pending_relocalization_ = true;
+      pending_found_by_injection_ = false;
       confidence_.lost_updates = 0;
     }
   }

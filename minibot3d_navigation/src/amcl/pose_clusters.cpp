@@ -40,13 +40,14 @@ std::vector<double> UsableWeights(const std::vector<Particle>& particles) {
 
 // Weighted first moments of a group of particles (yaw as a unit vector).
 struct Moments {
-  double w = 0.0, x = 0.0, y = 0.0, c = 0.0, s = 0.0;
+  double w = 0.0, injected = 0.0, x = 0.0, y = 0.0, c = 0.0, s = 0.0;
   int count = 0;
 };
 
 PoseCluster Finish(const Moments& m) {
   PoseCluster pc;
   pc.weight = m.w;
+  pc.injected_weight = m.injected;
   pc.particle_count = m.count;
   if (m.w > 0.0) {
     pc.mean.x = m.x / m.w;
@@ -113,6 +114,7 @@ std::vector<PoseCluster> ClusterParticles(
     Moments& c = m[label[k]];
     const Pose2D& p = particles[k].pose;
     c.w += w[k];
+    if (particles[k].injected) c.injected += w[k];
     c.x += w[k] * p.x;
     c.y += w[k] * p.y;
     c.c += w[k] * std::cos(p.yaw);

@@ -40,6 +40,14 @@
 //  * evidence: consecutive motion-triggered updates with the scan explained
 //    and one mode.  It restarts at 0 on global localization and on a
 //    re-seed, and starts satisfied for a pose the user gave (initial pose).
+//  * origin: each particle knows whether it descends from augmented MCL's
+//    random draws since the hypotheses were last set (Particle::injected).
+//    A heaviest cluster made mostly of such particles is a place resampling
+//    stumbled on, never weighed against the map's look-alikes (in a building
+//    of similar rooms a kidnapped robot's filter otherwise claimed the first
+//    room that fitted, 27 m from the truth): it earns no evidence, and once
+//    it explains the scan the map-wide search runs, keeping it as one more
+//    candidate (without a search it is treated like any other mode).
 //  The claim covariance (PoseEstimate::claim_covariance, what the node
 //  publishes on amcl_pose) is the second moment of all modes about the
 //  estimate, so a split set claims the distance between its modes; unless
@@ -63,8 +71,9 @@
 // (weights proportional to the scores).  The same happens when the filter
 // finds itself lost: confidence_lost_updates consecutive motion-triggered
 // updates in which none of the ten heaviest clusters explains the scan (a
-// kidnapped robot, or candidates that were all wrong); the current estimate
-// is then kept as one more candidate.
+// kidnapped robot, or candidates that were all wrong), or when a place found
+// by random draws explains it (origin, above); the current estimate is then
+// kept as one more candidate.
 //
 // Deliberate differences from ROS amcl (each explained where implemented):
 // update gating uses the Euclidean odometry distance (amcl: |dx| or |dy|);
@@ -159,6 +168,7 @@ struct Confidence {
 struct SearchReport {
   int count = 0;            // searches run so far (changes when one runs)
   bool relocalization = false;  // triggered by the lost test, not a request
+  bool found_by_injection = false;  // ... because random draws found a place
   bool challenge = false;       // run before a claim (see Confidence above)
   double seconds = 0.0;      // wall
   double cpu_seconds = 0.0;  // of the calling thread (what the budget is about)
@@ -305,6 +315,7 @@ class AmclFilter {
   std::shared_ptr<const GlobalSearch> search_;
   bool pending_search_ = false;
   bool pending_relocalization_ = false;
+  bool pending_found_by_injection_ = false;
   SearchReport last_search_;
   Confidence confidence_;
   bool measured_ = false;  // explained fraction measured since the last init

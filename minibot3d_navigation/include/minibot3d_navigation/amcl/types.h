@@ -54,6 +54,11 @@ inline Pose2D Between(const Pose2D& a, const Pose2D& b) {
 struct Particle {
   Pose2D pose;
   double weight = 0.0;
+  // Drawn at random by augmented MCL's recovery (or descended from such a
+  // draw) since the hypotheses were last set (a pose, a map-wide search, a
+  // spread over free space).  A mode made of such particles was found by
+  // resampling, not among the places the filter was told to consider.
+  bool injected = false;
 };
 
 // One laser scan as the filter consumes it.  The ROS node fills this from a
