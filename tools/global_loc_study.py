@@ -131,6 +131,23 @@ def free_poses(map_yaml, rng, spawn, clearance=0.3):
     return draw()
 
 
+def far_poses(poses, here, distance, tries=5000):
+    """Poses from `poses` at least `distance` from `here`; when none of `tries` draws is that
+    far (a small map, the robot in its middle), the farthest of them. Never loops for ever: the
+    study is a lock-step participant and must answer every tick within ~lockstep_timeout."""
+    while True:
+        best, best_d = None, -1.0
+        for _ in range(tries):
+            p = next(poses)
+            d = math.hypot(p[0] - here[0], p[1] - here[1])
+            if d >= distance:
+                best = p
+                break
+            if d > best_d:
+                best, best_d = p, d
+        yield best
+
+
 def draw(path, map_yaml, rec, k):
     """The picture of one start: map, candidates of every search, true path, estimates (grey while
     amcl makes no claim, green when it claims the pose), the kidnapping (second search) in orange."""
@@ -198,7 +215,8 @@ def main():
     ap.add_argument('--kidnaps', type=int, default=0,
                     help='after each of the first N starts, carry the robot elsewhere (amcl not '
                     'told) and drive on')
-    ap.add_argument('--kidnap-distance', type=float, default=5.0, help='m: how far at least')
+    ap.add_argument('--kidnap-distance', type=float, default=5.0,
+                    help='m: how far at least (on a small map: the farthest of 5000 draws)')
     ap.add_argument('--kidnap-travel', type=float, default=15.0, help='m driven after a kidnap')
     ap.add_argument('--wanderer', choices=('sides', 'openings'), default='sides',
                     help='tools/wanderer.py: steer towards the side with more room (default), or '
@@ -259,6 +277,9 @@ def main():
             lockstep.sleep(0.05)
         cmd_pub.publish(Twist())
         lockstep.sleep(0.1)
+        if lockstep.dropped:
+            raise SystemExit('global_loc_study: the simulator dropped this script from the '
+                             'lock-step loop (see its log): the figures would not be reproducible')
         with st.lock:
             return ([(e[0] - travel0,) + e[1:] for e in st.events if e[4] > since],
                     st.travel - travel0, [s - travel0 for s in st.searches])
@@ -298,18 +319,17 @@ def main():
             # Kidnapped: carried somewhere else at least --kidnap-distance away, amcl not told.
             with st.lock:
                 here = st.truth
-            far = (p for p in poses if math.hypot(p[0] - here[0], p[1] - here[1]) >=
-                   args.kidnap_distance)
-            kx, ky, kyaw, t_set = carry(far)
+            kx, ky, kyaw, t_set = carry(far_poses(poses, here, args.kidnap_distance))
             with st.lock:
                 if st.recording is not None:
                     st.recording['kidnap_at'] = (len(st.recording['truth']),
                                                  len(st.recording['estimates']))
             events, travelled, searches = drive(args.kidnap_travel, t_set)
             right_end, false, first, last = score(events)
-            kidnaps.append((right_end, len(false), first))
+            carried = math.hypot(kx - here[0], ky - here[1])
+            kidnaps.append((right_end, len(false), first, carried))
             print('  kidnapped %5.1f m to (%6.2f, %6.2f, %5.2f): %s' % (
-                math.hypot(kx - here[0], ky - here[1]), kx, ky, kyaw,
+                carried, kx, ky, kyaw,
                 describe(right_end, false, first, last, travelled, searches)), flush=True)
         with st.lock:
             if st.recording is not None:
@@ -332,10 +352,11 @@ def main():
     if kidnaps:
         n = len(kidnaps)
         firsts = sorted(r[2] for r in kidnaps if r[2] is not None)
-        print('global_loc_study %s kidnapping: %d runs (each >= %.0f m away, %.0f m driven): right '
+        print('global_loc_study %s kidnapping: %d runs (carried %.1f-%.1f m, %.0f m driven): right '
               'at the end %d/%d; false claims %d (in %d runs); right again within 10 m %d/%d; '
               'travel until right again median %s m, max %s m' % (
-                  os.path.basename(args.map), n, args.kidnap_distance, args.kidnap_travel,
+                  os.path.basename(args.map), n, min(r[3] for r in kidnaps),
+                  max(r[3] for r in kidnaps), args.kidnap_travel,
                   sum(r[0] for r in kidnaps), n, sum(r[1] for r in kidnaps),
                   sum(1 for r in kidnaps if r[1]),
                   sum(1 for r in kidnaps if r[2] is not None and r[2] <= 10.0), n,

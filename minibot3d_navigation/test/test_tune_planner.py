@@ -121,8 +121,12 @@ def test_trial_over_its_time_budget_is_recorded_as_timeout(tmp_path):
 
 def test_ctrl_c_mid_trial_stops_every_process(tmp_path):
     log = open(str(tmp_path / 'tool.log'), 'w')
+    # Paced at wall time (--rtf 1): the trials take 70 and 126 sim s, so both are still driving
+    # when Ctrl-C comes, however loaded the machine. As fast as possible they took 15 and 21 s
+    # wall, and on a loaded machine both could end before the second was seen ready.
     proc = subprocess.Popen([sys.executable, TOOL, '--out', str(tmp_path), '--no-progress',
-                             '--set', 'max_vel_x=0.1,0.2', '--repeats', '1', '--jobs', '2'],
+                             '--set', 'max_vel_x=0.1,0.2', '--repeats', '1', '--jobs', '2',
+                             '--rtf', '1'],
                             stdout=log, stderr=subprocess.STDOUT)
     try:
         # Mid-way: both trials' drivers have seen their stacks ready and are driving.
@@ -137,6 +141,8 @@ def test_ctrl_c_mid_trial_stops_every_process(tmp_path):
             time.sleep(0.2)
         assert ready == 2, open(str(tmp_path / 'tool.log')).read()
         assert len(processes.processes_with_marker(str(tmp_path))) >= 10
+        assert not os.path.exists(str(tmp_path / 'results.csv')), \
+            'a trial ended before Ctrl-C: not mid-trial'
         proc.send_signal(signal.SIGINT)
         assert proc.wait(90) == 130
     finally:

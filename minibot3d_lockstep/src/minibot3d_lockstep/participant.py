@@ -256,6 +256,7 @@ class Participant(object):
         self._tick = None        # arrived, not yet taken
         self._current = None     # being worked on, not yet acknowledged
         self._registered = False
+        self.dropped = False  # the simulator dropped this script: its sim time no longer holds
         if not self.enabled:
             return
         global _keep_all
@@ -434,6 +435,7 @@ class Participant(object):
                                  'loop (it answered too slowly, see the simulator\'s log)',
                                  self.name)
                     self._registered = False
+                    self.dropped = True
                     return None
             tick, self._tick = self._tick, None
         if tick is None:
