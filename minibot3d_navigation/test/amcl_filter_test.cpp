@@ -463,6 +463,30 @@ TEST(AmclConfidenceTest, KidnappedRobotIsFoundAgainByTheSearch) {
   EXPECT_LT(PosError(filter.estimate().mean, sim.truth()), 0.1);
 }
 
+// Shipped options with the lost test off (only augmented MCL's random draws
+// can bring a kidnapped filter back) and a tight start at `start`: w_slow
+// begins at the tracking level, so a kidnapping drops w_fast below it and
+// the filter draws random poses.
+AmclOptions DrawsOnlyOptions(const Pose2D& start) {
+  AmclOptions o = ShippedOptions();
+  o.confidence_lost_updates = 0;
+  o.initial_pose_x = start.x;
+  o.initial_pose_y = start.y;
+  o.initial_pose_a = start.yaw;
+  o.initial_cov_xx = o.initial_cov_yy = 0.02 * 0.02;
+  o.initial_cov_aa = 0.02 * 0.02;
+  return o;
+}
+
+// Drives 1 m straight ahead, tracking.
+void DriveOneMetre(RobotSim* sim, AmclFilter* filter) {
+  for (int k = 0; k < 10; ++k) {
+    sim->Move({0.1, 0.0, 0.0});
+    if (::testing::Test::HasFatalFailure()) return;
+    filter->Update(sim->odom(), sim->Scan());
+  }
+}
+
 // Kidnapped from a room of its own into one of two identical rooms.
 // Augmented MCL's random draws soon land in a twin, and that mode explains
 // every scan; claimed, it would be the wrong twin half the time.  It is not
@@ -473,24 +497,11 @@ TEST(AmclConfidenceTest, KidnappedRobotIsFoundAgainByTheSearch) {
 TEST(AmclConfidenceTest, PlaceFoundByRandomDrawsIsSearchedNotClaimed) {
   const OccupancyGrid grid = MakeTwinRooms(true);
   const Pose2D start{18.2, 2.0, 0.2};
-  AmclOptions o = ShippedOptions();
-  o.confidence_lost_updates = 0;
-  o.initial_pose_x = start.x;
-  o.initial_pose_y = start.y;
-  o.initial_pose_a = start.yaw;
-  // A tight start: w_slow begins at the tracking level, so a kidnapping
-  // drops w_fast below it and augmented MCL draws random poses.
-  o.initial_cov_xx = o.initial_cov_yy = 0.02 * 0.02;
-  o.initial_cov_aa = 0.02 * 0.02;
-  AmclFilter filter(o, grid);
+  AmclFilter filter(DrawsOnlyOptions(start), grid);
   ASSERT_NE(filter.global_search(), nullptr) << filter.global_search_fallback();
   RobotSim sim(grid, start, 36);
   filter.Update(sim.odom(), sim.Scan());
-  for (int k = 0; k < 10; ++k) {  // 1 m east, tracking
-    sim.Move({0.1, 0.0, 0.0});
-    ASSERT_FALSE(HasFatalFailure());
-    filter.Update(sim.odom(), sim.Scan());
-  }
+  DriveOneMetre(&sim, &filter);
   ASSERT_FALSE(HasFatalFailure());
   ASSERT_TRUE(filter.confidence().confident)
       << "explained " << filter.confidence().explained_fraction << " modes "
@@ -527,21 +538,11 @@ TEST(AmclConfidenceTest, PlaceFoundByRandomDrawsIsSearchedNotClaimed) {
 // within its 9 m: the draws' modes never hold the weight long enough.)
 TEST(AmclConfidenceTest, KidnappedFilterClaimsOnlyAfterSearchingWhatItsDrawsFound) {
   const OccupancyGrid grid = testing::MakeAsymmetricRoom();
-  AmclOptions o = ShippedOptions();
-  o.confidence_lost_updates = 0;  // only the draws bring the filter back
-  o.initial_pose_x = kStartTruth.x;
-  o.initial_pose_y = kStartTruth.y;
-  o.initial_pose_a = kStartTruth.yaw;
-  o.initial_cov_xx = o.initial_cov_yy = 0.02 * 0.02;
-  o.initial_cov_aa = 0.02 * 0.02;
-  AmclFilter filter(o, grid);
+  AmclFilter filter(DrawsOnlyOptions(kStartTruth), grid);
   RobotSim sim(grid, kStartTruth, 37);
   filter.Update(sim.odom(), sim.Scan());
-  for (int k = 0; k < 10; ++k) {  // 1 m, tracking
-    sim.Move({0.1, 0.0, 0.0});
-    ASSERT_FALSE(HasFatalFailure());
-    filter.Update(sim.odom(), sim.Scan());
-  }
+  DriveOneMetre(&sim, &filter);
+  ASSERT_FALSE(HasFatalFailure());
   ASSERT_TRUE(filter.confidence().confident);
   ASSERT_EQ(filter.last_search().count, 0);
   sim.Kidnap({6.0, 4.0, 3.0});
