@@ -9,7 +9,7 @@ after the call is compared with /ground_truth/odom:
   right        < 0.3 m and < 10 deg
 Prints one line per start and a summary: share right at the end, false claims, travel until the
 first right claim. With --kidnaps N, after each of the first N starts the robot is carried again,
-at least --kidnap-distance away, without telling amcl (a kidnapping), and driven --kidnap-travel
+at least --kidnap-distance away (or as far as the map allows), without telling amcl (a kidnapping), and driven --kidnap-travel
 metres: every amcl_pose from then on is scored the same way (a claim of the old place is false),
 with the travel until amcl is right again. Run by tools/global_loc_study.sh (which starts the simulator, map_server and
 amcl on lock-step time: this script is a participant, so a seed gives the same figures every run).
@@ -316,7 +316,8 @@ def main():
         print('start %2d (%6.2f, %6.2f, %5.2f): %s' % (
             k, x, y, yaw, describe(right_end, false, first, last, travelled, searches)), flush=True)
         if k < args.kidnaps:
-            # Kidnapped: carried somewhere else at least --kidnap-distance away, amcl not told.
+            # Kidnapped: carried at least --kidnap-distance away (or as far as the map allows),
+            # amcl not told.
             with st.lock:
                 here = st.truth
             kx, ky, kyaw, t_set = carry(far_poses(poses, here, args.kidnap_distance))
