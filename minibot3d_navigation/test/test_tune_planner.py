@@ -122,12 +122,15 @@ def test_trial_over_its_time_budget_is_recorded_as_timeout(tmp_path):
 def test_ctrl_c_mid_trial_stops_every_process(tmp_path):
     log = open(str(tmp_path / 'tool.log'), 'w')
     # Paced at wall time (--rtf 1): the trials take 70 and 126 sim s, so both are still driving
-    # when Ctrl-C comes, however loaded the machine. As fast as possible they took 15 and 21 s
-    # wall, and on a loaded machine both could end before the second was seen ready.
+    # when Ctrl-C comes, however loaded the machine (as fast as possible they take 15 and 21 s
+    # wall). The tool starts as from a terminal, SIGINT at its default: a test runner started in
+    # the background of a script inherits SIGINT ignored, and so would the tool (Python then
+    # installs no KeyboardInterrupt handler, and the Ctrl-C below would be lost).
     proc = subprocess.Popen([sys.executable, TOOL, '--out', str(tmp_path), '--no-progress',
                              '--set', 'max_vel_x=0.1,0.2', '--repeats', '1', '--jobs', '2',
                              '--rtf', '1'],
-                            stdout=log, stderr=subprocess.STDOUT)
+                            stdout=log, stderr=subprocess.STDOUT,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         # Mid-way: both trials' drivers have seen their stacks ready and are driving.
         deadline = time.monotonic() + 180
