@@ -174,14 +174,7 @@ void BM_GlobalSearchOffice(benchmark::State& state) {
   namespace tw = minibot3d_slam::testing_world;
   std::vector<minibot3d_slam::Pose2> rooms;
   const tw::World world = tw::OfficeBuilding(54.0, 59.0, 1, &rooms);
-  const minibot3d_slam::GridMap map = tw::Rasterize(world, 0.0, 0.0, 54.0, 59.0);
-  OccupancyGrid grid;
-  grid.resolution = map.resolution;
-  grid.origin_x = map.origin_x;
-  grid.origin_y = map.origin_y;
-  grid.width = map.width;
-  grid.height = map.height;
-  grid.data = map.data;
+  const OccupancyGrid grid = FromSlamMap(tw::Rasterize(world, 0.0, 0.0, 54.0, 59.0));
   AmclOptions o;
   o.laser_max_range = 12.0;
   o.global_search_budget = 100.0;
@@ -248,13 +241,7 @@ void BM_GlobalSearchShippedOffice(benchmark::State& state) {
   const std::string path = env != nullptr ? env : MINIBOT3D_OFFICE_MAP;
   OccupancyGrid grid;
   try {
-    const minibot3d_slam::GridMap m = minibot3d_map_io::LoadMap(path);
-    grid.resolution = m.resolution;
-    grid.origin_x = m.origin_x;
-    grid.origin_y = m.origin_y;
-    grid.width = m.width;
-    grid.height = m.height;
-    grid.data = m.data;
+    grid = FromSlamMap(minibot3d_map_io::LoadMap(path));
   } catch (const std::exception& e) {
     state.SkipWithError(("cannot load the office map (OFFICE_MAP): " + std::string(e.what())).c_str());
     return;

@@ -56,6 +56,10 @@ GlobalSearch::GlobalSearch(const OccupancyGrid& grid,
     fallback_reason_ = os.str();
     return;
   }
+  search_.reset(new slam::CorrelativeSearch(ToSlamMap(grid), SearchOptions(options)));
+}
+
+slam::GridMap ToSlamMap(const OccupancyGrid& grid) {
   slam::GridMap map;
   map.resolution = grid.resolution;
   map.origin_x = grid.origin_x;
@@ -64,7 +68,19 @@ GlobalSearch::GlobalSearch(const OccupancyGrid& grid,
   map.width = grid.width;
   map.height = grid.height;
   map.data = grid.data;
-  search_.reset(new slam::CorrelativeSearch(map, SearchOptions(options)));
+  return map;
+}
+
+OccupancyGrid FromSlamMap(const slam::GridMap& map) {
+  OccupancyGrid grid;
+  grid.resolution = map.resolution;
+  grid.origin_x = map.origin_x;
+  grid.origin_y = map.origin_y;
+  grid.origin_yaw = map.origin_theta;
+  grid.width = map.width;
+  grid.height = map.height;
+  grid.data = map.data;
+  return grid;
 }
 
 GlobalSearch::~GlobalSearch() = default;

@@ -36,6 +36,7 @@
 #include "minibot3d_navigation/amcl/amcl_options.h"
 #include "minibot3d_navigation/amcl/occupancy_map.h"
 #include "minibot3d_navigation/amcl/types.h"
+#include "minibot3d_slam/types.h"
 
 namespace minibot3d_slam {
 class CorrelativeSearch;
@@ -43,6 +44,11 @@ class CorrelativeSearch;
 
 namespace minibot3d_navigation {
 namespace amcl {
+
+// minibot3d_slam's map (minibot3d_map_io's OccupancyGrid, what LoadMap returns) and amcl's:
+// the same cells, resolution and origin.
+minibot3d_slam::GridMap ToSlamMap(const OccupancyGrid& grid);
+OccupancyGrid FromSlamMap(const minibot3d_slam::GridMap& map);
 
 struct SearchCandidate {
   Pose2D pose;          // robot base in the map frame
