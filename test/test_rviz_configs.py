@@ -72,7 +72,8 @@ def test_there_are_rviz_configs():
 def test_rviz_opens_config(config, tmp_path):
     port = free_port()
     env = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:%d' % port, ROS_IP='127.0.0.1',
-               ROS_HOME=str(tmp_path), LIBGL_ALWAYS_SOFTWARE='1')
+               ROS_HOME=str(tmp_path), LIBGL_ALWAYS_SOFTWARE='1',
+               GALLIUM_DRIVER='softpipe')  # not llvmpipe: test_rviz_pictures.py says why
     env.pop('ROS_HOSTNAME', None)
     core = subprocess.Popen(['roscore', '-p', str(port)], env=env, stdout=subprocess.DEVNULL,
                             stderr=subprocess.DEVNULL, start_new_session=True)
