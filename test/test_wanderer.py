@@ -89,3 +89,40 @@ def test_default_wanderer_steers_towards_the_side_with_more_room():
     segs = [((-20, -0.4), (20, -0.4)), ((-20, 1.6), (20, 1.6))]
     v, omega = Wanderer(laser_yaw=0.0).command(cast(segs, 0.0, 0.0, 0.0))
     assert v > 0.2 and omega > 0.1
+
+
+def test_wall_end_beside_the_bumper_blocks_the_way():
+    # A wall ending 0.3 m ahead and 0.15 m to the left: outside the 25 deg front cone, but in
+    # the robot's swept path (0.23 m wide): driving on would catch the bumper on it.
+    segs = [((0.3, 0.15), (0.3, 3.0)), ((-20, -2), (20, -2)), ((-20, 3), (20, 3))]
+    v, omega = Wanderer(laser_yaw=0.0, seek_openings=True).command(cast(segs, 0.0, 0.0, 0.0))
+    assert v == 0.0 and omega != 0.0
+
+
+def test_turns_one_way_to_the_opening_without_dithering():
+    # Blocked ahead, more room on the left, and the way ahead clear when facing 40..80 deg
+    # left or near the opening 50 deg right: the blocked turn and the turn to the opening once
+    # disagreed (left until clear at 40 deg, then right towards the opening, blocked again,
+    # left...: minutes on the spot in the default world). It must turn right, one way, and go.
+    opening = math.radians(-50)
+    w = Wanderer(laser_yaw=0.0, seek_openings=True)
+    heading = 0.0
+
+    def wrap(a):
+        return math.atan2(math.sin(a), math.cos(a))
+
+    def front(h):
+        clear = math.radians(40) <= h <= math.radians(80) or abs(wrap(h - opening)) < math.radians(20)
+        return 2.0 if clear else 0.3
+    w._sectors = lambda scan: (front(heading), 3.0, 1.0)
+    w._deepest_opening = lambda scan: wrap(opening - heading)
+    signs = set()
+    for _ in range(300):
+        v, omega = w.command(object())
+        if v > 0.0:
+            break
+        signs.add(math.copysign(1.0, omega))
+        heading = wrap(heading + omega * w.dt)
+    assert v > 0.0, 'still turning on the spot after 30 s'
+    assert signs == {-1.0}, 'turned both ways'
+    assert abs(wrap(heading - opening)) < math.radians(30)

@@ -220,8 +220,8 @@ def main():
     ap.add_argument('--kidnap-travel', type=float, default=15.0, help='m driven after a kidnap')
     ap.add_argument('--wanderer', choices=('sides', 'openings'), default='sides',
                     help='tools/wanderer.py: steer towards the side with more room (default), or '
-                    'head for the deepest opening (better in the office, wedges in the default '
-                    'world\'s furniture: README)')
+                    'head for the deepest opening (tools/wanderer.py and the README say why it is '
+                    'not the default)')
     ap.add_argument('--picture', help='PNG: the map, the search candidates, the true and estimated '
                     'paths of one start (and its kidnapping)')
     ap.add_argument('--picture-start', type=int, default=0, help='which start --picture shows')

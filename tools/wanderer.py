@@ -6,10 +6,13 @@ seek_openings=True (the study's --wanderer openings) steers towards the deepest 
 for each beam, the nearest return within the angle a 0.6 m wide corridor subtends at that beam's
 range (so a door counts by what lies beyond it only when the robot fits through), less 0.5 m per
 radian off the current heading (keep going rather than dither between two equal openings). It
-leads out of a room through its door and along corridors, where a place shows what tells it apart
-from look-alikes: on the office world's first 15 starts the first right claim came after a median
-of 4.9 m instead of 5.9 m. But in the default world's furnished rooms it wedges itself (2.5-2.8 m
-driven in 150 s in 3 of 11 starts), so it is not the default.
+leads out of a room through its door and along corridors. An in-place turn keeps one direction
+until the way ahead is clear and the opening ahead; anything in the robot's swept path blocks it
+(a wall's end beside the bumper, outside the 25 deg front cone); and a whole turn in place without
+1 m driven (a gap it cannot pass) hands over to the side-steering wanderer for 5 s. Before those
+three, it wedged itself in the default world's furniture (0.0-2.8 m driven in 150 s in 3 of 11
+starts). It is still not the default: in the office study it found the robot no sooner and once
+let the filter claim a pose 2.7 m off with its heading reversed (README, issue 20).
 
 Wanderer(laser_yaw).command(scan) -> (v, w): laser_yaw is the laser's heading on the base
 (minibot3d's RPLIDAR is mounted backwards: pi)."""
@@ -18,16 +21,25 @@ import math
 
 class Wanderer(object):
     def __init__(self, laser_yaw=math.pi, speed=0.25, turn_rate=0.8, clearance=0.45,
-                 seek_openings=False):
+                 seek_openings=False, dt=0.1,
+                 half_width=0.115):
         self.laser_yaw = laser_yaw
         self.seek_openings = seek_openings  # see the module docstring
         self.speed = speed
         self.turn_rate = turn_rate
         self.clearance = clearance
+        self.dt = dt  # s between commands (the scan period)
+        self.half_width = half_width  # m: the robot's (minibot3d's footprint: 0.23 m wide)
         self.turning = 0.0  # sign of an in-place turn in progress (0: driving)
+        self.turned = 0.0  # rad turned in place since the robot last drove 1 m between turns
+        self.driven = 0.0  # m commanded since the last in-place turn began
+        self.escape_s = 5.0  # s of wandering by the sides after a fruitless whole turn
+        self.plain = 0  # commands left of that
 
     def _sectors(self, scan):
-        """Nearest return ahead (|bearing| < 25 deg) and the mean room left and right."""
+        """Nearest return ahead (|bearing| < 25 deg; seeking openings, also any return in the
+        robot's swept path, half_width + 0.1 m either side, by its distance along the heading:
+        a wall's end beside the bumper) and the mean room left and right."""
         front, left, right = float('inf'), [], []
         for i, r in enumerate(scan.ranges):
             if not (r > scan.range_min):
@@ -37,6 +49,9 @@ class Wanderer(object):
             b = math.atan2(math.sin(b), math.cos(b))
             if abs(b) < math.radians(25):
                 front = min(front, r)
+            elif self.seek_openings and abs(b) < math.pi / 2 and \
+                    abs(r * math.sin(b)) < self.half_width + 0.1:
+                front = min(front, r * math.cos(b))
             elif 0 < b < math.radians(100):
                 left.append(r)
             elif -math.radians(100) < b < 0:
@@ -48,26 +63,49 @@ class Wanderer(object):
         if scan is None:
             return 0.0, 0.0
         front, left, right = self._sectors(scan)
+        bearing = self._deepest_opening(scan) if self.seek_openings and not self.plain else None
+        self.plain = max(0, self.plain - 1)
         if self.turning:
-            # Keep turning one way until the way ahead is clear with a margin (no dithering).
-            if front > 1.5 * self.clearance:
-                self.turning = 0.0
-            else:
+            # Keep turning one way until the way ahead is clear with a margin (and, seeking
+            # openings, the opening is ahead): never dither between two directions. A whole
+            # turn without that (an opening the robot cannot face clear of obstacles; or turns
+            # back and forth with less than 1 m driven between them: a gap it cannot pass) ends
+            # the turn too: then it wanders by the sides for a while (escape_s).
+            self.turned += self.turn_rate * self.dt
+            clear = front > 1.5 * self.clearance and (
+                bearing is None or abs(bearing) < math.radians(30) or
+                self.turned > 2.0 * math.pi)
+            if not clear:
                 return 0.0, self.turning * self.turn_rate
+            if self.turned > 2.0 * math.pi and self.seek_openings:
+                self.plain = int(round(self.escape_s / self.dt))
+            self.turning = 0.0
         if front < self.clearance:
-            self.turning = 1.0 if left >= right else -1.0
-            return 0.0, self.turning * self.turn_rate
+            # Blocked: turn the way the opening lies (seeking), else the side with more room.
+            if bearing is not None and abs(bearing) > math.radians(5):
+                side = math.copysign(1.0, bearing)
+            else:
+                side = 1.0 if left >= right else -1.0
+            return self._start_turn(side)
         # Towards the deepest opening: in place when it is well off to a side, else ahead,
         # slower near obstacles.
-        bearing = self._deepest_opening(scan) if self.seek_openings else None
         if bearing is not None and abs(bearing) > math.radians(60):
-            return 0.0, math.copysign(self.turn_rate, bearing)
+            return self._start_turn(math.copysign(1.0, bearing))
         v = self.speed * min(1.0, (front - self.clearance) / 0.5 + 0.3)
+        self.driven += v * self.dt
         if bearing is None:
             w = max(-0.5, min(0.5, 0.4 * (left - right)))
         else:
             w = max(-0.6, min(0.6, 1.2 * bearing))
         return v, w
+
+    def _start_turn(self, side):
+        """An in-place turn towards side (+1 left, -1 right)."""
+        self.turning = side
+        if self.driven >= 1.0:
+            self.turned = 0.0
+        self.driven = 0.0
+        return 0.0, self.turning * self.turn_rate
 
     def _deepest_opening(self, scan, half_width=0.3, per_radian=0.5):
         """Bearing (base frame, |b| < 100 deg) of the deepest opening, or None without returns."""
