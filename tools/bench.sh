@@ -64,6 +64,19 @@ done
 echo "== move_base in the simulator: 20 random reachable goals in the default world (seed 1)"
 tools/nav_sim_bench.sh
 
+echo "== make demo on the shipped worlds (explore with SLAM until no frontier is left, save the map,"
+echo "   localize globally on it, visit the goals; lock-step at full speed): the summary of each"
+for spec in "default||" "arena|minibot3d_sim/worlds/arena.world|" \
+    "tight_spaces|minibot3d_sim/worlds/tight_spaces.world|DEMO_X=-3 DEMO_Y=-1.2" \
+    "office|minibot3d_sim/worlds/office.world|DEMO_X=1.0 DEMO_Y=6.17"; do
+  IFS='|' read -r name world_arg env_args <<< "$spec"
+  echo "-- $name"
+  # shellcheck disable=SC2086
+  env $env_args DEMO_OUT="build/bench/demo_$name" ROS_PORT="$(ros_free_port)" \
+    tools/demo.sh $world_arg > "build/bench/demo_$name.txt" 2>&1 || true
+  sed -n '/== make demo summary/,$p' "build/bench/demo_$name.txt" | grep -v "^== make demo summary"
+done
+
 echo "== mapless navigation through the 50 shipped clutter worlds (mapless_navigation.launch,"
 echo "   lock-step at full speed, the goal 5.5 m ahead in odom, 150 s of sim time each)"
 rm -rf build/bench/mapless

@@ -9,10 +9,11 @@
 # Environment: DEMO_X, DEMO_Y, DEMO_YAW (exploration spawn), DEMO_NAV_X, DEMO_NAV_Y, DEMO_NAV_YAW
 # (navigation start), DEMO_GOALS ("x,y,yaw ..." in the world frame), DEMO_REAL_TIME_FACTOR (0: as
 # fast as the CPU allows), DEMO_LOCKSTEP (1: lock-step time, the same result on every run; 0: the
-# free-running loop).
+# free-running loop), DEMO_OUT (where the maps, logs and picture go; default out/).
 # For the default world all have defaults; for another world the spawn defaults to its origin and
 # the goals are sampled from the saved map.
 set -euo pipefail
+out="$(realpath -m "${DEMO_OUT:-$(dirname "${BASH_SOURCE[0]}")/../out}")"
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 source tools/ros_env.sh
 default_world="$(pwd)/minibot3d_sim/worlds/default.world"
@@ -33,7 +34,6 @@ fi
 lockstep="${DEMO_LOCKSTEP:-1}"
 if [ "$lockstep" = 1 ]; then ls_arg=true; else ls_arg=false; fi
 rtf="${DEMO_REAL_TIME_FACTOR:-$([ "$lockstep" = 1 ] && echo 0 || echo 5)}"
-out="$(pwd)/out"
 mkdir -p "$out"
 rm -f "$out"/demo_explore.json "$out"/demo_nav.json
 
@@ -58,7 +58,7 @@ trap stop_stack EXIT
 start=$SECONDS
 
 echo "demo: 1/4 exploring $world from ($x, $y, $yaw) with SLAM at real-time factor $rtf," \
-  "lock-step $ls_arg (log: out/demo_explore.log)"
+  "lock-step $ls_arg (log: $out/demo_explore.log)"
 setsid roslaunch -p "$ROS_PORT" minibot3d_navigation explore.launch explore:=false world:="$world" \
   x:="$x" y:="$y" yaw:="$yaw" real_time_factor:="$rtf" lockstep:="$ls_arg" \
   lockstep_clients:=/demo_explore > "$out/demo_explore.log" 2>&1 &
@@ -69,10 +69,10 @@ status=0
   | grep --line-buffered -E "explore: .*(m\^2|complete)|demo:|map_saver" || true
 [ -f "$out/demo_explore.json" ] || status=1
 stop_stack
-echo "demo: 2/4 map saved: out/demo_map.pgm, out/demo_map.yaml"
+echo "demo: 2/4 map saved: $out/demo_map.pgm, $out/demo_map.yaml"
 
 echo "demo: 3/4 navigating on the saved map from ($nx, $ny, $nyaw), global localization" \
-  "(log: out/demo_nav.log)"
+  "(log: $out/demo_nav.log)"
 export ROS_PORT="$(ros_free_port)"
 export ROS_MASTER_URI="http://127.0.0.1:${ROS_PORT}"
 setsid roslaunch -p "$ROS_PORT" minibot3d_navigation amcl_navigation.launch world:="$world" \

@@ -2,17 +2,23 @@
 //
 // Every ~planner_frequency seconds (sim time) it takes the latest map, finds the
 // reachable frontiers (minibot3d_navigation/explore/frontier_search.h) and sends
-// move_base a goal at the nearest one, facing it.  A goal is kept until it is
-// reached or fails, the robot neither gets closer to it nor moves 0.5 m for
-// ~progress_timeout seconds, or a frontier nearer by ~switch_margin metres
-// appears.  Every goal that ends (reached or not) is blacklisted, so a frontier
-// the sensor cannot clear (glass, below the lidar) is not chased forever.
-// When no reachable frontier is left on a fresher map (or for three cycles) it logs the
-// explored area and exits 0 — the map can then be saved.  Progress (known free
-// area, frontiers, sim time) is printed as it goes.
+// move_base a goal at the nearest one's viewpoint, heading the way the robot
+// comes.  A goal is kept until it is reached or fails, the robot neither gets
+// closer to it nor moves 0.5 m for ~progress_timeout seconds, or a frontier
+// nearer by ~switch_margin metres appears.  What it remembers is
+// nav::ExplorationMemory: a reached viewpoint is not used again, and the
+// frontier cells still in sight of it (judged on the next map) cannot be cleared
+// by the sensor (glass, below the lidar) and no longer count; a goal move_base
+// aborted or made no progress towards is excluded until the map round it
+// changes, at most max_goal_attempts times.  When no reachable frontier is left
+// on a fresher map (or for three cycles) it logs the explored area and exits 0 —
+// the map can then be saved.  Progress (known free area, frontiers, sim time) is
+// printed as it goes.
 #include <cmath>
 #include <memory>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <actionlib/client/simple_action_client.h>
@@ -35,6 +41,9 @@ namespace minibot3d_navigation {
 namespace {
 
 using Client = actionlib::SimpleActionClient<move_base_msgs::MoveBaseAction>;
+
+// A goal move_base gives up on with the robot this close to it was reached all the same.
+constexpr double kArrived = 0.25;  // m
 
 class ExploreNode {
  public:
@@ -84,6 +93,7 @@ class ExploreNode {
     }
     try {
       search_ = std::make_unique<nav::FrontierSearch>(o_);
+      memory_ = std::make_unique<nav::ExplorationMemory>(o_);
     } catch (const std::invalid_argument& e) {
       problems.push_back(e.what());
     }
@@ -121,9 +131,36 @@ class ExploreNode {
     }
   }
 
-  void EndGoal(const char* why) {
-    ROS_INFO("explore: goal (%.2f, %.2f) %s; blacklisted", goal_.x, goal_.y, why);
-    blacklist_.push_back(goal_);
+  // A goal is reached: the viewpoint is not used again; what stays frontier there is judged
+  // on the next map SLAM publishes (the last scans are in it), while the robot goes on.
+  void GoalReached() {
+    have_goal_ = false;
+    memory_->Reached(goal_);
+    to_judge_.push_back({goal_, map_count_});
+  }
+
+  void Judge(const nav::Point2D& viewpoint, const amcl::OccupancyGrid& grid) {
+    std::vector<nav::Point2D> in_sight;
+    try {
+      in_sight = search_->InSight(grid, viewpoint);
+    } catch (const std::invalid_argument& e) {
+      ROS_WARN_THROTTLE(5.0, "explore: %s", e.what());
+    }
+    memory_->LookedAt(in_sight);
+    ROS_INFO("explore: goal (%.2f, %.2f) reached; %zu frontier cells in sight there stay unknown "
+             "and are not chased again", viewpoint.x, viewpoint.y, in_sight.size());
+  }
+
+  void GoalFailed(const amcl::OccupancyGrid& grid, const std::string& why) {
+    const int attempts = memory_->Failed(goal_, grid);
+    if (attempts >= o_.max_goal_attempts) {
+      ROS_WARN("explore: goal (%.2f, %.2f) %s; given up after %d attempts near it", goal_.x,
+               goal_.y, why.c_str(), attempts);
+    } else {
+      ROS_INFO("explore: goal (%.2f, %.2f) %s (attempt %d of %d); excluded until the map within "
+               "%.1f m of it changes", goal_.x, goal_.y, why.c_str(), attempts,
+               o_.max_goal_attempts, o_.retry_window);
+    }
     have_goal_ = false;
   }
 
@@ -135,14 +172,20 @@ class ExploreNode {
     nav::Pose2D robot;
     if (!RobotPose(&robot)) return;
     const ros::Time now = ros::Time::now();
+    const amcl::OccupancyGrid grid = ros_util::GridFromMsg(*map_);
 
     if (have_goal_) {
       const auto state = client_.getState();
       const double d = std::hypot(goal_.x - robot.x, goal_.y - robot.y);
       if (state == actionlib::SimpleClientGoalState::SUCCEEDED) {
-        EndGoal("reached");
+        GoalReached();
+      } else if (state.isDone() && d < kArrived) {
+        // At the goal but not at its heading (say, no room to turn): the scans were taken.
+        ROS_INFO("explore: goal (%.2f, %.2f) ended %s %.2f m from the robot: counted as reached",
+                 goal_.x, goal_.y, state.toString().c_str(), d);
+        GoalReached();
       } else if (state.isDone()) {
-        EndGoal(("ended " + state.toString() + ": " + client_.getState().getText()).c_str());
+        GoalFailed(grid, "ended " + state.toString() + ": " + state.getText());
       } else if (d < best_distance_ - 0.1 ||
                  std::hypot(robot.x - progress_pose_.x, robot.y - progress_pose_.y) > 0.5) {
         // Closer to the goal, or at least moving (a path may first lead away).
@@ -151,13 +194,27 @@ class ExploreNode {
         last_progress_ = now;
       } else if ((now - last_progress_).toSec() > progress_timeout_) {
         client_.cancelGoal();
-        EndGoal("made no progress");
+        std::ostringstream why;
+        why << "made no progress for " << progress_timeout_ << " s";
+        GoalFailed(grid, why.str());
       }
+    }
+    for (auto it = to_judge_.begin(); it != to_judge_.end();) {
+      if (map_count_ > it->second) {
+        Judge(it->first, grid);
+        it = to_judge_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    for (const nav::Point2D& p : memory_->Refresh(grid)) {
+      ROS_INFO("explore: the map changed round unreachable goal (%.2f, %.2f); it may be retried",
+               p.x, p.y);
     }
 
     nav::FrontierSearchResult r;
     try {
-      r = search_->Find(ros_util::GridFromMsg(*map_), robot, blacklist_);
+      r = search_->Find(grid, robot, memory_->Excluded(), memory_->looked_at());
     } catch (const std::invalid_argument& e) {
       ROS_WARN_THROTTLE(5.0, "explore: %s", e.what());
       return;
@@ -175,8 +232,8 @@ class ExploreNode {
         empty_since_ = now;
       } else if (map_count_ > empty_at_map_ ||
                  (now - empty_since_).toSec() > 3.0 / planner_frequency_) {
-        ROS_INFO("explore: exploration complete: %.1f m^2 known free, %zu goals, %.1f s sim",
-                 r.known_free_area, blacklist_.size(), (now - start_time_).toSec());
+        ROS_INFO("explore: exploration complete: %.1f m^2 known free, %d goals, %.1f s sim",
+                 r.known_free_area, goals_sent_, (now - start_time_).toSec());
         lockstep_.Leave();
         ros::shutdown();
       }
@@ -200,14 +257,16 @@ class ExploreNode {
     g.target_pose.header.stamp = now;
     g.target_pose.pose.position.x = f.goal.x;
     g.target_pose.pose.position.y = f.goal.y;
-    // Face the frontier from the goal (or keep going the way we came).
-    double yaw = std::atan2(f.centroid.y - f.goal.y, f.centroid.x - f.goal.x);
-    if (std::hypot(f.centroid.y - f.goal.y, f.centroid.x - f.goal.x) < 1e-3) {
+    // Arrive heading the way the robot comes, not facing the frontier: the lidar sees all
+    // round, and a turn on the spot at a goal beside furniture is where a robot gets wedged.
+    double yaw = robot.yaw;
+    if (std::hypot(f.goal.y - robot.y, f.goal.x - robot.x) > 0.3) {
       yaw = std::atan2(f.goal.y - robot.y, f.goal.x - robot.x);
     }
     g.target_pose.pose.orientation.z = std::sin(yaw / 2.0);
     g.target_pose.pose.orientation.w = std::cos(yaw / 2.0);
     client_.sendGoal(g);
+    ++goals_sent_;
     goal_ = f.goal;
     have_goal_ = true;
     best_distance_ = std::hypot(goal_.x - robot.x, goal_.y - robot.y);
@@ -239,6 +298,7 @@ class ExploreNode {
   Client client_;
   nav::ExploreOptions o_;
   std::unique_ptr<nav::FrontierSearch> search_;
+  std::unique_ptr<nav::ExplorationMemory> memory_;
   std::string global_frame_, base_frame_;
   double planner_frequency_ = 0.5, progress_timeout_ = 30.0, switch_margin_ = 1.0;
   ros::Subscriber map_sub_;
@@ -246,11 +306,12 @@ class ExploreNode {
   nav_msgs::OccupancyGrid::ConstPtr map_;
   int map_count_ = 0, empty_at_map_ = 0;
   bool have_goal_ = false;
+  std::vector<std::pair<nav::Point2D, int>> to_judge_;  // reached viewpoints, map count then
   nav::Point2D goal_;
   double best_distance_ = 0.0;
   nav::Pose2D progress_pose_;
   ros::Time last_progress_, start_time_, empty_since_;
-  std::vector<nav::Point2D> blacklist_;
+  int goals_sent_ = 0;
 };
 
 }  // namespace

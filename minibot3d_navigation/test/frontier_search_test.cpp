@@ -1,10 +1,13 @@
 // Frontier search on small inline maps: frontier detection and clustering, the
-// goal on the robot's side, unreachable frontiers dropped, blacklist, and
-// "nothing left" once a room is closed.
+// goal on the robot's side and in sight of its frontier, unreachable frontiers
+// dropped, excluded viewpoints, "nothing left" once a room is closed; and the
+// exploration memory (reached viewpoints never again, unreachable goals retried
+// once the map round them changes, a limit on attempts).
 #include "minibot3d_navigation/explore/frontier_search.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -35,6 +38,7 @@ Pose2D At(int x, int y) { return {(x + 0.5) * kRes, (y + 0.5) * kRes, 0.0}; }
 ExploreOptions Options() {
   ExploreOptions o;
   o.clearance = 0.1;
+  o.goal_clearance = 0.1;
   o.min_frontier_size = 0.2;
   o.goal_search_radius = 0.2;
   return o;
@@ -111,6 +115,178 @@ TEST(FrontierSearch, NearestFirstAndBlacklist) {
   EXPECT_GT(r.frontiers[0].centroid.x, 1.0);
 }
 
+TEST(FrontierSearch, TheViewpointSeesItsFrontier) {
+  // A gap behind a thin shelf (column 6), open to unknown space at its far end
+  // (top right).  The cells just left of the shelf are within reach of the
+  // frontier and nearer the robot than the gap's cells, but the shelf hides the
+  // frontier from them: the viewpoint must be where the gap is in sight.
+  const auto grid = Grid({
+      "###########",
+      "#.....#???#",
+      "#.....#...#",
+      "#.....#...#",
+      "#.....#...#",
+      "#.........#",
+      "###########",
+  });
+  ExploreOptions o = Options();
+  o.clearance = 0.0;
+  o.goal_clearance = 0.0;
+  o.goal_search_radius = 0.2;
+  o.min_frontier_size = 0.1;
+  FrontierSearch search(o);
+  const auto r = search.Find(grid, At(1, 1), {});
+  ASSERT_EQ(r.frontiers.size(), 1u);
+  const Frontier& f = r.frontiers[0];
+  EXPECT_GT(f.goal.x, 7 * kRes) << "goal (" << f.goal.x << ", " << f.goal.y << ")";
+}
+
+TEST(FrontierSearch, ExcludedViewpointsLeaveTheOthers) {
+  // A long opening on the right: excluding the viewpoint the robot reached moves
+  // the goal along the frontier instead of dropping the frontier.
+  const auto grid = Grid({
+      "############?",
+      "#...........?",
+      "#...........?",
+      "#...........?",
+      "#...........?",
+      "#...........?",
+      "#...........?",
+      "#...........?",
+      "#...........?",
+      "############?",
+  });
+  ExploreOptions o = Options();
+  o.blacklist_radius = 0.25;
+  FrontierSearch search(o);
+  auto r = search.Find(grid, At(2, 1), {});
+  ASSERT_EQ(r.frontiers.size(), 1u);
+  const Point2D first = r.frontiers[0].goal;
+  r = search.Find(grid, At(2, 1), {first});
+  ASSERT_EQ(r.frontiers.size(), 1u);
+  EXPECT_GE(std::hypot(r.frontiers[0].goal.x - first.x, r.frontiers[0].goal.y - first.y), 0.25);
+  EXPECT_EQ(r.blacklisted, 0);
+  // Excluding the whole opening's side drops the frontier, counted as blacklisted.
+  std::vector<Point2D> all;
+  for (int y = 0; y < 10; ++y) all.push_back({At(11, y).x, At(11, y).y});
+  r = search.Find(grid, At(2, 1), all);
+  EXPECT_TRUE(r.frontiers.empty());
+  EXPECT_EQ(r.blacklisted, 1);
+}
+
+TEST(FrontierSearch, CellsLookedAtNoLongerCount) {
+  // The thin-shelf room: from the gap's mouth the frontier is in sight; from
+  // left of the shelf, at the same distance, it is not.
+  const auto grid = Grid({
+      "###########",
+      "#.....#???#",
+      "#.....#...#",
+      "#.....#...#",
+      "#.....#...#",
+      "#.........#",
+      "###########",
+  });
+  ExploreOptions o = Options();
+  o.clearance = 0.0;
+  o.goal_clearance = 0.0;
+  o.goal_search_radius = 0.25;
+  o.min_frontier_size = 0.1;
+  FrontierSearch search(o);
+  EXPECT_TRUE(search.InSight(grid, {At(5, 4).x, At(5, 4).y}).empty());
+  const auto cells = search.InSight(grid, {At(8, 3).x, At(8, 3).y});
+  EXPECT_EQ(cells.size(), 3u);  // the gap's top row, x 7..9
+  ExplorationMemory memory(o);
+  memory.Reached({At(8, 3).x, At(8, 3).y});
+  memory.LookedAt(cells);
+  EXPECT_EQ(memory.Excluded().size(), 1u);  // the viewpoint
+  auto r = search.Find(grid, At(1, 1), {}, memory.looked_at());
+  EXPECT_TRUE(r.frontiers.empty()) << "the cells stayed frontier with the robot there";
+  // Cells that were not looked at still count.
+  r = search.Find(grid, At(1, 1), {}, {cells[0]});
+  EXPECT_EQ(r.frontiers.size(), 1u);
+}
+
+TEST(FrontierSearch, NoGoalInAPocketTooNarrowToTurnIn) {
+  // A room with a 0.3 m slot off it (text rows 2-4, columns 8-10), unknown
+  // beyond it.  Paths may pass 0.1 m from walls, goals need 0.2 m: the slot's
+  // frontier gets no goal inside the slot, so the robot is not sent into a
+  // pocket it cannot turn round in; seen from the room it still gets one.
+  const auto grid = Grid({
+      "###############",
+      "#.......#######",
+      "#..........????",
+      "#..........????",
+      "#..........????",
+      "#.......#######",
+      "#.......#######",
+      "###############",
+  });
+  ExploreOptions o = Options();
+  o.goal_clearance = 0.2;
+  o.goal_search_radius = 0.5;
+  FrontierSearch search(o);
+  auto r = search.Find(grid, At(2, 2), {});
+  ASSERT_EQ(r.frontiers.size(), 1u);
+  EXPECT_LT(r.frontiers[0].goal.x, 0.8) << "goal (" << r.frontiers[0].goal.x << ")";
+  o.goal_search_radius = 0.2;  // nothing roomy within reach of the frontier
+  r = FrontierSearch(o).Find(grid, At(2, 2), {});
+  EXPECT_TRUE(r.frontiers.empty());
+  EXPECT_EQ(r.unreachable, 1);
+}
+
+TEST(ExplorationMemory, ReachedViewpointsAreNotUsedAgain) {
+  ExplorationMemory memory(Options());
+  memory.Reached({1.0, 2.0});
+  EXPECT_TRUE(memory.Refresh(Grid({"....", "...."})).empty());
+  ASSERT_EQ(memory.Excluded().size(), 1u);
+  EXPECT_EQ(memory.Excluded()[0].x, 1.0);
+}
+
+TEST(ExplorationMemory, UnreachableGoalsAreRetriedWhenTheMapRoundThemChanges) {
+  ExploreOptions o = Options();
+  o.retry_window = 0.5;
+  o.retry_map_change = 0.05;  // 5 cells of 0.1 m
+  o.max_goal_attempts = 2;
+  ExplorationMemory memory(o);
+  auto grid = Grid({
+      "??????????",
+      "??????????",
+      "....??????",
+      "....??????",
+      "??????????",
+  });
+  const Point2D goal{0.55, 0.25};
+  EXPECT_EQ(memory.Failed(goal, grid), 1);
+  EXPECT_EQ(memory.Excluded().size(), 1u);
+  EXPECT_TRUE(memory.Refresh(grid).empty()) << "nothing changed";
+  // Four cells change: below the threshold.
+  for (int x = 4; x < 8; ++x) grid.data[1 * grid.width + x] = 0;
+  EXPECT_TRUE(memory.Refresh(grid).empty());
+  // Two more: six cells (0.06 m^2) changed; the goal is released.
+  for (int x = 4; x < 6; ++x) grid.data[2 * grid.width + x] = 0;
+  const auto released = memory.Refresh(grid);
+  ASSERT_EQ(released.size(), 1u);
+  EXPECT_NEAR(released[0].x, goal.x, 1e-12);
+  EXPECT_TRUE(memory.Excluded().empty());
+  // It fails again nearby: a second attempt, the last one; no change releases it now.
+  EXPECT_EQ(memory.Failed({0.6, 0.3}, grid), 2);
+  for (int x = 0; x < 10; ++x) grid.data[4 * grid.width + x] = 100;
+  EXPECT_TRUE(memory.Refresh(grid).empty());
+  EXPECT_EQ(memory.Excluded().size(), 1u);
+}
+
+TEST(ExplorationMemory, AMapThatGrowsDoesNotReleaseByItself) {
+  // SLAM maps grow (a new origin, more cells): the window is sampled in map
+  // coordinates, so the same cells in a bigger grid are no change.
+  ExplorationMemory memory(Options());
+  const auto small = Grid({"....", "....", "...."});
+  memory.Failed({0.15, 0.15}, small);
+  auto big = Grid({"??????", "?....?", "?....?", "?....?", "??????"});
+  big.origin_x = -0.1;
+  big.origin_y = -0.1;
+  EXPECT_TRUE(memory.Refresh(big).empty());
+}
+
 TEST(FrontierSearch, RobotNextToAWallStillFindsItsWay) {
   const auto grid = Grid({
       "##########",
@@ -121,6 +297,7 @@ TEST(FrontierSearch, RobotNextToAWallStillFindsItsWay) {
   });
   ExploreOptions o = Options();
   o.clearance = 0.15;  // the robot's cell (next to the wall) is not traversable
+  o.goal_clearance = 0.15;
   FrontierSearch search(o);
   const auto r = search.Find(grid, At(1, 1), {});
   ASSERT_EQ(r.frontiers.size(), 1u);
@@ -141,6 +318,20 @@ TEST(FrontierSearch, BadInputIsRejectedSayingWhy) {
   o.clearance = -1.0;
   EXPECT_THROW(FrontierSearch{o}, std::invalid_argument);
   EXPECT_THROW(SetExploreOption("clearence", "0.2", &o), std::invalid_argument);
+  o = ExploreOptions();
+  o.max_goal_attempts = 0;
+  try {
+    ExplorationMemory{o};
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("max_goal_attempts=0"), std::string::npos) << e.what();
+  }
+  o = ExploreOptions();
+  o.retry_map_change = -1.0;
+  EXPECT_THROW(FrontierSearch{o}, std::invalid_argument);
+  o = ExploreOptions();
+  o.look_radius = 0.2;  // below goal_search_radius 0.4
+  EXPECT_THROW(FrontierSearch{o}, std::invalid_argument);
 }
 
 }  // namespace

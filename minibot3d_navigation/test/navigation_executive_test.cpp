@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
 namespace minibot3d_navigation {
 namespace nav {
@@ -77,6 +79,7 @@ struct Harness {
     CycleResult r;
     for (; state.time < max_time; state.time += dt) {
       r = exec.Step(state, Pose2D());
+      if (!r.message.empty()) messages.push_back(r.message);
       if (r.status != GoalStatus::kActive) return r;
       Pose2D& p = state.global_pose;
       p.x += r.cmd.vx * std::cos(p.yaw) * dt;
@@ -86,6 +89,7 @@ struct Harness {
     }
     return r;
   }
+  std::vector<std::string> messages;
   Costmap2D costmap;
   StraightPlanner planner;
   GoToGoal controller;
@@ -183,6 +187,12 @@ TEST(NavigationExecutive, OscillationTriggersRecoveryAndAbort) {
   ASSERT_EQ(r.status, GoalStatus::kAborted);
   EXPECT_NE(r.message.find("oscillating"), std::string::npos) << r.message;
   EXPECT_EQ(h.r1.starts, 1);
+  // The recovery says why it runs (it used to print an empty reason).
+  bool said = false;
+  for (const auto& m : h.messages) {
+    said |= m.rfind("recovering: ", 0) == 0 && m.find("oscillation_distance=") != std::string::npos;
+  }
+  EXPECT_TRUE(said);
 }
 
 TEST(NavigationExecutive, CancelStopsAndPreemptionReplaces) {

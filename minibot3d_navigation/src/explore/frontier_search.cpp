@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <queue>
+#include <unordered_map>
 #include <stdexcept>
 #include <utility>
 
@@ -21,13 +22,116 @@ const options::OptionTable<O>& Table() {
   static const options::OptionTable<O> table(
       "explore", {Field("min_frontier_size", &O::min_frontier_size),
                   Field("clearance", &O::clearance),
+                  Field("goal_clearance", &O::goal_clearance),
                   Field("free_threshold", &O::free_threshold),
                   Field("blacklist_radius", &O::blacklist_radius),
-                  Field("goal_search_radius", &O::goal_search_radius)});
+                  Field("goal_search_radius", &O::goal_search_radius),
+                  Field("look_radius", &O::look_radius),
+                  Field("retry_window", &O::retry_window),
+                  Field("retry_map_change", &O::retry_map_change),
+                  Field("max_goal_attempts", &O::max_goal_attempts)});
   return table;
 }
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// 0 free, 1 unknown, 2 occupied.
+int8_t Kind(int value, int free_threshold) {
+  return value < 0 ? 1 : (value <= free_threshold ? 0 : 2);
+}
+
+void CheckGrid(const amcl::OccupancyGrid& grid) {
+  const int w = grid.width, h = grid.height;
+  if (w <= 0 || h <= 0 || !(grid.resolution > 0.0) ||
+      grid.data.size() != static_cast<size_t>(w) * h) {
+    throw std::invalid_argument("frontier search: malformed map (" + std::to_string(w) + "x" +
+                                std::to_string(h) + ", " + std::to_string(grid.data.size()) +
+                                " cells, resolution " + Num(grid.resolution) + ")");
+  }
+}
+
+std::vector<uint8_t> Kinds(const amcl::OccupancyGrid& grid, int free_threshold) {
+  std::vector<uint8_t> kind(grid.data.size());
+  for (size_t i = 0; i < kind.size(); ++i) kind[i] = Kind(grid.data[i], free_threshold);
+  return kind;
+}
+
+// Free cells with an unknown 4-neighbour.
+std::vector<uint8_t> FrontierCells(const std::vector<uint8_t>& kind, int w, int h) {
+  static const int dxs[4] = {1, -1, 0, 0};
+  static const int dys[4] = {0, 0, 1, -1};
+  std::vector<uint8_t> is_frontier(kind.size(), 0);
+  for (int i = 0; i < w * h; ++i) {
+    if (kind[i] != 0) continue;
+    const int x = i % w, y = i / w;
+    for (int k = 0; k < 4; ++k) {
+      const int xx = x + dxs[k], yy = y + dys[k];
+      if (xx >= 0 && yy >= 0 && xx < w && yy < h && kind[yy * w + xx] == 1) {
+        is_frontier[i] = 1;
+        break;
+      }
+    }
+  }
+  return is_frontier;
+}
+
+// True when every cell strictly between cells a and b (Bresenham) is free.
+bool LineOfSight(int a, int b, int w, const std::vector<uint8_t>& kind) {
+  int x0 = a % w, y0 = a / w;
+  const int x1 = b % w, y1 = b / w;
+  const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0);
+  const int sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
+  int err = dx + dy;
+  while (true) {
+    const int e2 = 2 * err;
+    if (e2 >= dy) {
+      err += dy;
+      x0 += sx;
+    }
+    if (e2 <= dx) {
+      err += dx;
+      y0 += sy;
+    }
+    if (x0 == x1 && y0 == y1) return true;
+    if (kind[y0 * w + x0] != 0) return false;
+  }
+}
+
+// Cells within `radius` of an occupied cell.
+std::vector<uint8_t> NearOccupied(const std::vector<uint8_t>& kind, int w, int h, double radius,
+                                  double res) {
+  const int r = static_cast<int>(std::ceil(radius / res));
+  std::vector<std::pair<int, int>> disc;
+  for (int dy = -r; dy <= r; ++dy) {
+    for (int dx = -r; dx <= r; ++dx) {
+      if ((dx * dx + dy * dy) * res * res <= radius * radius + 1e-12) disc.emplace_back(dx, dy);
+    }
+  }
+  std::vector<uint8_t> near(kind.size(), 0);
+  for (int i = 0; i < w * h; ++i) {
+    if (kind[i] != 2) continue;
+    const int x = i % w, y = i / w;
+    for (const auto& d : disc) {
+      const int xx = x + d.first, yy = y + d.second;
+      if (xx >= 0 && yy >= 0 && xx < w && yy < h) near[yy * w + xx] = 1;
+    }
+  }
+  return near;
+}
+
+// True when cell v has a line of sight to an unknown 4-neighbour of frontier
+// cell i: a ray from v reaches the unknown side.
+bool SeesUnknownSide(int v, int i, int w, int h, const std::vector<uint8_t>& kind) {
+  static const int dxs[4] = {1, -1, 0, 0};
+  static const int dys[4] = {0, 0, 1, -1};
+  const int x = i % w, y = i / w;
+  for (int k = 0; k < 4; ++k) {
+    const int ux = x + dxs[k], uy = y + dys[k];
+    if (ux < 0 || uy < 0 || ux >= w || uy >= h || kind[uy * w + ux] != 1) continue;
+    if (LineOfSight(v, uy * w + ux, w, kind)) return true;
+  }
+  return false;
+}
 
 }  // namespace
 
@@ -37,12 +141,24 @@ void ValidateExploreOptions(const ExploreOptions& o) {
             "min_frontier_size=" + Num(o.min_frontier_size) + " must be >= 0");
   p.Require(std::isfinite(o.clearance) && o.clearance >= 0.0,
             "clearance=" + Num(o.clearance) + " must be >= 0");
+  p.Require(std::isfinite(o.goal_clearance) && o.goal_clearance >= o.clearance,
+            "goal_clearance=" + Num(o.goal_clearance) + " must be >= clearance=" +
+                Num(o.clearance));
   p.Require(o.free_threshold >= 0 && o.free_threshold < 100,
             "free_threshold=" + std::to_string(o.free_threshold) + " must be in [0, 100)");
   p.Require(std::isfinite(o.blacklist_radius) && o.blacklist_radius >= 0.0,
             "blacklist_radius=" + Num(o.blacklist_radius) + " must be >= 0");
   p.Require(std::isfinite(o.goal_search_radius) && o.goal_search_radius >= 0.0,
             "goal_search_radius=" + Num(o.goal_search_radius) + " must be >= 0");
+  p.Require(std::isfinite(o.look_radius) && o.look_radius >= o.goal_search_radius,
+            "look_radius=" + Num(o.look_radius) + " must be >= goal_search_radius=" +
+                Num(o.goal_search_radius) + " (else a reached goal could be chosen again)");
+  p.Require(std::isfinite(o.retry_window) && o.retry_window > 0.0 && o.retry_window <= 10.0,
+            "retry_window=" + Num(o.retry_window) + " must be in (0, 10] m");
+  p.Require(std::isfinite(o.retry_map_change) && o.retry_map_change > 0.0,
+            "retry_map_change=" + Num(o.retry_map_change) + " must be > 0");
+  p.Require(o.max_goal_attempts >= 1,
+            "max_goal_attempts=" + std::to_string(o.max_goal_attempts) + " must be >= 1");
   p.ThrowIfAny();
 }
 
@@ -57,14 +173,10 @@ FrontierSearch::FrontierSearch(const ExploreOptions& options) : options_(options
 }
 
 FrontierSearchResult FrontierSearch::Find(const amcl::OccupancyGrid& grid, const Pose2D& robot,
-                                          const std::vector<Point2D>& blacklist) const {
+                                          const std::vector<Point2D>& excluded,
+                                          const std::vector<Point2D>& looked_at) const {
+  CheckGrid(grid);
   const int w = grid.width, h = grid.height;
-  if (w <= 0 || h <= 0 || !(grid.resolution > 0.0) ||
-      grid.data.size() != static_cast<size_t>(w) * h) {
-    throw std::invalid_argument("frontier search: malformed map (" + std::to_string(w) + "x" +
-                                std::to_string(h) + ", " + std::to_string(grid.data.size()) +
-                                " cells, resolution " + Num(grid.resolution) + ")");
-  }
   const double res = grid.resolution;
   const int n = w * h;
   auto to_world = [&](int i) {
@@ -78,32 +190,15 @@ FrontierSearchResult FrontierSearch::Find(const amcl::OccupancyGrid& grid, const
   }
 
   FrontierSearchResult result;
-  std::vector<uint8_t> kind(n);  // 0 free, 1 unknown, 2 occupied
+  const std::vector<uint8_t> kind = Kinds(grid, options_.free_threshold);
   for (int i = 0; i < n; ++i) {
-    const int v = grid.data[i];
-    kind[i] = v < 0 ? 1 : (v <= options_.free_threshold ? 0 : 2);
     if (kind[i] == 0) result.known_free_area += res * res;
   }
 
-  // Traversable: free and no occupied cell within the clearance disc.
-  const int r = static_cast<int>(std::ceil(options_.clearance / res));
-  std::vector<uint8_t> blocked(n, 0);
-  std::vector<std::pair<int, int>> disc;
-  for (int dy = -r; dy <= r; ++dy) {
-    for (int dx = -r; dx <= r; ++dx) {
-      if ((dx * dx + dy * dy) * res * res <= options_.clearance * options_.clearance + 1e-12) {
-        disc.emplace_back(dx, dy);
-      }
-    }
-  }
-  for (int i = 0; i < n; ++i) {
-    if (kind[i] != 2) continue;
-    const int x = i % w, y = i / w;
-    for (const auto& d : disc) {
-      const int xx = x + d.first, yy = y + d.second;
-      if (xx >= 0 && yy >= 0 && xx < w && yy < h) blocked[yy * w + xx] = 1;
-    }
-  }
+  // Traversable: free and no occupied cell within the clearance disc.  Cramped:
+  // an occupied cell within goal_clearance (paths may pass, goals may not).
+  const std::vector<uint8_t> blocked = NearOccupied(kind, w, h, options_.clearance, res);
+  const std::vector<uint8_t> cramped = NearOccupied(kind, w, h, options_.goal_clearance, res);
   auto traversable = [&](int i) { return kind[i] == 0 && !blocked[i]; };
 
   // Dijkstra from the robot; non-traversable free cells only while escaping
@@ -135,20 +230,31 @@ FrontierSearchResult FrontierSearch::Find(const amcl::OccupancyGrid& grid, const
     }
   }
 
-  // Frontier cells, clustered 8-connected.
-  std::vector<uint8_t> is_frontier(n, 0);
-  for (int i = 0; i < n; ++i) {
-    if (kind[i] != 0) continue;
-    const int x = i % w, y = i / w;
-    for (int k = 0; k < 4; ++k) {
-      const int xx = x + dxs[k], yy = y + dys[k];
-      if (xx >= 0 && yy >= 0 && xx < w && yy < h && kind[yy * w + xx] == 1) {
-        is_frontier[i] = 1;
-        break;
+  // Frontier cells, but for those looked at from a viewpoint, clustered 8-connected.
+  std::vector<uint8_t> is_frontier = FrontierCells(kind, w, h);
+  for (const Point2D& p : looked_at) {
+    const int x = static_cast<int>(std::floor((p.x - grid.origin_x) / res));
+    const int y = static_cast<int>(std::floor((p.y - grid.origin_y) / res));
+    if (x >= 0 && y >= 0 && x < w && y < h) is_frontier[y * w + x] = 0;
+  }
+  const int sr = static_cast<int>(std::ceil(options_.goal_search_radius / res));
+  const double search_r2 = options_.goal_search_radius * options_.goal_search_radius + 1e-12;
+  // Cells within blacklist_radius of an excluded viewpoint.
+  std::vector<uint8_t> is_excluded(n, 0);
+  const int er = static_cast<int>(std::ceil(options_.blacklist_radius / res));
+  for (const Point2D& e : excluded) {
+    const int ex = static_cast<int>(std::floor((e.x - grid.origin_x) / res));
+    const int ey = static_cast<int>(std::floor((e.y - grid.origin_y) / res));
+    for (int y = std::max(0, ey - er); y <= std::min(h - 1, ey + er); ++y) {
+      for (int x = std::max(0, ex - er); x <= std::min(w - 1, ex + er); ++x) {
+        const Point2D p = to_world(y * w + x);
+        if (std::hypot(e.x - p.x, e.y - p.y) < options_.blacklist_radius) {
+          is_excluded[y * w + x] = 1;
+        }
       }
     }
   }
-  const int sr = static_cast<int>(std::ceil(options_.goal_search_radius / res));
+  std::unordered_map<int, bool> candidate_los;  // this frontier's cells seen from a candidate
   std::vector<uint8_t> seen(n, 0);
   std::vector<int> stack, cluster;
   for (int s = 0; s < n; ++s) {
@@ -176,41 +282,151 @@ FrontierSearchResult FrontierSearch::Find(const amcl::OccupancyGrid& grid, const
     f.cells = static_cast<int>(cluster.size());
     f.size = cluster.size() * res;
     double cx = 0.0, cy = 0.0;
-    int best = -1;
     for (int i : cluster) {
       const Point2D p = to_world(i);
       cx += p.x;
       cy += p.y;
+    }
+    f.centroid = {cx / cluster.size(), cy / cluster.size()};
+    // The viewpoint: the nearest reachable cell, roomy enough to turn in, that sees the
+    // unknown side of a frontier cell and is not excluded.
+    int best = -1;
+    bool any_reachable = false;
+    candidate_los.clear();
+    for (int i : cluster) {
       const int x = i % w, y = i / w;
       for (int dy = -sr; dy <= sr; ++dy) {
         for (int dx = -sr; dx <= sr; ++dx) {
           const int xx = x + dx, yy = y + dy;
           if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+          if ((dx * dx + dy * dy) * res * res > search_r2) continue;
           const int j = yy * w + xx;
-          if (traversable(j) && dist[j] < kInf && (best < 0 || dist[j] < dist[best])) best = j;
+          if (!traversable(j) || !(dist[j] < kInf) || cramped[j]) continue;
+          any_reachable = true;
+          if (best >= 0 && dist[j] >= dist[best]) continue;
+          if (is_excluded[j]) continue;
+          auto it = candidate_los.find(j);
+          if (it == candidate_los.end() || !it->second) {
+            const bool los = SeesUnknownSide(j, i, w, h, kind);
+            candidate_los[j] = los;
+            if (!los) continue;
+          }
+          best = j;
         }
       }
     }
-    f.centroid = {cx / cluster.size(), cy / cluster.size()};
     if (best < 0) {
-      ++result.unreachable;
+      ++(any_reachable ? result.blacklisted : result.unreachable);
       continue;
     }
     f.goal = to_world(best);
     f.distance = dist[best];
-    bool banned = false;
-    for (const Point2D& b : blacklist) {
-      banned |= std::hypot(b.x - f.goal.x, b.y - f.goal.y) < options_.blacklist_radius;
-    }
-    if (banned) {
-      ++result.blacklisted;
-      continue;
-    }
     result.frontiers.push_back(f);
   }
   std::sort(result.frontiers.begin(), result.frontiers.end(),
             [](const Frontier& a, const Frontier& b) { return a.distance < b.distance; });
   return result;
+}
+
+std::vector<Point2D> FrontierSearch::InSight(const amcl::OccupancyGrid& grid,
+                                             const Point2D& viewpoint) const {
+  CheckGrid(grid);
+  const int w = grid.width, h = grid.height;
+  const double res = grid.resolution;
+  std::vector<Point2D> cells;
+  const int vx = static_cast<int>(std::floor((viewpoint.x - grid.origin_x) / res));
+  const int vy = static_cast<int>(std::floor((viewpoint.y - grid.origin_y) / res));
+  if (vx < 0 || vy < 0 || vx >= w || vy >= h) return cells;
+  const std::vector<uint8_t> kind = Kinds(grid, options_.free_threshold);
+  const std::vector<uint8_t> is_frontier = FrontierCells(kind, w, h);
+  const int r = static_cast<int>(std::ceil(options_.look_radius / res));
+  const double r2 = options_.look_radius * options_.look_radius + 1e-12;
+  const int v = vy * w + vx;
+  for (int dy = -r; dy <= r; ++dy) {
+    for (int dx = -r; dx <= r; ++dx) {
+      const int x = vx + dx, y = vy + dy;
+      if (x < 0 || y < 0 || x >= w || y >= h || (dx * dx + dy * dy) * res * res > r2) continue;
+      if (is_frontier[y * w + x] && SeesUnknownSide(v, y * w + x, w, h, kind)) {
+        cells.push_back({grid.origin_x + (x + 0.5) * res, grid.origin_y + (y + 0.5) * res});
+      }
+    }
+  }
+  return cells;
+}
+
+ExplorationMemory::ExplorationMemory(const ExploreOptions& options) : options_(options) {
+  ValidateExploreOptions(options_);
+}
+
+void ExplorationMemory::Reached(const Point2D& viewpoint) { visited_.push_back(viewpoint); }
+
+void ExplorationMemory::LookedAt(const std::vector<Point2D>& in_sight) {
+  looked_at_.insert(looked_at_.end(), in_sight.begin(), in_sight.end());
+}
+
+std::vector<int8_t> ExplorationMemory::Window(const Point2D& centre, double step,
+                                              const amcl::OccupancyGrid& map) const {
+  const int half = static_cast<int>(std::ceil(options_.retry_window / step));
+  const bool well_formed = map.resolution > 0.0 && map.width > 0 && map.height > 0 &&
+                          map.data.size() == static_cast<size_t>(map.width) * map.height;
+  std::vector<int8_t> window;
+  window.reserve((2 * half + 1) * (2 * half + 1));
+  for (int dy = -half; dy <= half; ++dy) {
+    for (int dx = -half; dx <= half; ++dx) {
+      // A malformed map reads as unknown (FrontierSearch::Find reports it).
+      int8_t kind = 1;
+      if (well_formed) {
+        const double gx = std::floor((centre.x + dx * step - map.origin_x) / map.resolution);
+        const double gy = std::floor((centre.y + dy * step - map.origin_y) / map.resolution);
+        if (gx >= 0 && gy >= 0 && gx < map.width && gy < map.height) {
+          const int i = static_cast<int>(gy) * map.width + static_cast<int>(gx);
+          kind = Kind(map.data[i], options_.free_threshold);
+        }
+      }
+      window.push_back(kind);
+    }
+  }
+  return window;
+}
+
+int ExplorationMemory::Failed(const Point2D& goal, const amcl::OccupancyGrid& map) {
+  Failure* f = nullptr;
+  for (Failure& g : failures_) {
+    if (std::hypot(g.goal.x - goal.x, g.goal.y - goal.y) < options_.blacklist_radius) f = &g;
+  }
+  if (f == nullptr) {
+    failures_.push_back(Failure{});
+    f = &failures_.back();
+    f->goal = goal;
+  }
+  ++f->attempts;
+  f->excluded = true;
+  f->step = map.resolution > 0.0 ? map.resolution : 0.05;
+  f->window = Window(f->goal, f->step, map);
+  return f->attempts;
+}
+
+std::vector<Point2D> ExplorationMemory::Refresh(const amcl::OccupancyGrid& map) {
+  std::vector<Point2D> released;
+  for (Failure& f : failures_) {
+    if (!f.excluded || f.attempts >= options_.max_goal_attempts) continue;
+    const std::vector<int8_t> now = Window(f.goal, f.step, map);
+    int changed = 0;
+    for (size_t k = 0; k < now.size(); ++k) changed += now[k] != f.window[k];
+    if (changed * f.step * f.step >= options_.retry_map_change) {
+      f.excluded = false;
+      released.push_back(f.goal);
+    }
+  }
+  return released;
+}
+
+std::vector<Point2D> ExplorationMemory::Excluded() const {
+  std::vector<Point2D> out = visited_;
+  for (const Failure& f : failures_) {
+    if (f.excluded) out.push_back(f.goal);
+  }
+  return out;
 }
 
 }  // namespace nav

@@ -177,7 +177,14 @@ CycleResult NavigationExecutive::EnterClearing(Trigger trigger, const RobotState
     recovery_running_ = true;
     CycleResult r;
     r.status = GoalStatus::kActive;
-    r.message = "recovering: " + recoveries_[recovery_index_]->name() + " (" + last_error_ + ")";
+    std::ostringstream why;
+    if (trigger == Trigger::kOscillation) {
+      why << "oscillating: moved less than oscillation_distance=" << options_.oscillation_distance
+          << " m in oscillation_timeout=" << options_.oscillation_timeout << " s";
+    } else {
+      why << last_error_;
+    }
+    r.message = "recovering: " + recoveries_[recovery_index_]->name() + " (" + why.str() + ")";
     return r;
   }
   std::ostringstream msg;

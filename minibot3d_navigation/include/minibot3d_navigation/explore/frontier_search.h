@@ -4,13 +4,32 @@
 // A frontier cell is a known-free cell with an unknown 4-neighbour; 8-connected
 // frontier cells form a frontier, kept if it is at least min_frontier_size
 // metres long.  The robot should drive to where it can see past the frontier,
-// so each frontier gets a goal: the cell, among traversable cells within a few
-// cells of the frontier, with the shortest path from the robot.  Paths are a
+// so each frontier gets a goal (its viewpoint): the cell, among traversable
+// cells within goal_search_radius of a frontier cell and with a line of sight
+// through known-free cells to that cell's unknown side, with the shortest path
+// from the robot (a cell beside a frontier but behind a shelf's end sees
+// nothing of it).  A goal must be goal_clearance from occupied cells: a robot
+// stopping anywhere within its goal tolerance can still turn there, and it is
+// not sent into a pocket it cannot turn round in (paths still pass through
+// anything `clearance` wide, such as a 0.40 m door).  Paths are a
 // Dijkstra flood (8-connected) over traversable cells: known free and farther
 // than `clearance` from any occupied cell; a robot that starts closer than that
 // to a wall may leave through free cells first (as the A* planner does).
 // Frontiers whose goal cannot be reached — behind walls, outside the building —
 // are dropped, so "no frontier left" means the reachable space is mapped.
+//
+// ExplorationMemory is explore's blacklist.  When the robot reaches a
+// viewpoint, a frontier cell within look_radius whose unknown side it has in
+// its line of sight stays frontier only if the sensor cannot clear it (glass,
+// below the lidar plane, a grazing ray): such cells are remembered as looked at
+// and no longer count as frontier; a frontier's other cells still do, seen from
+// a viewpoint at least blacklist_radius from every one reached (so a pocket the
+// lidar sees only a sliver of is not crept into cell by cell).  A goal move_base could not reach
+// is shown unreachable and excluded, but only until the map around it changes
+// (retry_map_change m^2 of cells within retry_window change state: a door
+// seen open, a corridor mapped), at most max_goal_attempts times in all.  So
+// exploration ends when nothing reachable is left, not when the robot got
+// stuck once.
 #ifndef MINIBOT3D_NAVIGATION_EXPLORE_FRONTIER_SEARCH_H_
 #define MINIBOT3D_NAVIGATION_EXPLORE_FRONTIER_SEARCH_H_
 
@@ -26,9 +45,15 @@ namespace nav {
 struct ExploreOptions {
   double min_frontier_size = 0.5;  // m; shorter frontiers are noise
   double clearance = 0.2;          // m from occupied cells for a goal/path cell
+  double goal_clearance = 0.35;    // m from occupied cells for a goal: the circumscribed radius
+                                   // (0.18 m) + xy_goal_tolerance (0.15 m) + a margin
   int free_threshold = 25;         // OccupancyGrid values 0..this are free
-  double blacklist_radius = 0.5;   // m around a failed goal
-  double goal_search_radius = 0.4; // m from a frontier cell to look for its goal
+  double blacklist_radius = 0.5;   // m around a reached viewpoint or an unreachable goal
+  double goal_search_radius = 0.6; // m from a frontier cell to look for its goal
+  double look_radius = 1.0;        // m from a reached goal within which it looked at frontier
+  double retry_window = 1.0;       // m, half-size of the square watched round an unreachable goal
+  double retry_map_change = 0.25;  // m^2 of it that must change before the goal is retried
+  int max_goal_attempts = 3;       // goals sent near one place before it is given up for good
 };
 
 // Throws std::invalid_argument listing every offending value.
@@ -47,8 +72,8 @@ struct Frontier {
 
 struct FrontierSearchResult {
   std::vector<Frontier> frontiers;  // reachable, not blacklisted, nearest first
-  int unreachable = 0;              // frontiers without a reachable goal
-  int blacklisted = 0;
+  int unreachable = 0;              // frontiers without a reachable viewpoint
+  int blacklisted = 0;              // frontiers whose every reachable viewpoint is excluded
   double known_free_area = 0.0;     // m^2
 };
 
@@ -57,13 +82,56 @@ class FrontierSearch {
   // Throws std::invalid_argument for invalid options.
   explicit FrontierSearch(const ExploreOptions& options);
 
-  // Throws std::invalid_argument for a malformed grid (size mismatch,
-  // non-positive resolution) or a robot pose off the grid.
+  // `excluded`: viewpoints not to use (within blacklist_radius);
+  // `looked_at`: cells not to count as frontier (both from
+  // ExplorationMemory).  Throws std::invalid_argument for a malformed grid
+  // (size mismatch, non-positive resolution) or a robot pose off the grid.
   FrontierSearchResult Find(const amcl::OccupancyGrid& grid, const Pose2D& robot,
-                            const std::vector<Point2D>& blacklist) const;
+                            const std::vector<Point2D>& excluded,
+                            const std::vector<Point2D>& looked_at = {}) const;
+
+  // The frontier cells (centres) within look_radius of `viewpoint` with an
+  // unknown 4-neighbour in its line of sight.  Throws like Find.
+  std::vector<Point2D> InSight(const amcl::OccupancyGrid& grid, const Point2D& viewpoint) const;
 
  private:
   ExploreOptions options_;
+};
+
+class ExplorationMemory {
+ public:
+  // Throws std::invalid_argument for invalid options.
+  explicit ExplorationMemory(const ExploreOptions& options);
+
+  // The robot reached `viewpoint`: it is not used again.
+  void Reached(const Point2D& viewpoint);
+  // `in_sight` (FrontierSearch::InSight of a reached viewpoint) stayed
+  // frontier: those cells no longer count.
+  void LookedAt(const std::vector<Point2D>& in_sight);
+  // move_base could not reach `goal` on `map`: excluded until the map round it
+  // changes.  Returns the number of attempts made near it so far.
+  int Failed(const Point2D& goal, const amcl::OccupancyGrid& map);
+  // Releases the unreachable goals whose surroundings changed on `map` and
+  // that have attempts left; returns them.
+  std::vector<Point2D> Refresh(const amcl::OccupancyGrid& map);
+  std::vector<Point2D> Excluded() const;
+  const std::vector<Point2D>& looked_at() const { return looked_at_; }
+
+ private:
+  struct Failure {
+    Point2D goal;
+    std::vector<int8_t> window;  // cell kinds round the goal when it last failed
+    double step = 0.0;           // m between the window's samples (that map's resolution)
+    int attempts = 0;
+    bool excluded = true;
+  };
+  std::vector<int8_t> Window(const Point2D& centre, double step,
+                             const amcl::OccupancyGrid& map) const;
+
+  ExploreOptions options_;
+  std::vector<Point2D> visited_;
+  std::vector<Point2D> looked_at_;
+  std::vector<Failure> failures_;
 };
 
 }  // namespace nav
