@@ -31,14 +31,16 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
-#include <memory>
 #include <limits>
+#include <memory>
 #include <stdexcept>
+#include <string_view>
 #include <unordered_map>
 #include <utility>
 
@@ -55,7 +57,10 @@ struct RawScan {
   double max_range = 0.0;
 };
 
-void SplitFields(const std::string& line, std::vector<std::string>* out) {
+// Fields are views into the line (no copy per field: a log has millions of readings, parsed twice).
+using Fields = std::vector<std::string_view>;
+
+void SplitFields(const std::string& line, Fields* out) {
   out->clear();
   std::size_t i = 0;
   const std::size_t n = line.size();
@@ -64,25 +69,31 @@ void SplitFields(const std::string& line, std::vector<std::string>* out) {
     if (i >= n) break;
     std::size_t j = i;
     while (j < n && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
-    out->emplace_back(line, i, j - i);
+    out->emplace_back(line.data() + i, j - i);
     i = j;
   }
 }
 
-bool ToDouble(const std::string& s, double* v) {
+// strtod's accepted syntax and rounding; std::from_chars (the same correctly rounded value) first
+// because it is several times faster, strtod for what from_chars does not take (a leading '+').
+bool ToDouble(std::string_view s, double* v) {
   if (s.empty()) return false;
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), *v);
+  if (ec == std::errc() && ptr == s.data() + s.size()) return !std::isnan(*v);
+  const std::string copy(s);
   char* end = nullptr;
   errno = 0;
-  *v = std::strtod(s.c_str(), &end);
-  return end == s.c_str() + s.size() && errno != ERANGE && !std::isnan(*v);
+  *v = std::strtod(copy.c_str(), &end);
+  return end == copy.c_str() + copy.size() && errno != ERANGE && !std::isnan(*v);
 }
 
-bool ToCount(const std::string& s, int* v) {
+bool ToCount(std::string_view s, int* v) {
   if (s.empty()) return false;
+  const std::string copy(s);
   char* end = nullptr;
   errno = 0;
-  const long x = std::strtol(s.c_str(), &end, 10);
-  if (end != s.c_str() + s.size() || errno == ERANGE || x < 0 || x > 1000000) return false;
+  const long x = std::strtol(copy.c_str(), &end, 10);
+  if (end != copy.c_str() + copy.size() || errno == ERANGE || x < 0 || x > 1000000) return false;
   *v = static_cast<int>(x);
   return true;
 }
@@ -97,21 +108,21 @@ class LineError : public std::exception {
 };
 
 // Reads field `i` as a number or throws LineError naming it.
-double Number(const std::vector<std::string>& f, std::size_t i, const char* what) {
+double Number(const Fields& f, std::size_t i, const char* what) {
   if (i >= f.size()) throw LineError(std::string("truncated: missing ") + what);
   double v;
-  if (!ToDouble(f[i], &v)) throw LineError(std::string("not a number for ") + what + ": '" + f[i] + "'");
+  if (!ToDouble(f[i], &v)) throw LineError(std::string("not a number for ") + what + ": '" + std::string(f[i]) + "'");
   return v;
 }
 
-int Count(const std::vector<std::string>& f, std::size_t i, const char* what) {
+int Count(const Fields& f, std::size_t i, const char* what) {
   if (i >= f.size()) throw LineError(std::string("truncated: missing ") + what);
   int v;
-  if (!ToCount(f[i], &v)) throw LineError(std::string("bad ") + what + ": '" + f[i] + "'");
+  if (!ToCount(f[i], &v)) throw LineError(std::string("bad ") + what + ": '" + std::string(f[i]) + "'");
   return v;
 }
 
-std::vector<double> Readings(const std::vector<std::string>& f, std::size_t first, int n) {
+std::vector<double> Readings(const Fields& f, std::size_t first, int n) {
   if (first + static_cast<std::size_t>(n) > f.size()) {
     throw LineError("fewer readings than the declared " + std::to_string(n));
   }
@@ -120,7 +131,7 @@ std::vector<double> Readings(const std::vector<std::string>& f, std::size_t firs
   return r;
 }
 
-RawScan ParseFlaser(const std::vector<std::string>& f, double resolution_deg) {
+RawScan ParseFlaser(const Fields& f, double resolution_deg) {
   RawScan s;
   const int n = Count(f, 1, "number of readings");
   if (n < 1) throw LineError("no readings");
@@ -137,7 +148,7 @@ RawScan ParseFlaser(const std::vector<std::string>& f, double resolution_deg) {
   return s;
 }
 
-RawScan ParseRobotLaser(const std::vector<std::string>& f) {
+RawScan ParseRobotLaser(const Fields& f) {
   RawScan s;
   const double start = Number(f, 2, "start_angle");
   Number(f, 3, "field_of_view");
@@ -162,7 +173,7 @@ RawScan ParseRobotLaser(const std::vector<std::string>& f) {
 }
 
 // A laser_front_laser_resolution PARAM's value (a bad one is refused and the previous one kept).
-double Resolution(const std::vector<std::string>& f) {
+double Resolution(const Fields& f) {
   const double v = Number(f, 2, "laser_front_laser_resolution");
   if (v <= 0.0) throw LineError("laser_front_laser_resolution must be > 0");
   return v;
@@ -223,7 +234,7 @@ class CarmenLogReader : public LogReader {
       ++line_;
       SplitFields(line, &fields_);
       if (fields_.empty() || fields_[0][0] == '#') continue;
-      const std::string& type = fields_[0];
+      const std::string type(fields_[0]);
       try {
         if (type == "FLASER" || type == "ROBOTLASER1") {
           RawScan s = type == "FLASER" ? ParseFlaser(fields_, resolution_) : ParseRobotLaser(fields_);
@@ -285,7 +296,7 @@ class CarmenLogReader : public LogReader {
       ++report_.lines;
       SplitFields(line, &fields_);
       if (fields_.empty() || fields_[0][0] == '#') continue;
-      const std::string& type = fields_[0];
+      const std::string type(fields_[0]);
       try {
         if (type == "FLASER" || type == "ROBOTLASER1") {
           const RawScan s = type == "FLASER" ? ParseFlaser(fields_, front_laser_resolution)
@@ -363,7 +374,7 @@ class CarmenLogReader : public LogReader {
 
   std::string path_;
   std::ifstream in_;
-  std::vector<std::string> fields_;
+  Fields fields_;
   // Whole-log facts (Survey).
   double front_laser_max_ = std::numeric_limits<double>::infinity();
   double front_laser_offset_ = 0.0;
