@@ -1,8 +1,11 @@
 #include "minibot3d_slam/bag_log.h"
 
+#include <algorithm>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <map>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -43,97 +46,173 @@ class OdomTrack {
                  NormalizeAngle(p.theta + a * NormalizeAngle(q.theta - p.theta))};
     return true;
   }
+  // Forgets the poses before t, keeping the last one before it (for interpolation).
+  void DropBefore(double t) {
+    auto it = poses_.lower_bound(t);
+    if (it == poses_.begin()) return;
+    poses_.erase(poses_.begin(), std::prev(it));
+  }
+  void Clear() { poses_.clear(); }
 
  private:
   std::map<double, Pose2> poses_;
 };
 
-}  // namespace
+// The bag is read once in time order, all topics together. A scan waits in a queue until the
+// transforms (or odometry) are known kLookahead seconds past its stamp, or the bag ends, and is
+// then placed; transforms are kept for kCacheSeconds (static ones for good), odometry messages
+// likewise. So the reader holds a window of the bag, not the bag.
+class BagLogReader : public LogReader {
+ public:
+  static constexpr double kLookahead = 1.0;      // s of transforms past a scan before placing it
+  static constexpr double kCacheSeconds = 30.0;  // s of transforms and odometry kept
+  static constexpr std::size_t kMaxPending = 2000;  // scans waiting (transforms stopped coming)
 
-CarmenLog ReadBagLog(const std::string& path, const BagLogOptions& options) {
-  rosbag::Bag bag;
-  try {
-    bag.open(path, rosbag::bagmode::Read);
-  } catch (const rosbag::BagException& e) {
-    throw std::runtime_error(path + ": cannot open the bag: " + e.what());
+  BagLogReader(const std::string& path, const BagLogOptions& options) : path_(path), options_(options) {
+    try {
+      bag_.open(path, rosbag::bagmode::Read);
+      // What the bag holds, from its index (no message is read here).
+      rosbag::View all(bag_);
+      report_.lines = static_cast<int>(all.size());
+      std::size_t scans = 0;
+      for (const rosbag::ConnectionInfo* c : all.getConnections()) {
+        const std::string& topic = c->topic;
+        const std::size_t n = rosbag::View(bag_, rosbag::TopicQuery(topic)).size();
+        if (topic == options.scan_topic) {
+          scans = n;
+        } else if (topic != "/tf" && topic != "/tf_static" &&
+                   (options.odom_topic.empty() || topic != options.odom_topic)) {
+          report_.skipped[topic] = static_cast<int>(n);
+        }
+      }
+      if (scans == 0) {
+        throw std::runtime_error(path + ": no message on the scan topic '" + options.scan_topic + "'");
+      }
+    } catch (const rosbag::BagException& e) {
+      throw std::runtime_error(path + ": cannot open the bag: " + e.what());
+    }
+    Rewind();
+    first_pass_ = true;
   }
-  CarmenLog log;
-  // Pass 1: all transforms (and odometry messages) into a buffer covering the whole bag.
-  rosbag::View all(bag);
-  const double span = (all.getEndTime() - all.getBeginTime()).toSec() + 10.0;
-  tf2::BufferCore tf(ros::Duration(std::max(span, 10.0)));
-  OdomTrack odom;
-  std::size_t scans = 0;
-  for (const rosbag::MessageInstance& m : all) {
-    ++log.lines;
+
+  bool Next(LogScan* out) override {
+    try {
+      while (true) {
+        const bool ended = it_ == view_->end();
+        while (!pending_.empty() &&
+               (ended || pending_.size() > kMaxPending ||
+                latest_ >= pending_.front()->header.stamp.toSec() + kLookahead)) {
+          const sensor_msgs::LaserScan::ConstPtr msg = pending_.front();
+          pending_.pop_front();
+          if (Place(*msg, out)) return true;
+        }
+        if (ended) break;
+        Read(*it_);
+        ++it_;
+      }
+    } catch (const rosbag::BagException& e) {
+      throw std::runtime_error(path_ + ": cannot read on: " + e.what());
+    }
+    first_pass_ = false;
+    return false;
+  }
+
+  void Rewind() override {
+    view_ = std::make_unique<rosbag::View>(bag_);
+    it_ = view_->begin();
+    tf_ = std::make_unique<tf2::BufferCore>(ros::Duration(kCacheSeconds));
+    odom_.Clear();
+    pending_.clear();
+    latest_ = -std::numeric_limits<double>::infinity();
+    first_pass_ = false;
+  }
+
+ private:
+  void Read(const rosbag::MessageInstance& m) {
     const std::string& topic = m.getTopic();
     if (topic == "/tf" || topic == "/tf_static") {
       auto msg = m.instantiate<tf2_msgs::TFMessage>();
-      if (!msg) continue;
-      for (const auto& t : msg->transforms) tf.setTransform(t, "bag", topic == "/tf_static");
-    } else if (!options.odom_topic.empty() && topic == options.odom_topic) {
+      if (!msg) return;
+      const bool fixed = topic == "/tf_static";
+      for (const auto& t : msg->transforms) {
+        tf_->setTransform(t, "bag", fixed);
+        if (!fixed && options_.odom_topic.empty()) latest_ = std::max(latest_, t.header.stamp.toSec());
+      }
+    } else if (!options_.odom_topic.empty() && topic == options_.odom_topic) {
       auto msg = m.instantiate<nav_msgs::Odometry>();
-      if (!msg) continue;
+      if (!msg) return;
       geometry_msgs::Transform t;
       t.translation.x = msg->pose.pose.position.x;
       t.translation.y = msg->pose.pose.position.y;
       t.rotation = msg->pose.pose.orientation;
-      odom.Add(msg->header.stamp.toSec(), ToPose2(t));
-    } else if (topic == options.scan_topic) {
-      ++scans;
-    } else {
-      ++log.skipped[topic];
+      const double stamp = msg->header.stamp.toSec();
+      odom_.Add(stamp, ToPose2(t));
+      latest_ = std::max(latest_, stamp);
+      odom_.DropBefore(stamp - kCacheSeconds);
+    } else if (topic == options_.scan_topic) {
+      auto msg = m.instantiate<sensor_msgs::LaserScan>();
+      if (!msg) {
+        if (first_pass_) ++report_.skipped["scan of another type"];
+        return;
+      }
+      pending_.push_back(msg);
     }
   }
-  if (scans == 0) {
-    throw std::runtime_error(path + ": no message on the scan topic '" + options.scan_topic + "'");
-  }
-  // Pass 2: the scans, placed with the odometry and the sensor pose at their time.
-  rosbag::View scan_view(bag, rosbag::TopicQuery(options.scan_topic));
-  for (const rosbag::MessageInstance& m : scan_view) {
-    auto msg = m.instantiate<sensor_msgs::LaserScan>();
-    if (!msg) {
-      ++log.skipped["scan of another type"];
-      continue;
-    }
-    LogScan s;
-    s.timestamp = msg->header.stamp.toSec();
+
+  // The scan placed with the odometry and the sensor pose at its time; false (counted in the
+  // first pass) when it cannot be.
+  bool Place(const sensor_msgs::LaserScan& msg, LogScan* s) {
+    s->timestamp = msg.header.stamp.toSec();
     Pose2 base_pose;
     try {
-      if (options.odom_topic.empty()) {
-        base_pose = ToPose2(tf.lookupTransform(options.odom_frame, options.base_frame,
-                                               msg->header.stamp).transform);
-      } else if (!odom.At(s.timestamp, &base_pose)) {
+      if (options_.odom_topic.empty()) {
+        base_pose = ToPose2(tf_->lookupTransform(options_.odom_frame, options_.base_frame, msg.header.stamp).transform);
+      } else if (!odom_.At(s->timestamp, &base_pose)) {
         throw tf2::ExtrapolationException("no odometry message around the scan");
       }
-      s.scan.sensor_in_base = ToPose2(tf.lookupTransform(options.base_frame,
-                                                         msg->header.frame_id,
-                                                         msg->header.stamp).transform);
+      s->scan.sensor_in_base =
+          ToPose2(tf_->lookupTransform(options_.base_frame, msg.header.frame_id, msg.header.stamp).transform);
     } catch (const tf2::TransformException& e) {
-      ++log.skipped["scan without tf"];
-      if (log.warnings.size() < 20) {
-        log.warnings.push_back("scan at " + std::to_string(s.timestamp) + " in frame '" +
-                               msg->header.frame_id + "' skipped: " + e.what());
+      if (first_pass_) {
+        ++report_.skipped["scan without tf"];
+        if (report_.warnings.size() < 20) {
+          report_.warnings.push_back(path_ + ": scan at " + std::to_string(s->timestamp) + " in frame '" +
+                                     msg.header.frame_id + "' skipped: " + e.what());
+        }
       }
-      continue;
+      return false;
     }
-    s.odom = base_pose;
-    s.scan.time = s.timestamp;
-    s.scan.range_min = msg->range_min;
-    s.scan.range_max = msg->range_max;
-    s.scan.ranges.resize(msg->ranges.size());
-    s.scan.angles.resize(msg->ranges.size());
-    for (std::size_t i = 0; i < msg->ranges.size(); ++i) {
-      const double r = msg->ranges[i];
+    s->odom = base_pose;
+    s->scan.time = s->timestamp;
+    s->scan.range_min = msg.range_min;
+    s->scan.range_max = msg.range_max;
+    s->scan.ranges.resize(msg.ranges.size());
+    s->scan.angles.resize(msg.ranges.size());
+    for (std::size_t i = 0; i < msg.ranges.size(); ++i) {
+      const double r = msg.ranges[i];
       // No-returns (REP 117: ±inf, NaN, or at range_max) become +inf, as in the CARMEN reader.
-      s.scan.ranges[i] = (!std::isfinite(r) || r >= msg->range_max)
-                             ? std::numeric_limits<double>::infinity()
-                             : r;
-      s.scan.angles[i] = msg->angle_min + i * msg->angle_increment;
+      s->scan.ranges[i] = (!std::isfinite(r) || r >= msg.range_max) ? std::numeric_limits<double>::infinity() : r;
+      s->scan.angles[i] = msg.angle_min + i * msg.angle_increment;
     }
-    log.scans.push_back(std::move(s));
+    return true;
   }
-  return log;
+
+  std::string path_;
+  BagLogOptions options_;
+  rosbag::Bag bag_;
+  std::unique_ptr<rosbag::View> view_;
+  rosbag::View::iterator it_;
+  std::unique_ptr<tf2::BufferCore> tf_;
+  OdomTrack odom_;
+  std::deque<sensor_msgs::LaserScan::ConstPtr> pending_;
+  double latest_ = 0.0;  // newest odometry stamp read (odom transforms or odometry messages)
+  bool first_pass_ = false;  // counts and reports unplaceable scans only once
+};
+
+}  // namespace
+
+std::unique_ptr<LogReader> OpenBagLog(const std::string& path, const BagLogOptions& options) {
+  return std::make_unique<BagLogReader>(path, options);
 }
 
 }  // namespace minibot3d_slam

@@ -15,6 +15,12 @@
 // varies (the laser pose fields then hold corrected poses, not a mounting) or is zero, the mounting
 // is robot_frontlaser_offset metres ahead of the base.
 //
+// Streaming (log_reader.h): OpenCarmenLog reads the file once for the facts that need the whole log
+// — the no-return value and the mounting — keeping 24 bytes per laser line (its laser pose relative
+// to the odometry, for the median; freed when Open returns) and the counts of distinct readings in
+// the upper half of the range seen so far (pruned whenever the maximum rises, so exactly the counts
+// a whole-log histogram would hold). Next() then parses the file again, one line per call.
+//
 // No-return detection: laser loggers write a fixed saturation value for beams without echo (81.83
 // in the Intel log, 50.0 or 81.9 elsewhere). Among the readings in the upper half of the observed
 // range, the most frequent value is taken as that saturation value when it dominates (≥ 10 and
@@ -25,13 +31,18 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <limits>
+#include <memory>
 #include <stdexcept>
+#include <string_view>
 #include <unordered_map>
+#include <utility>
 
 namespace minibot3d_slam {
 
@@ -46,7 +57,10 @@ struct RawScan {
   double max_range = 0.0;
 };
 
-void SplitFields(const std::string& line, std::vector<std::string>* out) {
+// Fields are views into the line (no copy per field: a log has millions of readings, parsed twice).
+using Fields = std::vector<std::string_view>;
+
+void SplitFields(const std::string& line, Fields* out) {
   out->clear();
   std::size_t i = 0;
   const std::size_t n = line.size();
@@ -55,25 +69,31 @@ void SplitFields(const std::string& line, std::vector<std::string>* out) {
     if (i >= n) break;
     std::size_t j = i;
     while (j < n && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
-    out->emplace_back(line, i, j - i);
+    out->emplace_back(line.data() + i, j - i);
     i = j;
   }
 }
 
-bool ToDouble(const std::string& s, double* v) {
+// strtod's accepted syntax and rounding; std::from_chars (the same correctly rounded value) first
+// because it is several times faster, strtod for what from_chars does not take (a leading '+').
+bool ToDouble(std::string_view s, double* v) {
   if (s.empty()) return false;
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), *v);
+  if (ec == std::errc() && ptr == s.data() + s.size()) return !std::isnan(*v);
+  const std::string copy(s);
   char* end = nullptr;
   errno = 0;
-  *v = std::strtod(s.c_str(), &end);
-  return end == s.c_str() + s.size() && errno != ERANGE && !std::isnan(*v);
+  *v = std::strtod(copy.c_str(), &end);
+  return end == copy.c_str() + copy.size() && errno != ERANGE && !std::isnan(*v);
 }
 
-bool ToCount(const std::string& s, int* v) {
+bool ToCount(std::string_view s, int* v) {
   if (s.empty()) return false;
+  const std::string copy(s);
   char* end = nullptr;
   errno = 0;
-  const long x = std::strtol(s.c_str(), &end, 10);
-  if (end != s.c_str() + s.size() || errno == ERANGE || x < 0 || x > 1000000) return false;
+  const long x = std::strtol(copy.c_str(), &end, 10);
+  if (end != copy.c_str() + copy.size() || errno == ERANGE || x < 0 || x > 1000000) return false;
   *v = static_cast<int>(x);
   return true;
 }
@@ -88,21 +108,21 @@ class LineError : public std::exception {
 };
 
 // Reads field `i` as a number or throws LineError naming it.
-double Number(const std::vector<std::string>& f, std::size_t i, const char* what) {
+double Number(const Fields& f, std::size_t i, const char* what) {
   if (i >= f.size()) throw LineError(std::string("truncated: missing ") + what);
   double v;
-  if (!ToDouble(f[i], &v)) throw LineError(std::string("not a number for ") + what + ": '" + f[i] + "'");
+  if (!ToDouble(f[i], &v)) throw LineError(std::string("not a number for ") + what + ": '" + std::string(f[i]) + "'");
   return v;
 }
 
-int Count(const std::vector<std::string>& f, std::size_t i, const char* what) {
+int Count(const Fields& f, std::size_t i, const char* what) {
   if (i >= f.size()) throw LineError(std::string("truncated: missing ") + what);
   int v;
-  if (!ToCount(f[i], &v)) throw LineError(std::string("bad ") + what + ": '" + f[i] + "'");
+  if (!ToCount(f[i], &v)) throw LineError(std::string("bad ") + what + ": '" + std::string(f[i]) + "'");
   return v;
 }
 
-std::vector<double> Readings(const std::vector<std::string>& f, std::size_t first, int n) {
+std::vector<double> Readings(const Fields& f, std::size_t first, int n) {
   if (first + static_cast<std::size_t>(n) > f.size()) {
     throw LineError("fewer readings than the declared " + std::to_string(n));
   }
@@ -111,7 +131,7 @@ std::vector<double> Readings(const std::vector<std::string>& f, std::size_t firs
   return r;
 }
 
-RawScan ParseFlaser(const std::vector<std::string>& f, double resolution_deg) {
+RawScan ParseFlaser(const Fields& f, double resolution_deg) {
   RawScan s;
   const int n = Count(f, 1, "number of readings");
   if (n < 1) throw LineError("no readings");
@@ -128,7 +148,7 @@ RawScan ParseFlaser(const std::vector<std::string>& f, double resolution_deg) {
   return s;
 }
 
-RawScan ParseRobotLaser(const std::vector<std::string>& f) {
+RawScan ParseRobotLaser(const Fields& f) {
   RawScan s;
   const double start = Number(f, 2, "start_angle");
   Number(f, 3, "field_of_view");
@@ -152,135 +172,235 @@ RawScan ParseRobotLaser(const std::vector<std::string>& f) {
   return s;
 }
 
-// The saturation value written for no-returns, or +inf when the log has none (see file comment).
-double DetectSaturation(const std::vector<RawScan>& scans) {
-  double top = 0.0;
-  std::size_t total = 0;
-  for (const RawScan& s : scans) {
-    for (double r : s.log.scan.ranges) {
-      if (std::isfinite(r)) top = std::max(top, r);
-    }
-    total += s.log.scan.ranges.size();
-  }
-  if (top <= 0.0) return std::numeric_limits<double>::infinity();
-  std::unordered_map<double, std::size_t> counts;
-  for (const RawScan& s : scans) {
-    for (double r : s.log.scan.ranges) {
-      if (std::isfinite(r) && r >= 0.5 * top) ++counts[r];
-    }
-  }
-  double best = 0.0;
-  std::size_t best_n = 0, second_n = 0;
-  for (const auto& [value, n] : counts) {
-    if (n > best_n || (n == best_n && value > best)) {
-      second_n = best_n;
-      best_n = n;
-      best = value;
-    } else if (n > second_n) {
-      second_n = n;
-    }
-  }
-  const double needed = std::max(10.0, 5e-4 * static_cast<double>(total));
-  if (static_cast<double>(best_n) >= needed && best_n >= 5 * second_n) return best;
-  return std::numeric_limits<double>::infinity();
+// A laser_front_laser_resolution PARAM's value (a bad one is refused and the previous one kept).
+double Resolution(const Fields& f) {
+  const double v = Number(f, 2, "laser_front_laser_resolution");
+  if (v <= 0.0) throw LineError("laser_front_laser_resolution must be > 0");
+  return v;
 }
+
+// Counts of the finite readings at or above half the largest one seen so far (see file comment).
+class SaturationHistogram {
+ public:
+  void Add(double r) {
+    ++total_;
+    if (!std::isfinite(r)) return;
+    if (r > top_) {
+      top_ = r;
+      for (auto it = counts_.begin(); it != counts_.end();) {
+        it = it->first < 0.5 * top_ ? counts_.erase(it) : std::next(it);
+      }
+    }
+    if (r >= 0.5 * top_) ++counts_[r];
+  }
+
+  // The saturation value written for no-returns, or +inf when the log has none: the most frequent
+  // value in the upper half when it dominates (ties: the larger value).
+  double Saturation() const {
+    if (top_ <= 0.0) return std::numeric_limits<double>::infinity();
+    double best = 0.0;
+    std::size_t best_n = 0, second_n = 0;
+    for (const auto& [value, n] : counts_) {
+      if (n > best_n || (n == best_n && value > best)) {
+        second_n = best_n;
+        best_n = n;
+        best = value;
+      } else {
+        second_n = std::max(second_n, n);
+      }
+    }
+    const double needed = std::max(10.0, 5e-4 * static_cast<double>(total_));
+    if (static_cast<double>(best_n) >= needed && best_n >= 5 * second_n) return best;
+    return std::numeric_limits<double>::infinity();
+  }
+
+ private:
+  double top_ = 0.0;
+  std::size_t total_ = 0;
+  std::unordered_map<double, std::size_t> counts_;
+};
+
+class CarmenLogReader : public LogReader {
+ public:
+  explicit CarmenLogReader(const std::string& path) : path_(path) {
+    Open();
+    Survey();
+    Rewind();
+  }
+
+  bool Next(LogScan* out) override {
+    std::string line;
+    while (std::getline(in_, line)) {
+      ++line_;
+      SplitFields(line, &fields_);
+      if (fields_.empty() || fields_[0][0] == '#') continue;
+      const std::string type(fields_[0]);
+      try {
+        if (type == "FLASER" || type == "ROBOTLASER1") {
+          RawScan s = type == "FLASER" ? ParseFlaser(fields_, resolution_) : ParseRobotLaser(fields_);
+          if (++yielded_ > expected_) Changed();
+          Finish(&s);
+          *out = std::move(s.log);
+          return true;
+        }
+        if (type == "PARAM" && fields_.size() >= 3 && fields_[1] == "laser_front_laser_resolution") {
+          resolution_ = Resolution(fields_);
+        }
+      } catch (const LineError&) {
+        // Reported (with its line) by Survey; skipped again.
+      }
+    }
+    if (in_.bad()) {
+      throw std::runtime_error("error reading CARMEN log " + path_ + " at line " + std::to_string(line_));
+    }
+    if (yielded_ != expected_) Changed();
+    return false;
+  }
+
+  void Rewind() override {
+    in_.clear();
+    in_.seekg(0);
+    if (!in_) throw std::runtime_error("cannot rewind CARMEN log " + path_);
+    line_ = 0;
+    yielded_ = 0;
+    resolution_ = 0.0;
+  }
+
+ private:
+  void Open() {
+    in_.open(path_);
+    if (!in_) throw std::runtime_error("cannot read CARMEN log " + path_ + ": " + std::strerror(errno));
+  }
+
+  [[noreturn]] void Changed() const {
+    throw std::runtime_error(path_ + ":" + std::to_string(line_) +
+                             ": the log changed since it was opened (it held " + std::to_string(expected_) +
+                             " laser messages then)");
+  }
+
+  // The first pass: PARAMs, the no-return value, the mounting, the malformed lines.
+  void Survey() {
+    std::vector<Pose2> rel;  // laser pose relative to the odometry, per laser line
+    SaturationHistogram histogram;
+    double front_laser_resolution = 0.0;  // degrees; 0: from the beam count
+    std::size_t dropped_warnings = 0;
+    auto warn = [&](int line, const std::string& why) {
+      if (report_.warnings.size() < kMaxWarnings) {
+        report_.warnings.push_back(path_ + ":" + std::to_string(line) + ": " + why);
+      } else {
+        ++dropped_warnings;
+      }
+    };
+    std::string line;
+    while (std::getline(in_, line)) {
+      ++report_.lines;
+      SplitFields(line, &fields_);
+      if (fields_.empty() || fields_[0][0] == '#') continue;
+      const std::string type(fields_[0]);
+      try {
+        if (type == "FLASER" || type == "ROBOTLASER1") {
+          const RawScan s = type == "FLASER" ? ParseFlaser(fields_, front_laser_resolution)
+                                             : ParseRobotLaser(fields_);
+          for (double r : s.log.scan.ranges) histogram.Add(r);
+          rel.push_back(Between(s.laser_pose, s.log.odom));
+        } else if (type == "PARAM" && fields_.size() >= 3 && fields_[1] == "robot_front_laser_max") {
+          front_laser_max_ = Number(fields_, 2, "robot_front_laser_max");
+        } else if (type == "PARAM" && fields_.size() >= 3 && fields_[1] == "laser_front_laser_resolution") {
+          front_laser_resolution = Resolution(fields_);
+        } else if (type == "PARAM" && fields_.size() >= 3 && fields_[1] == "robot_frontlaser_offset") {
+          front_laser_offset_ = Number(fields_, 2, "robot_frontlaser_offset");
+        } else {
+          ++report_.skipped[type];
+        }
+      } catch (const LineError& e) {
+        warn(report_.lines, type + " line skipped: " + e.what());
+        ++report_.skipped[type];
+      }
+    }
+    if (in_.bad()) {
+      throw std::runtime_error("error reading CARMEN log " + path_ + " at line " + std::to_string(report_.lines));
+    }
+    if (dropped_warnings > 0) {
+      report_.warnings.push_back(path_ + ": " + std::to_string(dropped_warnings) + " more malformed lines");
+    }
+    if (rel.empty()) {
+      throw std::runtime_error("CARMEN log " + path_ + " holds no laser message (FLASER/ROBOTLASER1) in " +
+                               std::to_string(report_.lines) + " lines" +
+                               (report_.lines == 0 ? " (empty file)" : ""));
+    }
+    expected_ = rel.size();
+    saturation_ = histogram.Saturation();
+
+    // Sensor mounting: the laser pose relative to the odometry when it is one rigid offset.
+    auto median = [&](auto get) {
+      std::vector<double> v;
+      v.reserve(rel.size());
+      for (const Pose2& p : rel) v.push_back(get(p));
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      return v[v.size() / 2];
+    };
+    const Pose2 mount{median([](const Pose2& p) { return p.x; }), median([](const Pose2& p) { return p.y; }),
+                      median([](const Pose2& p) { return p.theta; })};
+    bool rigid = true;
+    for (const Pose2& p : rel) {
+      if (std::hypot(p.x - mount.x, p.y - mount.y) > 0.02 ||
+          std::fabs(NormalizeAngle(p.theta - mount.theta)) > 0.02) {
+        rigid = false;
+        break;
+      }
+    }
+    const bool zero = std::hypot(mount.x, mount.y) < 1e-6 && std::fabs(mount.theta) < 1e-6;
+    sensor_in_base_ = Pose2{front_laser_offset_, 0.0, 0.0};
+    if (rigid && !zero) sensor_in_base_ = mount;
+    if (!rigid) {
+      report_.warnings.push_back(path_ + ": the laser pose fields are not a fixed offset from the odometry; "
+                                 "using robot_frontlaser_offset = " + std::to_string(front_laser_offset_) +
+                                 " m as the sensor mounting");
+    }
+  }
+
+  // No-returns to +inf, range limits and mounting: what the whole log decided.
+  void Finish(RawScan* s) const {
+    double limit = std::min(saturation_, front_laser_max_);
+    if (s->has_max) limit = std::min(limit, s->max_range);
+    for (double& r : s->log.scan.ranges) {
+      if (!(r < limit)) r = std::numeric_limits<double>::infinity();
+    }
+    s->log.scan.time = s->log.timestamp;
+    s->log.scan.range_min = 0.0;
+    s->log.scan.range_max = limit;
+    s->log.scan.sensor_in_base = sensor_in_base_;
+  }
+
+  std::string path_;
+  std::ifstream in_;
+  Fields fields_;
+  // Whole-log facts (Survey).
+  double front_laser_max_ = std::numeric_limits<double>::infinity();
+  double front_laser_offset_ = 0.0;
+  double saturation_ = std::numeric_limits<double>::infinity();
+  Pose2 sensor_in_base_;
+  std::size_t expected_ = 0;  // laser messages
+  // Streaming state.
+  int line_ = 0;
+  std::size_t yielded_ = 0;
+  double resolution_ = 0.0;  // laser_front_laser_resolution so far (degrees; 0: from the beam count)
+};
 
 }  // namespace
 
+std::unique_ptr<LogReader> OpenCarmenLog(const std::string& path) {
+  return std::make_unique<CarmenLogReader>(path);
+}
+
 CarmenLog ReadCarmenLog(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot read CARMEN log " + path + ": " + std::strerror(errno));
+  std::unique_ptr<LogReader> reader = OpenCarmenLog(path);
   CarmenLog log;
-  std::vector<RawScan> raw;
-  double front_laser_max = std::numeric_limits<double>::infinity();
-  double front_laser_offset = 0.0;
-  double front_laser_resolution = 0.0;  // degrees; 0: from the beam count
-  std::size_t dropped_warnings = 0;
-  auto warn = [&](int line, const std::string& why) {
-    if (log.warnings.size() < kMaxWarnings) {
-      log.warnings.push_back(path + ":" + std::to_string(line) + ": " + why);
-    } else {
-      ++dropped_warnings;
-    }
-  };
-  std::string line;
-  std::vector<std::string> f;
-  while (std::getline(in, line)) {
-    ++log.lines;
-    SplitFields(line, &f);
-    if (f.empty() || f[0][0] == '#') continue;
-    const std::string& type = f[0];
-    try {
-      if (type == "FLASER" || type == "ROBOTLASER1") {
-        raw.push_back(type == "FLASER" ? ParseFlaser(f, front_laser_resolution) : ParseRobotLaser(f));
-        raw.back().log.scan.time = raw.back().log.timestamp;
-      } else if (type == "PARAM" && f.size() >= 3 && f[1] == "robot_front_laser_max") {
-        front_laser_max = Number(f, 2, "robot_front_laser_max");
-      } else if (type == "PARAM" && f.size() >= 3 && f[1] == "laser_front_laser_resolution") {
-        front_laser_resolution = Number(f, 2, "laser_front_laser_resolution");
-        if (front_laser_resolution <= 0.0) throw LineError("laser_front_laser_resolution must be > 0");
-      } else if (type == "PARAM" && f.size() >= 3 && f[1] == "robot_frontlaser_offset") {
-        front_laser_offset = Number(f, 2, "robot_frontlaser_offset");
-      } else {
-        ++log.skipped[type];
-      }
-    } catch (const LineError& e) {
-      warn(log.lines, type + " line skipped: " + e.what());
-      ++log.skipped[type];
-    }
-  }
-  if (in.bad()) throw std::runtime_error("error reading CARMEN log " + path);
-  if (dropped_warnings > 0) {
-    log.warnings.push_back(path + ": " + std::to_string(dropped_warnings) + " more malformed lines");
-  }
-  if (raw.empty()) {
-    throw std::runtime_error("CARMEN log " + path + " holds no laser message (FLASER/ROBOTLASER1) in " +
-                             std::to_string(log.lines) + " lines" + (log.lines == 0 ? " (empty file)" : ""));
-  }
-
-  // Sensor mounting: the laser pose relative to the odometry when it is one rigid offset.
-  std::vector<Pose2> rel;
-  rel.reserve(raw.size());
-  for (const RawScan& s : raw) rel.push_back(Between(s.laser_pose, s.log.odom));
-  auto median = [&](auto get) {
-    std::vector<double> v;
-    v.reserve(rel.size());
-    for (const Pose2& p : rel) v.push_back(get(p));
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    return v[v.size() / 2];
-  };
-  const Pose2 mount{median([](const Pose2& p) { return p.x; }), median([](const Pose2& p) { return p.y; }),
-                    median([](const Pose2& p) { return p.theta; })};
-  bool rigid = true;
-  for (const Pose2& p : rel) {
-    if (std::hypot(p.x - mount.x, p.y - mount.y) > 0.02 ||
-        std::fabs(NormalizeAngle(p.theta - mount.theta)) > 0.02) {
-      rigid = false;
-      break;
-    }
-  }
-  const bool zero = std::hypot(mount.x, mount.y) < 1e-6 && std::fabs(mount.theta) < 1e-6;
-  Pose2 sensor_in_base{front_laser_offset, 0.0, 0.0};
-  if (rigid && !zero) sensor_in_base = mount;
-  if (!rigid) {
-    log.warnings.push_back(path + ": the laser pose fields are not a fixed offset from the odometry; "
-                           "using robot_frontlaser_offset = " + std::to_string(front_laser_offset) +
-                           " m as the sensor mounting");
-  }
-
-  const double saturation = DetectSaturation(raw);
-  log.scans.reserve(raw.size());
-  for (RawScan& s : raw) {
-    double limit = std::min(saturation, front_laser_max);
-    if (s.has_max) limit = std::min(limit, s.max_range);
-    for (double& r : s.log.scan.ranges) {
-      if (!(r < limit)) r = std::numeric_limits<double>::infinity();
-    }
-    s.log.scan.range_min = 0.0;
-    s.log.scan.range_max = limit;
-    s.log.scan.sensor_in_base = sensor_in_base;
-    log.scans.push_back(std::move(s.log));
-  }
+  LogScan s;
+  while (reader->Next(&s)) log.scans.push_back(std::move(s));
+  log.skipped = reader->report().skipped;
+  log.warnings = reader->report().warnings;
+  log.lines = reader->report().lines;
   return log;
 }
 

@@ -38,21 +38,51 @@ void LoopCloser::AddNode(const PreparedScan& scan) {
   StoredScan s;
   s.sensor_in_base = scan.sensor_in_base;
   const std::size_t n = scan.map_range.size();
-  s.range.resize(n);
-  s.cos.resize(n);
-  s.sin.resize(n);
-  s.hit = scan.map_hit;
-  for (std::size_t i = 0; i < n; ++i) {
-    s.range[i] = static_cast<float>(scan.map_range[i]);
-    s.cos[i] = static_cast<float>(scan.map_cos[i]);
-    s.sin[i] = static_cast<float>(scan.map_sin[i]);
+  if (scan.map_beam.size() != n || scan.map_hit.size() != n || scan.map_cos.size() != n || scan.map_sin.size() != n) {
+    throw std::invalid_argument("LoopCloser::AddNode: inconsistent PreparedScan");
   }
+  // The directions go into the current table when they agree with it (a new table when the laser
+  // geometry changed: another beam count or angles).
+  const auto fits = [&](const Directions& d) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t b = scan.map_beam[i];
+      if (b >= d.cos.size() || std::isnan(d.cos[b])) continue;
+      if (d.cos[b] != static_cast<float>(scan.map_cos[i]) || d.sin[b] != static_cast<float>(scan.map_sin[i])) {
+        return false;
+      }
+    }
+    return true;
+  };
+  if (!directions_ || !fits(*directions_)) {
+    directions_ = std::make_shared<Directions>();
+    ++direction_tables_;
+  }
+  Directions& d = *directions_;
+  const std::size_t before = d.cos.capacity();
+  s.range.resize(n);
+  s.beam_hit.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t b = scan.map_beam[i];
+    if (b > (std::numeric_limits<std::uint32_t>::max() >> 1)) {
+      throw std::invalid_argument("LoopCloser::AddNode: more than 2^31 beams in a scan");
+    }
+    if (b >= d.cos.size()) {
+      d.cos.resize(b + 1, std::numeric_limits<float>::quiet_NaN());
+      d.sin.resize(b + 1, std::numeric_limits<float>::quiet_NaN());
+    }
+    d.cos[b] = static_cast<float>(scan.map_cos[i]);
+    d.sin[b] = static_cast<float>(scan.map_sin[i]);
+    s.range[i] = static_cast<float>(scan.map_range[i]);
+    s.beam_hit[i] = static_cast<std::uint32_t>(b << 1) | (scan.map_hit[i] != 0 ? 1u : 0u);
+  }
+  direction_bytes_ += (d.cos.capacity() - before) * 2 * sizeof(float);
+  s.directions = directions_;
   const double c = std::cos(scan.sensor_in_base.theta), si = std::sin(scan.sensor_in_base.theta);
-  s.points.reserve(scan.match_range.size());
+  newest_points_.clear();
   for (std::size_t i = 0; i < scan.match_range.size(); ++i) {
     const double lx = scan.match_range[i] * scan.match_cos[i], ly = scan.match_range[i] * scan.match_sin[i];
-    s.points.emplace_back(static_cast<float>(scan.sensor_in_base.x + c * lx - si * ly),
-                          static_cast<float>(scan.sensor_in_base.y + si * lx + c * ly));
+    newest_points_.emplace_back(static_cast<float>(scan.sensor_in_base.x + c * lx - si * ly),
+                                static_cast<float>(scan.sensor_in_base.y + si * lx + c * ly));
   }
   scans_.push_back(std::move(s));
   path_.push_back(0.0);  // filled in by Detect, which sees the poses
@@ -61,20 +91,20 @@ void LoopCloser::AddNode(const PreparedScan& scan) {
 std::size_t LoopCloser::ScanBytes() const {
   std::size_t bytes = 0;
   for (const StoredScan& s : scans_) {
-    bytes += sizeof(StoredScan) + s.range.capacity() * 3 * sizeof(float) + s.hit.capacity() +
-             s.points.capacity() * sizeof(Eigen::Vector2f);
+    bytes += sizeof(StoredScan) + s.range.capacity() * sizeof(float) + s.beam_hit.capacity() * sizeof(std::uint32_t);
   }
-  return bytes;
+  return bytes + direction_bytes_ + direction_tables_ * sizeof(Directions) +
+         newest_points_.capacity() * sizeof(Eigen::Vector2f);
 }
 
 void LoopCloser::Render(const StoredScan& s, const Pose2& pose, Grid* grid) const {
   const Pose2 lp = Compose(pose, s.sensor_in_base);
   const double c = std::cos(lp.theta), sn = std::sin(lp.theta);
   for (std::size_t i = 0; i < s.range.size(); ++i) {
-    const double dx = c * s.cos[i] - sn * s.sin[i];
-    const double dy = sn * s.cos[i] + c * s.sin[i];
+    const double dx = c * s.Cos(i) - sn * s.Sin(i);
+    const double dy = sn * s.Cos(i) + c * s.Sin(i);
     const double r = s.range[i];
-    grid->TraceRay(lp.x, lp.y, lp.x + r * dx, lp.y + r * dy, s.hit[i] != 0);
+    grid->TraceRay(lp.x, lp.y, lp.x + r * dx, lp.y + r * dy, s.Hit(i));
   }
 }
 
@@ -143,18 +173,18 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
   if (candidates.size() > static_cast<std::size_t>(kMaxSearchesPerScan)) candidates.resize(kMaxSearchesPerScan);
 
   std::vector<Eigen::Vector2d> points;
-  points.reserve(scans_[cur].points.size());
-  for (const Eigen::Vector2f& p : scans_[cur].points) points.push_back(p.cast<double>());
+  points.reserve(newest_points_.size());
+  for (const Eigen::Vector2f& p : newest_points_) points.push_back(p.cast<double>());
   if (points.empty()) return false;
   PreparedScan prepared;  // the matching beams, for the refinement on the submap's grid
   {
     const StoredScan& s = scans_[cur];
     prepared.sensor_in_base = s.sensor_in_base;
     for (std::size_t i = 0; i < s.range.size(); ++i) {
-      if (!s.hit[i]) continue;
+      if (!s.Hit(i)) continue;
       prepared.match_range.push_back(s.range[i]);
-      prepared.match_cos.push_back(s.cos[i]);
-      prepared.match_sin.push_back(s.sin[i]);
+      prepared.match_cos.push_back(s.Cos(i));
+      prepared.match_sin.push_back(s.Sin(i));
     }
   }
   for (const auto& cand : candidates) {

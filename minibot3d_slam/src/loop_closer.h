@@ -4,8 +4,8 @@
 // & Andor, "Real-Time Loop Closure in 2D LIDAR SLAM" (ICRA 2016) for the submaps and the
 // branch-and-bound search — with gmapping's RBPF (Grisetti et al., T-RO 2007) as the front-end.
 //
-// Nodes are the processed scans (each keeps its scan in compact form: float ranges and
-// directions). Consecutive nodes are joined by edges equal to the best particle's relative poses
+// Nodes are the processed scans (each keeps its scan in compact form: float ranges, and beam
+// indices into a table of float directions shared by the scans of one laser geometry). Consecutive nodes are joined by edges equal to the best particle's relative poses
 // (scan-matched odometry). Every `loopSubmapScans` consecutive nodes form a submap; a submap is not
 // stored as a grid (a building-sized log has hundreds) but rendered on demand from its scans at
 // the current poses, with a few recent ones cached.
@@ -111,12 +111,20 @@ class LoopCloser {
   std::size_t ScanBytes() const;  // memory of the stored scans
 
  private:
-  // A scan kept for re-rendering, in ~9 bytes per beam.
+  // Beam directions of one laser geometry, shared by the scans taken with it (NaN: a beam no
+  // scan referring to the table has used yet).
+  struct Directions {
+    std::vector<float> cos, sin;
+  };
+  // A scan kept for re-rendering and for matching, in 8 bytes per beam (ranges cut to maxUrange).
   struct StoredScan {
     Pose2 sensor_in_base;
-    std::vector<float> range, cos, sin;
-    std::vector<std::uint8_t> hit;
-    std::vector<Eigen::Vector2f> points;  // matching endpoints in the base frame
+    std::shared_ptr<const Directions> directions;
+    std::vector<float> range;
+    std::vector<std::uint32_t> beam_hit;  // beam index in `directions` << 1 | end is a hit
+    float Cos(std::size_t i) const { return directions->cos[beam_hit[i] >> 1]; }
+    float Sin(std::size_t i) const { return directions->sin[beam_hit[i] >> 1]; }
+    bool Hit(std::size_t i) const { return (beam_hit[i] & 1u) != 0; }
   };
   struct RenderedSubmap {
     int index = -1;
@@ -132,6 +140,10 @@ class LoopCloser {
   const ScanMatcher* matcher_;
   CorrelativeSearchOptions search_options_;
   std::vector<StoredScan> scans_;
+  std::shared_ptr<Directions> directions_;  // the newest scan's table
+  std::size_t direction_tables_ = 0, direction_bytes_ = 0;
+  // The newest node's matching endpoints in the base frame (the search needs no older node's).
+  std::vector<Eigen::Vector2f> newest_points_;
   std::vector<double> path_;  // path length at each node (best trajectory at the time it was added)
   std::vector<LoopConstraint> constraints_;
   std::list<std::unique_ptr<RenderedSubmap>> cache_;  // most recently used first

@@ -386,6 +386,17 @@ std::size_t RbpfSlam::MapMemoryBytes() const {
   }
   return tiles.size() * sizeof(Grid::Tile);
 }
+std::size_t RbpfSlam::TrajectoryBytes() const {
+  std::unordered_set<const TrajectoryNode*> nodes;
+  for (const Particle& p : impl_->particles_) {
+    // Stop at the first node already counted: its ancestors are counted too.
+    for (const TrajectoryNode* n = p.node.get(); n != nullptr && nodes.insert(n).second; n = n->parent.get()) {
+    }
+  }
+  // make_shared puts the node and its control block (two counters, a vtable) in one allocation.
+  constexpr std::size_t kControlBlock = 2 * sizeof(long) + sizeof(void*);
+  return nodes.size() * (sizeof(TrajectoryNode) + kControlBlock);
+}
 std::size_t RbpfSlam::LoopScanBytes() const { return impl_->loop_ ? impl_->loop_->ScanBytes() : 0; }
 int RbpfSlam::loop_closures() const { return impl_->closures_; }
 int RbpfSlam::loop_constraints() const {

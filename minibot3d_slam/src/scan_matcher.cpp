@@ -118,6 +118,7 @@ PreparedScan ScanMatcher::Prepare(const LaserScan& scan) const {
   out.map_cos.reserve(n);
   out.map_sin.reserve(n);
   out.map_hit.reserve(n);
+  out.map_beam.reserve(n);
   int skip = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const double r = scan.ranges[i];
@@ -133,6 +134,7 @@ PreparedScan ScanMatcher::Prepare(const LaserScan& scan) const {
     out.map_cos.push_back(ca);
     out.map_sin.push_back(sa);
     out.map_hit.push_back(hit ? 1 : 0);
+    out.map_beam.push_back(static_cast<std::uint32_t>(i));
     if (!hit) continue;
     if (skip == 0) {
       out.match_range.push_back(r);

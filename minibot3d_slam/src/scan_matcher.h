@@ -66,6 +66,7 @@ struct PreparedScan {
   // Beams used for the map: range cut to maxUrange, direction, and whether the end is a hit.
   std::vector<double> map_range, map_cos, map_sin;
   std::vector<std::uint8_t> map_hit;
+  std::vector<std::uint32_t> map_beam;  // index of each map beam in the LaserScan
 };
 
 struct ProposalFit {

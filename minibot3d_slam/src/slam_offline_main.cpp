@@ -9,6 +9,10 @@
 // the final best particle's pose at processed readings, and for the readings in between, the pose
 // at the previous processed reading composed with the odometry increment since it. Timestamps are
 // the log's ipc_timestamp. SIGINT stops the run early; what was processed is still written.
+//
+// The log is streamed (log_reader.h), twice: the filter's pass keeps one bit per reading
+// (processed or not), and the trajectory's pass reads the log again, so memory does not grow with
+// the log's length beyond that bit and the filter's own per-processed-scan state.
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -19,6 +23,7 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -29,6 +34,7 @@
 #include "minibot3d_slam/bag_log.h"
 #include "minibot3d_slam/carmen_log.h"
 #include "minibot3d_slam/gmapping_options.h"
+#include "minibot3d_slam/log_reader.h"
 #include "minibot3d_slam/map_files.h"
 #include "minibot3d_slam/rbpf_slam.h"
 
@@ -209,6 +215,14 @@ double PeakMemoryMb() {
   return static_cast<double>(u.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
+// Writes each warning the reader has added since `*shown` of them were written.
+void ShowWarnings(const minibot3d_slam::LogReader& reader, bool quiet, std::size_t* shown) {
+  const std::vector<std::string>& w = reader.report().warnings;
+  for (; *shown < w.size(); ++*shown) {
+    if (!quiet) std::cerr << "slam_offline: warning: " << w[*shown] << "\n";
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -218,17 +232,16 @@ int main(int argc, char** argv) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
 
-  minibot3d_slam::CarmenLog log;
+  std::unique_ptr<minibot3d_slam::LogReader> reader;
   try {
-    log = args.bag.empty() ? minibot3d_slam::ReadCarmenLog(args.log)
-                           : minibot3d_slam::ReadBagLog(args.bag, args.bag_options);
+    reader = args.bag.empty() ? minibot3d_slam::OpenCarmenLog(args.log)
+                              : minibot3d_slam::OpenBagLog(args.bag, args.bag_options);
   } catch (const std::exception& e) {
     std::cerr << "slam_offline: " << e.what() << "\n";
     return 1;
   }
-  if (!args.quiet) {
-    for (const std::string& w : log.warnings) std::cerr << "slam_offline: warning: " << w << "\n";
-  }
+  std::size_t warnings_shown = 0;
+  ShowWarnings(*reader, args.quiet, &warnings_shown);
   std::error_code ec;
   std::filesystem::create_directories(args.out, ec);
   if (ec) {
@@ -236,35 +249,51 @@ int main(int argc, char** argv) {
     return 1;
   }
 
+  // Pass 1: the filter, one reading at a time. What is kept per reading is one bit (processed or
+  // not); the readings themselves are read again for the trajectory (pass 2).
   std::signal(SIGINT, OnSigint);
   minibot3d_slam::RbpfSlam slam(args.options);
-  const std::size_t n = log.scans.size();
-  std::vector<int> processed_index(n, -1);  // index into the best trajectory, or -1
+  std::vector<bool> processed_flags;
   std::size_t fed = 0;
   int processed = 0;
   std::size_t peak_map_bytes = 0;  // map cells of all particles, sampled every 10 processed scans
+  double first_time = 0.0, last_time = 0.0;
   double last_report = 0.0;
-  for (; fed < n && !g_interrupted; ++fed) {
-    const minibot3d_slam::LogScan& s = log.scans[fed];
-    if (slam.AddScan(s.scan, s.odom)) {
-      processed_index[fed] = processed++;
-      if (processed % 10 == 0) peak_map_bytes = std::max(peak_map_bytes, slam.MapMemoryBytes());
+  minibot3d_slam::LogScan s;
+  try {
+    while (!g_interrupted && reader->Next(&s)) {
+      if (fed == 0) first_time = s.timestamp;
+      last_time = s.timestamp;
+      const bool used = slam.AddScan(s.scan, s.odom);
+      processed_flags.push_back(used);
+      ++fed;
+      if (used && ++processed % 10 == 0) peak_map_bytes = std::max(peak_map_bytes, slam.MapMemoryBytes());
+      if (!args.quiet && wall() - last_report >= 1.0) {
+        last_report = wall();
+        std::fprintf(stderr, "\rslam_offline: scans %zu  processed %d  log %.0f s  %.0f scans/s   ", fed, processed,
+                     last_time - first_time, static_cast<double>(fed) / std::max(wall(), 1e-9));
+      }
     }
-    if (!args.quiet && (wall() - last_report >= 1.0 || fed + 1 == n)) {
-      last_report = wall();
-      std::fprintf(stderr, "\rslam_offline: %5.1f%%  scans %zu/%zu  processed %d  %.0f scans/s   ",
-                   100.0 * static_cast<double>(fed + 1) / static_cast<double>(n), fed + 1, n, processed,
-                   static_cast<double>(fed + 1) / std::max(wall(), 1e-9));
-    }
+  } catch (const std::exception& e) {
+    std::cerr << "\nslam_offline: " << e.what() << "\n";
+    return 1;
   }
-  if (!args.quiet) std::fprintf(stderr, "\n");
+  if (!args.quiet) std::fprintf(stderr, "\rslam_offline: scans %zu  processed %d  log %.0f s\n", fed, processed,
+                                last_time - first_time);
+  ShowWarnings(*reader, args.quiet, &warnings_shown);
   if (g_interrupted) {
-    std::cerr << "slam_offline: interrupted after " << fed << " of " << n << " scans; writing what was processed\n";
+    std::cerr << "slam_offline: interrupted after " << fed << " scans; writing what was processed\n";
+  }
+  if (fed == 0) {
+    std::cerr << "slam_offline: no scan could be used\n";
+    return 1;
   }
 
   slam.FinishLoops();
-  // Trajectory: processed readings take the best particle's poses; the others the previous
-  // processed pose moved by the odometry increment.
+  // Pass 2, the trajectory: processed readings take the best particle's poses; the others are
+  // first moved from the last processed one by odometry, then (unless --odometry-between) matched
+  // against the final map — independent matches against a map no longer changing, so on two
+  // threads, a batch of readings at a time.
   const std::vector<minibot3d_slam::StampedPose> best = slam.BestTrajectory();
   const std::string traj_path = args.out + "/trajectory.txt";
   const std::string traj_tmp = traj_path + ".tmp";
@@ -273,35 +302,65 @@ int main(int argc, char** argv) {
     std::cerr << "slam_offline: cannot write " << traj_tmp << ": " << std::strerror(errno) << "\n";
     return 1;
   }
-  // The pose of every reading: processed ones from the trajectory; the others first moved from
-  // the last processed one by odometry, then (unless --odometry-between) matched against the final
-  // map — independent matches against a map no longer changing, so on two threads.
-  std::vector<Pose2> poses(fed);
-  std::vector<std::size_t> to_localize;
-  std::size_t anchor = 0;
-  for (std::size_t i = 0; i < fed; ++i) {
-    if (processed_index[i] >= 0) anchor = i;
-    const int k = processed_index[anchor];
-    if (k < 0 || static_cast<std::size_t>(k) >= best.size()) continue;  // cannot happen: scan 0 is processed
-    poses[i] = minibot3d_slam::Compose(best[static_cast<std::size_t>(k)].pose,
-                                       minibot3d_slam::Between(log.scans[i].odom, log.scans[anchor].odom));
-    if (args.localize && i != anchor) to_localize.push_back(i);
-  }
-  {
-    constexpr int kThreads = 2;
+  constexpr std::size_t kBatch = 256;
+  constexpr int kThreads = 2;
+  std::vector<minibot3d_slam::LogScan> batch;  // readings of this batch
+  std::vector<Pose2> poses;
+  std::vector<std::size_t> to_localize;  // indices into batch
+  batch.reserve(kBatch);
+  auto flush = [&]() {
     std::vector<std::thread> workers;
     for (int t = 0; t < kThreads; ++t) {
       workers.emplace_back([&, t]() {
         for (std::size_t j = static_cast<std::size_t>(t); j < to_localize.size(); j += kThreads) {
           const std::size_t i = to_localize[j];
-          poses[i] = slam.Localize(log.scans[i].scan, poses[i]);
+          poses[i] = slam.Localize(batch[i].scan, poses[i]);
         }
       });
     }
     for (std::thread& w : workers) w.join();
-  }
-  for (std::size_t i = 0; i < fed; ++i) {
-    std::fprintf(out, "%.6f %.6f %.6f %.6f\n", log.scans[i].timestamp, poses[i].x, poses[i].y, poses[i].theta);
+    for (std::size_t i = 0; i < batch.size(); ++i) {
+      std::fprintf(out, "%.6f %.6f %.6f %.6f\n", batch[i].timestamp, poses[i].x, poses[i].y, poses[i].theta);
+    }
+    batch.clear();
+    poses.clear();
+    to_localize.clear();
+  };
+  Pose2 anchor_pose, anchor_odom;  // best pose and odometry at the last processed reading
+  std::size_t k = 0;               // processed readings so far (index into best)
+  std::size_t peak_batch_bytes = 0;
+  try {
+    reader->Rewind();
+    for (std::size_t i = 0; i < fed; ++i) {
+      batch.emplace_back();
+      if (!reader->Next(&batch.back())) {
+        throw std::runtime_error("the log ended after " + std::to_string(i) + " readings in the second pass, " +
+                                 std::to_string(fed) + " in the first");
+      }
+      const minibot3d_slam::LogScan& r = batch.back();
+      if (processed_flags[i]) {
+        if (k >= best.size()) throw std::runtime_error("more processed readings than trajectory poses");
+        anchor_pose = best[k++].pose;
+        anchor_odom = r.odom;
+      } else if (args.localize) {
+        to_localize.push_back(batch.size() - 1);
+      }
+      poses.push_back(minibot3d_slam::Compose(anchor_pose, minibot3d_slam::Between(r.odom, anchor_odom)));
+      if (batch.size() == kBatch) {
+        std::size_t bytes = 0;
+        for (const auto& b : batch) {
+          bytes += sizeof(b) + (b.scan.ranges.capacity() + b.scan.angles.capacity()) * sizeof(double);
+        }
+        peak_batch_bytes = std::max(peak_batch_bytes, bytes);
+        flush();
+      }
+    }
+    flush();
+  } catch (const std::exception& e) {
+    std::fclose(out);
+    std::remove(traj_tmp.c_str());
+    std::cerr << "slam_offline: " << e.what() << "\n";
+    return 1;
   }
   if (std::fclose(out) != 0 || std::rename(traj_tmp.c_str(), traj_path.c_str()) != 0) {
     std::cerr << "slam_offline: cannot write " << traj_path << ": " << std::strerror(errno) << "\n";
@@ -314,15 +373,12 @@ int main(int argc, char** argv) {
     std::cerr << "slam_offline: " << e.what() << "\n";
     return 1;
   }
-  std::size_t log_bytes = 0;  // the log held in memory (for the memory figures)
-  for (const auto& s : log.scans) {
-    log_bytes += sizeof(s) + (s.scan.ranges.capacity() + s.scan.angles.capacity()) * sizeof(double);
-  }
-  const double log_s = fed > 0 ? log.scans[fed - 1].timestamp - log.scans[0].timestamp : 0.0;
+  // What the run held because of the log: one bit per reading and the second pass's batch.
+  const std::size_t log_bytes = processed_flags.capacity() / 8 + peak_batch_bytes;
   std::printf("scans %zu processed %d wall_s %.2f log_s %.1f peak_mem_mb %.1f loop_closures %d loop_constraints %d "
               "map_peak_mb %.1f log_mb %.1f loop_scans_mb %.1f\n",
-              fed, processed, wall(), log_s, PeakMemoryMb(), slam.loop_closures(), slam.loop_constraints(),
-              static_cast<double>(peak_map_bytes) / 1048576.0, static_cast<double>(log_bytes) / 1048576.0,
-              static_cast<double>(slam.LoopScanBytes()) / 1048576.0);
+              fed, processed, wall(), last_time - first_time, PeakMemoryMb(), slam.loop_closures(),
+              slam.loop_constraints(), static_cast<double>(peak_map_bytes) / 1048576.0,
+              static_cast<double>(log_bytes) / 1048576.0, static_cast<double>(slam.LoopScanBytes()) / 1048576.0);
   return g_interrupted ? 130 : 0;
 }

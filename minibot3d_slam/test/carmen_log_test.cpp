@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -184,6 +185,91 @@ TEST(CarmenLogTest, EmptyOrMissingLogsAreErrorsNamingTheFile) {
     FAIL() << "no exception";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent/dir/log.clf"), std::string::npos) << e.what();
+  }
+}
+
+// The streaming reader (OpenCarmenLog) yields the readings one at a time, in order, with what only
+// the whole log tells (here the saturation value, which first appears in the last message) applied
+// from the first reading on, and the same readings again after Rewind().
+TEST(CarmenLogStreamTest, YieldsReadingsInOrderWithWholeLogFactsAndRewinds) {
+  std::string log;
+  for (int k = 0; k < 5; ++k) {
+    log += Flaser(180, [k](int i) { return 1.0 + 0.01 * i + 0.001 * k; }, k, 0, 0, k, 0, 0, std::to_string(100 + k));
+  }
+  // A resolution PARAM halfway applies to the readings after it only.
+  log += "PARAM laser_front_laser_resolution 0.5 nohost 0\n";
+  log += Flaser(180, [](int i) { return i % 3 == 0 ? 81.83 : 2.0 + 0.01 * i; }, 9, 0, 0, 9, 0, 0, "200");
+  const TempLog f(log);
+  std::unique_ptr<LogReader> reader = OpenCarmenLog(f.path());
+  EXPECT_EQ(reader->report().lines, 7);
+  EXPECT_TRUE(reader->report().warnings.empty());
+  for (int pass = 0; pass < 2; ++pass) {
+    LogScan s;
+    for (int k = 0; k < 5; ++k) {
+      ASSERT_TRUE(reader->Next(&s)) << "pass " << pass << " reading " << k;
+      EXPECT_DOUBLE_EQ(s.timestamp, 100 + k);
+      EXPECT_DOUBLE_EQ(s.odom.x, k);
+      EXPECT_DOUBLE_EQ(s.scan.ranges[3], 1.03 + 0.001 * k);
+      EXPECT_DOUBLE_EQ(s.scan.range_max, 81.83);  // known before the message that shows it
+      EXPECT_NEAR(s.scan.angles[1] - s.scan.angles[0], M_PI / 180, 1e-12);
+    }
+    ASSERT_TRUE(reader->Next(&s));
+    EXPECT_DOUBLE_EQ(s.timestamp, 200);
+    EXPECT_TRUE(std::isinf(s.scan.ranges[0]));
+    EXPECT_DOUBLE_EQ(s.scan.ranges[1], 2.01);
+    EXPECT_NEAR(s.scan.angles[1] - s.scan.angles[0], 0.5 * M_PI / 180, 1e-12);
+    EXPECT_FALSE(reader->Next(&s));
+    EXPECT_FALSE(reader->Next(&s));  // stays at the end
+    reader->Rewind();
+  }
+}
+
+// Bad input: a garbled reading and a log cut off in the middle of its last line are skipped, each
+// reported with the file and the line; the readings around them still come.
+TEST(CarmenLogStreamTest, GarbledAndTruncatedLinesAreReportedByFileAndLine) {
+  std::string log;
+  log += Flaser(180, [](int i) { return 1.0 + 0.01 * i; }, 0, 0, 0, 0, 0, 0, "1.0");
+  std::string garbled = Flaser(180, [](int i) { return 1.0 + 0.01 * i; }, 0, 0, 0, 0, 0, 0, "2.0");
+  garbled.replace(garbled.find(" 1.5 "), 5, " 1.5x7 ");  // line 2
+  log += garbled;
+  log += Flaser(180, [](int i) { return 1.0 + 0.01 * i; }, 0, 0, 0, 0, 0, 0, "3.0");
+  const std::string last = Flaser(180, [](int i) { return 1.0 + 0.01 * i; }, 0, 0, 0, 0, 0, 0, "4.0");
+  log += last.substr(0, last.size() / 2);  // line 4, cut off mid-line without a newline
+  const TempLog f(log);
+  std::unique_ptr<LogReader> reader = OpenCarmenLog(f.path());
+  const std::vector<std::string>& w = reader->report().warnings;
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_EQ(w[0].rfind(f.path() + ":2: FLASER line skipped", 0), 0u) << w[0];
+  EXPECT_NE(w[0].find("1.5x7"), std::string::npos) << w[0];
+  EXPECT_EQ(w[1].rfind(f.path() + ":4: FLASER line skipped", 0), 0u) << w[1];
+  EXPECT_NE(w[1].find("fewer readings than the declared 180"), std::string::npos) << w[1];
+  EXPECT_EQ(reader->report().skipped.at("FLASER"), 2);
+  LogScan s;
+  ASSERT_TRUE(reader->Next(&s));
+  EXPECT_DOUBLE_EQ(s.timestamp, 1.0);
+  ASSERT_TRUE(reader->Next(&s));
+  EXPECT_DOUBLE_EQ(s.timestamp, 3.0);
+  EXPECT_FALSE(reader->Next(&s));
+}
+
+// A log that changes between Open and the reading (cut short by a crashed copy, overwritten) is an
+// error naming the file and the line, not a silently shorter run.
+TEST(CarmenLogStreamTest, ALogChangedAfterOpenIsAnErrorNamingFileAndLine) {
+  std::string log;
+  for (int k = 0; k < 3; ++k) {
+    log += Flaser(180, [](int i) { return 1.0 + 0.01 * i; }, 0, 0, 0, 0, 0, 0, std::to_string(k));
+  }
+  const TempLog f(log);
+  std::unique_ptr<LogReader> reader = OpenCarmenLog(f.path());
+  const std::string shorter = log.substr(0, log.find('\n') + 1) + "FLASER 180 1 2 3\n";
+  std::ofstream(f.path()) << shorter;
+  LogScan s;
+  ASSERT_TRUE(reader->Next(&s));
+  try {
+    reader->Next(&s);
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(f.path() + ":2: the log changed"), std::string::npos) << e.what();
   }
 }
 

@@ -175,6 +175,48 @@ LaserScan WallScan(double time, int beams = 91) {
   return w.Scan(Pose2{}, beams, M_PI, 30.0, time);
 }
 
+// What the filter keeps grows by a bounded amount per processed scan — one trajectory node and
+// the loop closer's compact scan (a float range and a beam index a beam; directions are shared) —
+// and not with the readings it skipped or the particles: the office tour driven four times,
+// compared after two and after four laps. (Stored bytes are counted by the filter's accessors,
+// not by RSS, so the test is exact.)
+TEST(RbpfSlamTest, StoredBytesGrowByABoundedAmountPerProcessedScan) {
+  const World world = Office();
+  const std::vector<Pose2> tour = Tour();  // two laps, ending where it starts
+  GmappingOptions o;
+  o.particles = 5;
+  o.linearUpdate = 0.3;
+  o.angularUpdate = 0.25;
+  o.seed = 3;
+  ASSERT_EQ(o.loopClosure, 1);
+  RbpfSlam slam(o);
+  constexpr int kBeams = 181;
+  std::size_t bytes_after_two = 0;
+  int processed_after_two = 0;
+  int fed = 0;
+  for (int round = 0; round < 2; ++round) {
+    for (const Pose2& p : tour) {
+      slam.AddScan(world.Scan(p, kBeams, M_PI, 30.0, 0.1 * fed), p);
+      ++fed;
+    }
+    if (round == 0) {
+      bytes_after_two = slam.TrajectoryBytes() + slam.LoopScanBytes();
+      processed_after_two = slam.processed_scans();
+    }
+  }
+  const int processed = slam.processed_scans() - processed_after_two;
+  ASSERT_GT(processed, 100);
+  ASSERT_LT(slam.processed_scans(), fed / 2);  // most readings are not processed
+  const double per_scan =
+      static_cast<double>(slam.TrajectoryBytes() + slam.LoopScanBytes() - bytes_after_two) / processed;
+  // Stored scan (8 bytes a beam + ~90 bytes of vectors) + node (~75 bytes with its allocation,
+  // plus the particles' branches); ranges and angles as doubles would be 16 bytes a beam.
+  EXPECT_LE(per_scan, 8.0 * kBeams + 256.0);
+  EXPECT_GE(per_scan, 4.0 * kBeams);  // the stored scans are counted at all
+  // The trajectory tree holds about one node per processed scan, not one per particle.
+  EXPECT_LE(slam.TrajectoryBytes(), static_cast<std::size_t>(slam.processed_scans() + 50 * o.particles) * 96);
+}
+
 TEST(RbpfSlamTest, UpdatesAreTriggeredByMotionAndTime) {
   GmappingOptions o;
   o.particles = 3;

@@ -4,9 +4,10 @@
 #ifndef MINIBOT3D_SLAM_BAG_LOG_H_
 #define MINIBOT3D_SLAM_BAG_LOG_H_
 
+#include <memory>
 #include <string>
 
-#include "minibot3d_slam/carmen_log.h"
+#include "minibot3d_slam/log_reader.h"
 
 namespace minibot3d_slam {
 
@@ -17,10 +18,14 @@ struct BagLogOptions {
   std::string base_frame = "base_footprint";
 };
 
-// Scans that cannot be placed (no odometry or sensor pose at their time) are skipped and counted in
-// CarmenLog::skipped under "scan without tf". Throws std::runtime_error naming the bag (unreadable,
-// no message on the scan topic).
-CarmenLog ReadBagLog(const std::string& path, const BagLogOptions& options);
+// Opens a bag for streaming (log_reader.h). Open only reads the bag's index (message counts);
+// Next() reads the bag in time order, all topics together, and yields a scan once the odometry
+// (transforms, or --odom-topic messages) is known a second past its stamp: the reader holds the
+// last 30 s of transforms and odometry (static transforms for good) and the scans waiting, not
+// the bag. Scans that cannot be placed (no odometry or sensor pose at their time) are skipped,
+// counted in report().skipped under "scan without tf" and described in warnings during the first
+// pass. Throws std::runtime_error naming the bag (unreadable, no message on the scan topic).
+std::unique_ptr<LogReader> OpenBagLog(const std::string& path, const BagLogOptions& options);
 
 }  // namespace minibot3d_slam
 

@@ -50,6 +50,10 @@ class RbpfSlam {
   std::size_t MapMemoryBytes() const;
   // Bytes of the scans the loop closer keeps to re-render the map (0 with loopClosure = 0).
   std::size_t LoopScanBytes() const;
+  // Bytes of the trajectory tree: its distinct nodes (pose and time, no scan), shared by the
+  // particles. With LoopScanBytes, what the filter keeps per processed scan (rbpf_slam_test
+  // bounds it); neither keeps the readings that were not processed.
+  std::size_t TrajectoryBytes() const;
   // Pose-graph optimisations applied so far (loopClosure = 1): each one replaced the trajectory and
   // the map by corrected ones, so a node should republish both.
   int loop_closures() const;
