@@ -115,12 +115,10 @@ TEST(FrontierSearch, NearestFirstAndBlacklist) {
   EXPECT_GT(r.frontiers[0].centroid.x, 1.0);
 }
 
-TEST(FrontierSearch, TheViewpointSeesItsFrontier) {
-  // A gap behind a thin shelf (column 6), open to unknown space at its far end
-  // (top right).  The cells just left of the shelf are within reach of the
-  // frontier and nearer the robot than the gap's cells, but the shelf hides the
-  // frontier from them: the viewpoint must be where the gap is in sight.
-  const auto grid = Grid({
+// A room with a thin shelf (column 6) and a gap behind it, open to unknown
+// space at the gap's far end (top right).
+amcl::OccupancyGrid ThinShelfRoom() {
+  return Grid({
       "###########",
       "#.....#???#",
       "#.....#...#",
@@ -129,11 +127,25 @@ TEST(FrontierSearch, TheViewpointSeesItsFrontier) {
       "#.........#",
       "###########",
   });
+}
+
+// Goals anywhere free, single-cell frontiers kept.
+ExploreOptions ThinShelfOptions(double goal_search_radius) {
   ExploreOptions o = Options();
   o.clearance = 0.0;
   o.goal_clearance = 0.0;
-  o.goal_search_radius = 0.2;
+  o.goal_search_radius = goal_search_radius;
   o.min_frontier_size = 0.1;
+  return o;
+}
+
+TEST(FrontierSearch, TheViewpointSeesItsFrontier) {
+  // A gap behind a thin shelf (column 6), open to unknown space at its far end
+  // (top right).  The cells just left of the shelf are within reach of the
+  // frontier and nearer the robot than the gap's cells, but the shelf hides the
+  // frontier from them: the viewpoint must be where the gap is in sight.
+  const auto grid = ThinShelfRoom();
+  const ExploreOptions o = ThinShelfOptions(0.2);
   FrontierSearch search(o);
   const auto r = search.Find(grid, At(1, 1), {});
   ASSERT_EQ(r.frontiers.size(), 1u);
@@ -177,20 +189,8 @@ TEST(FrontierSearch, ExcludedViewpointsLeaveTheOthers) {
 TEST(FrontierSearch, CellsLookedAtNoLongerCount) {
   // The thin-shelf room: from the gap's mouth the frontier is in sight; from
   // left of the shelf, at the same distance, it is not.
-  const auto grid = Grid({
-      "###########",
-      "#.....#???#",
-      "#.....#...#",
-      "#.....#...#",
-      "#.....#...#",
-      "#.........#",
-      "###########",
-  });
-  ExploreOptions o = Options();
-  o.clearance = 0.0;
-  o.goal_clearance = 0.0;
-  o.goal_search_radius = 0.25;
-  o.min_frontier_size = 0.1;
+  const auto grid = ThinShelfRoom();
+  const ExploreOptions o = ThinShelfOptions(0.25);
   FrontierSearch search(o);
   EXPECT_TRUE(search.InSight(grid, {At(5, 4).x, At(5, 4).y}).empty());
   const auto cells = search.InSight(grid, {At(8, 3).x, At(8, 3).y});
