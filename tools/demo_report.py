@@ -10,7 +10,7 @@ exploration's spawn pose) and counted as right when a ground-truth occupied cell
 Explored is the share of the ground-truth free cells reachable from the spawn pose that the SLAM
 map knows (free or occupied, not unknown); the demo fails below MIN_COVERAGE. The SLAM map's
 known-free area is printed beside it: it is a little smaller than the true free area even when
-every cell is mapped, because walls come out a cell or so thicker."""
+every cell is mapped (SLAM's walls look about a cell thicker)."""
 import argparse
 import importlib.util
 import json
