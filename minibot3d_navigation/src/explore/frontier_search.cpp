@@ -97,23 +97,34 @@ bool LineOfSight(int a, int b, int w, const std::vector<uint8_t>& kind) {
   }
 }
 
-// Cells within `radius` of an occupied cell.
-std::vector<uint8_t> NearOccupied(const std::vector<uint8_t>& kind, int w, int h, double radius,
-                                  double res) {
-  const int r = static_cast<int>(std::ceil(radius / res));
-  std::vector<std::pair<int, int>> disc;
+// How near each cell is to an occupied cell, in one pass: 2 within `inner`,
+// 1 within `outer` (>= inner) only, 0 farther.
+std::vector<uint8_t> NearOccupied(const std::vector<uint8_t>& kind, int w, int h, double inner,
+                                  double outer, double res) {
+  const int r = static_cast<int>(std::ceil(outer / res));
+  struct Offset {
+    int dx, dy;
+    uint8_t level;
+  };
+  std::vector<Offset> disc;
   for (int dy = -r; dy <= r; ++dy) {
     for (int dx = -r; dx <= r; ++dx) {
-      if ((dx * dx + dy * dy) * res * res <= radius * radius + 1e-12) disc.emplace_back(dx, dy);
+      const double d2 = (dx * dx + dy * dy) * res * res;
+      if (d2 <= outer * outer + 1e-12) {
+        disc.push_back({dx, dy, static_cast<uint8_t>(d2 <= inner * inner + 1e-12 ? 2 : 1)});
+      }
     }
   }
   std::vector<uint8_t> near(kind.size(), 0);
   for (int i = 0; i < w * h; ++i) {
     if (kind[i] != 2) continue;
     const int x = i % w, y = i / w;
-    for (const auto& d : disc) {
-      const int xx = x + d.first, yy = y + d.second;
-      if (xx >= 0 && yy >= 0 && xx < w && yy < h) near[yy * w + xx] = 1;
+    for (const Offset& d : disc) {
+      const int xx = x + d.dx, yy = y + d.dy;
+      if (xx >= 0 && yy >= 0 && xx < w && yy < h) {
+        uint8_t& n = near[yy * w + xx];
+        n = std::max(n, d.level);
+      }
     }
   }
   return near;
@@ -197,9 +208,10 @@ FrontierSearchResult FrontierSearch::Find(const amcl::OccupancyGrid& grid, const
 
   // Traversable: free and no occupied cell within the clearance disc.  Cramped:
   // an occupied cell within goal_clearance (paths may pass, goals may not).
-  const std::vector<uint8_t> blocked = NearOccupied(kind, w, h, options_.clearance, res);
-  const std::vector<uint8_t> cramped = NearOccupied(kind, w, h, options_.goal_clearance, res);
-  auto traversable = [&](int i) { return kind[i] == 0 && !blocked[i]; };
+  const std::vector<uint8_t> near =
+      NearOccupied(kind, w, h, options_.clearance, options_.goal_clearance, res);
+  auto traversable = [&](int i) { return kind[i] == 0 && near[i] < 2; };
+  auto cramped = [&](int i) { return near[i] >= 1; };
 
   // Dijkstra from the robot; non-traversable free cells only while escaping
   // from a start that is itself not traversable.
@@ -301,7 +313,7 @@ FrontierSearchResult FrontierSearch::Find(const amcl::OccupancyGrid& grid, const
           if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
           if ((dx * dx + dy * dy) * res * res > search_r2) continue;
           const int j = yy * w + xx;
-          if (!traversable(j) || !(dist[j] < kInf) || cramped[j]) continue;
+          if (!traversable(j) || !(dist[j] < kInf) || cramped(j)) continue;
           any_reachable = true;
           if (best >= 0 && dist[j] >= dist[best]) continue;
           if (is_excluded[j]) continue;

@@ -24,8 +24,9 @@
 // below the lidar plane, a grazing ray): such cells are remembered as looked at
 // and no longer count as frontier; a frontier's other cells still do, seen from
 // a viewpoint at least blacklist_radius from every one reached (so a pocket the
-// lidar sees only a sliver of is not crept into cell by cell).  A goal move_base could not reach
-// is shown unreachable and excluded, but only until the map around it changes
+// lidar sees only a sliver of is not crept into cell by cell).  A goal move_base
+// could not reach is shown unreachable and excluded, but only until the map
+// around it changes
 // (retry_map_change m^2 of cells within retry_window change state: a door
 // seen open, a corridor mapped), at most max_goal_attempts times in all.  So
 // exploration ends when nothing reachable is left, not when the robot got
