@@ -9,7 +9,10 @@
 # Environment: DEMO_X, DEMO_Y, DEMO_YAW (exploration spawn), DEMO_NAV_X, DEMO_NAV_Y, DEMO_NAV_YAW
 # (navigation start), DEMO_GOALS ("x,y,yaw ..." in the world frame), DEMO_REAL_TIME_FACTOR (0: as
 # fast as the CPU allows), DEMO_LOCKSTEP (1: lock-step time, the same result on every run; 0: the
-# free-running loop), DEMO_OUT (where the maps, logs and picture go; default out/).
+# free-running loop), DEMO_OUT (where the maps, logs and picture go; default out/),
+# DEMO_EXPLORE_TIMEOUT (the exploration's sim-time budget, s; default 2.5 s per m^2 of reachable
+# free area, at least 2,400), DEMO_LOG_FILTER (which exploration log lines to show; a grep -E
+# pattern).
 # For the default world all have defaults; for another world the spawn defaults to its origin and
 # the goals are sampled from the saved map.
 set -euo pipefail
@@ -57,16 +60,20 @@ stop_stack() {
 trap stop_stack EXIT
 start=$SECONDS
 
+# The exploration's sim-time budget grows with the world: 2.5 s per m^2 of free area reachable
+# from the spawn (the office world, 2,654 m^2, gets 6,636 s), at least 2,400 s.
+budget="${DEMO_EXPLORE_TIMEOUT:-$(/usr/bin/python3 tools/demo_report.py --reachable-area --out "$out" \
+  --truth-map "$truth" --spawn="$x,$y,$yaw" | awk '{b = 2.5 * $1; print (b > 2400 ? int(b) : 2400)}')}"
 echo "demo: 1/4 exploring $world from ($x, $y, $yaw) with SLAM at real-time factor $rtf," \
-  "lock-step $ls_arg (log: $out/demo_explore.log)"
+  "lock-step $ls_arg, for at most $budget s of sim time (log: $out/demo_explore.log)"
 setsid roslaunch -p "$ROS_PORT" minibot3d_navigation explore.launch explore:=false world:="$world" \
   x:="$x" y:="$y" yaw:="$yaw" real_time_factor:="$rtf" lockstep:="$ls_arg" \
   lockstep_clients:=/demo_explore > "$out/demo_explore.log" 2>&1 &
 launch_pid=$!
 wait_for_master 60
 status=0
-/usr/bin/python3 tools/demo_phase.py explore --out "$out" --timeout 2400 2>&1 \
-  | grep --line-buffered -E "explore: .*(m\^2|complete)|demo:|map_saver" || true
+/usr/bin/python3 tools/demo_phase.py explore --out "$out" --timeout "$budget" 2>&1 \
+  | grep --line-buffered -E "${DEMO_LOG_FILTER:-explore: .*(m\^2|complete)|demo:|map_saver}" || true
 [ -f "$out/demo_explore.json" ] || status=1
 stop_stack
 echo "demo: 2/4 map saved: $out/demo_map.pgm, $out/demo_map.yaml"

@@ -3,6 +3,7 @@
 exploration path and the navigation paths drawn on it).
 
   demo_report.py --out DIR --truth-map GT.yaml --spawn X,Y,YAW
+  demo_report.py --reachable-area --out DIR --truth-map GT.yaml --spawn X,Y,YAW
 
 Map accuracy compares the saved SLAM map with the world's ground-truth map: the SLAM map's
 occupied cells are moved into the world frame (the SLAM map frame is the world frame moved to the
@@ -94,9 +95,16 @@ def main():
     parser.add_argument('--out', required=True)
     parser.add_argument('--truth-map', required=True)
     parser.add_argument('--spawn', required=True)
+    parser.add_argument('--reachable-area', action='store_true',
+                        help='print the free area (m^2) reachable from --spawn on --truth-map '
+                        'and exit (demo.sh sizes the exploration time budget by it)')
     args = parser.parse_args()
     spawn = tuple(float(v) for v in args.spawn.split(','))
     failures = []
+    if args.reachable_area:
+        gfree, gocc, gres, gorigin = load_trinary(args.truth_map)
+        print('%.1f' % (reachable_free(gfree, gocc, gres, gorigin, spawn).sum() * gres * gres))
+        return 0
 
     with open(os.path.join(args.out, 'demo_explore.json')) as f:
         ex = json.load(f)

@@ -308,9 +308,75 @@ TEST(BackOutRecovery, DoesNothingAfterOscillationOrWithoutTrail) {
   BackOutRecovery rec("back_out", BackOutOptions(), MakeCircleFootprint(0.12));
   state.control_failed = false;  // oscillation: reversing would undo progress
   EXPECT_EQ(RunRecovery(&rec, &state), 0);
+  EXPECT_NE(rec.outcome().find("not needed"), std::string::npos) << rec.outcome();
   state.control_failed = true;
   state.trail = nullptr;
   EXPECT_EQ(RunRecovery(&rec, &state), 0);
+}
+
+TEST(BackOutRecovery, BacksOutAfterOscillationWhenWedged) {
+  // A robot that drove into a dead-end slot with its outline on an obstacle:
+  // the local planner has no move, so the trigger is oscillation, not a
+  // control failure; the way it came is still open.
+  const std::vector<Pose2D> trail = ArcTrail();
+  Costmap2D costmap(80, 80, 0.05, -2.0, -2.0);
+  const Footprint fp = MakeCircleFootprint(0.12);
+  const Pose2D end = trail.back();
+  int mx, my;
+  // An obstacle cell under the front of the footprint.
+  costmap.WorldToMapNoBounds(end.x + 0.11 * std::cos(end.yaw), end.y + 0.11 * std::sin(end.yaw),
+                             &mx, &my);
+  costmap.set_cost(mx, my, kLethalObstacle);
+  RobotState state;
+  state.local_pose = end;
+  state.local_costmap = &costmap;
+  state.trail = &trail;
+  state.control_failed = false;
+  ASSERT_EQ(FootprintCost(costmap, fp, state.local_pose), kLethalObstacle);
+  BackOutRecovery rec("back_out", BackOutOptions(), fp);
+  EXPECT_GT(RunRecovery(&rec, &state), 0);
+  EXPECT_GT(std::hypot(state.local_pose.x - end.x, state.local_pose.y - end.y), 0.55);
+  EXPECT_NE(FootprintCost(costmap, fp, state.local_pose), kLethalObstacle);
+  EXPECT_NE(rec.outcome().find("reached its end"), std::string::npos) << rec.outcome();
+}
+
+TEST(BackOutRecovery, LeavesADeadEndSlotLongerThanItsDistance) {
+  // A dead-end slot 1.3 m deep (x in [0, 1.3]) that the robot (0.23 m wide)
+  // drove 1 m into from x = -1.  Its walls are mapped a cell thick, into
+  // cells the robot's sides graze (y in [0.10, 0.15] and mirrored), as a desk
+  // passed 3 cm away is.  Reversing 0.6 m would leave it in the slot, where
+  // it cannot turn, so the route goes on to where it can; the grazed cells
+  // do not stop it.
+  Costmap2D costmap(120, 80, 0.05, -3.0, -2.0);
+  auto set = [&costmap](double x, double y) {
+    int mx, my;
+    costmap.WorldToMapNoBounds(x, y, &mx, &my);
+    costmap.set_cost(mx, my, kLethalObstacle);
+  };
+  for (double x = 0.0; x <= 1.3; x += 0.025) {
+    set(x, 0.14);
+    set(x, -0.14);
+  }
+  for (double y = -0.14; y <= 0.14; y += 0.025) set(1.3, y);
+  const Footprint fp = {{0.12, 0.115}, {-0.12, 0.115}, {-0.12, -0.115}, {0.12, -0.115}};
+  std::vector<Pose2D> trail;
+  for (double x = -1.0; x <= 1.0 + 1e-9; x += 0.02) trail.push_back({x, 0.0, 0.0});
+  RobotState state;
+  state.local_pose = trail.back();
+  state.local_costmap = &costmap;
+  state.trail = &trail;
+  state.control_failed = true;
+  BackOutOptions o;
+  o.distance = 0.6;
+  BackOutRecovery rec("back_out", o, fp);
+  rec.Start(state);
+  ASSERT_FALSE(rec.route().empty());
+  const double end_x = rec.route().back().x;
+  EXPECT_LT(end_x, -0.1);   // out of the slot, with room to turn
+  EXPECT_GT(end_x, -0.45);  // and no further than that
+  RunRecovery(&rec, &state);
+  EXPECT_LT(state.local_pose.x, -0.07) << rec.outcome();
+  EXPECT_NE(rec.outcome().find("reached its end"), std::string::npos) << rec.outcome();
 }
 
 TEST(BackOutRecovery, StopsBeforeSomethingNewOnItsWay) {
@@ -447,6 +513,32 @@ TEST(NavigationExecutive, RecordsTheTrailItDrives) {
     EXPECT_LT(std::hypot(trail[i].x - trail[i - 1].x, trail[i].y - trail[i - 1].y), 0.05);
   }
   EXPECT_NEAR(trail.back().x, h.state.local_pose.x, 0.03);
+}
+
+TEST(NavigationExecutive, TrailDropsTheLoopsOfARobotShufflingToAndFro) {
+  // 1 m in, then 200 shuffles of 0.1 m back and forth at the end: the trail
+  // is still the way in (its 500-pose cap would otherwise hold only shuffles).
+  Harness h;
+  Pose2D p{0.0, 0.0, 0.0};
+  auto drive_to = [&h, &p](double x) {
+    const double step = x > p.x ? 0.005 : -0.005;
+    while (std::abs(x - p.x) > 1e-9) {
+      p.x = std::abs(x - p.x) < std::abs(step) ? x : p.x + step;
+      h.state.local_pose = p;
+      h.exec.Step(h.state, Pose2D());
+    }
+  };
+  drive_to(1.0);
+  for (int k = 0; k < 200; ++k) {
+    drive_to(0.9);
+    drive_to(1.0);
+  }
+  const std::vector<Pose2D>& trail = h.exec.trail();
+  ASSERT_FALSE(trail.empty());
+  EXPECT_NEAR(trail.front().x, 0.0, 0.01);
+  EXPECT_NEAR(trail.back().x, 1.0, 0.02);
+  EXPECT_LT(trail.size(), 60u);  // ~1 m at 2 cm spacing
+  for (size_t i = 1; i < trail.size(); ++i) EXPECT_GT(trail[i].x, trail[i - 1].x);
 }
 
 }  // namespace

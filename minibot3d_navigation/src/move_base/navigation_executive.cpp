@@ -61,6 +61,15 @@ constexpr size_t kMaxBlocked = 32;
 }  // namespace
 
 void NavigationExecutive::RecordTrail(const Pose2D& p) {
+  // Loop erasure: back where it has been, the loop driven since is dropped, so
+  // the trail stays the way back (a robot that shuffles to and fro in a pocket
+  // does not fill it with the shuffle and lose the way in).
+  for (size_t i = 0; i + 1 < trail_.size(); ++i) {
+    if (std::hypot(p.x - trail_[i].x, p.y - trail_[i].y) < kTrailSpacing) {
+      trail_.resize(i + 1);
+      break;
+    }
+  }
   if (!trail_.empty()) {
     const Pose2D& last = trail_.back();
     if (std::hypot(p.x - last.x, p.y - last.y) < kTrailSpacing &&
@@ -233,6 +242,12 @@ CycleResult NavigationExecutive::Step(const RobotState& input, const Pose2D& glo
     if (recovery_running_ && recoveries_[recovery_index_]->Step(state, &cmd)) {
       result.cmd = cmd;
       return result;
+    }
+    if (recovery_running_) {
+      const std::string outcome = recoveries_[recovery_index_]->outcome();
+      if (!outcome.empty()) {
+        result.message = "recovery " + recoveries_[recovery_index_]->name() + " ended: " + outcome;
+      }
     }
     recovery_running_ = false;
     ++recovery_index_;

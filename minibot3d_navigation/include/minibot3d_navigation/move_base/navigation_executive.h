@@ -16,8 +16,8 @@
 //               says what kept failing (the planner's or controller's own
 //               error: which goal, which obstacle) — not just "failed".
 // Not in ROS move_base (issue 18, getting through clutter): the executive
-// keeps the robot's trail (poses driven through, local frame) for the
-// back_out recovery; when control fails or the robot oscillates it remembers
+// keeps the robot's trail (poses driven through, local frame, loop-erased: a
+// return to where it has been drops the loop since) for the back_out recovery; when control fails or the robot oscillates it remembers
 // the stretch of plan it could not pass (a disc of blocked_radius round the
 // plan point blocked_lookahead ahead, in the global frame) and plans round
 // those discs for the rest of the goal — the pocket or gap is not tried again —
