@@ -7,7 +7,9 @@ number of sign changes of the commanded angular velocity per metre, and the mean
 max_vel_x. Writes OUT.json with the samples and the figures.
 
   corridor_weave.py GOAL_X GOAL_Y OUT_JSON [--from 2] [--to 17] [--timeout SIM_S] [--max-vel-x 0.5]
-                    [--spawn X Y YAW] [--frame odom|map]
+                    [--spawn X Y YAW] [--frame odom|map] [--record-only SIM_S]
+
+With --record-only no goal is sent (explore drives) and the run is recorded for SIM_S s.
 
 Under lock-step time this script is a participant, so the run is the same at any real-time
 factor and machine load."""
