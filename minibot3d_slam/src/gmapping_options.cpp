@@ -72,6 +72,7 @@ void ValidateOptions(const GmappingOptions& o) {
   p.Check(o.maxUrange > 0.0 && Finite(o.maxUrange), "maxUrange", o.maxUrange, "> 0");
   p.Check(o.maxRange == 0.0 || (o.maxRange >= o.maxUrange && Finite(o.maxRange)), "maxRange",
           o.maxRange, "0 (the sensor's range_max) or >= maxUrange");
+  p.Check(o.clearMaxRange == 0 || o.clearMaxRange == 1, "clearMaxRange", o.clearMaxRange, "0 or 1");
   p.Check(Finite(o.xmin) && Finite(o.xmax) && o.xmin < o.xmax, "xmin", o.xmin, "< xmax");
   p.Check(Finite(o.xmin) && Finite(o.xmax) && o.xmin < o.xmax, "xmax", o.xmax, "> xmin");
   p.Check(Finite(o.ymin) && Finite(o.ymax) && o.ymin < o.ymax, "ymin", o.ymin, "< ymax");
@@ -172,6 +173,7 @@ void SetOption(GmappingOptions* o, const std::string& name, const std::string& v
       {"delta", &GmappingOptions::delta, nullptr},
       {"maxUrange", &GmappingOptions::maxUrange, nullptr},
       {"maxRange", &GmappingOptions::maxRange, nullptr},
+      {"clearMaxRange", nullptr, &GmappingOptions::clearMaxRange},
       {"xmin", &GmappingOptions::xmin, nullptr},
       {"ymin", &GmappingOptions::ymin, nullptr},
       {"xmax", &GmappingOptions::xmax, nullptr},

@@ -124,13 +124,17 @@ PreparedScan ScanMatcher::Prepare(const LaserScan& scan) const {
     const double r = scan.ranges[i];
     // No-returns (NaN, ±inf, at or below range_min, at or beyond the maximum range) carry no
     // information about where free space ends, so they update nothing (as gmapping skips readings
-    // beyond maxRange).
-    if (!std::isfinite(r) || r <= range_min || r >= max_range) continue;
+    // beyond maxRange) — except, with clearMaxRange, +inf and readings at or beyond the maximum
+    // range: nothing is there within the sensor's reach, so the beam clears free space out to
+    // maxUrange (and the maximum range) like a reading beyond maxUrange.
+    const bool beyond = r == std::numeric_limits<double>::infinity() || (std::isfinite(r) && r >= max_range);
+    const bool clear_only = beyond && options_.clearMaxRange != 0;
+    if (!clear_only && (!std::isfinite(r) || r <= range_min || r >= max_range)) continue;
     const double a = scan.angles[i];
     if (!std::isfinite(a)) continue;
     const double ca = std::cos(a), sa = std::sin(a);
-    const bool hit = r <= options_.maxUrange;
-    out.map_range.push_back(hit ? r : options_.maxUrange);
+    const bool hit = !clear_only && r <= options_.maxUrange;
+    out.map_range.push_back(hit ? r : std::min(options_.maxUrange, max_range));
     out.map_cos.push_back(ca);
     out.map_sin.push_back(sa);
     out.map_hit.push_back(hit ? 1 : 0);

@@ -100,6 +100,7 @@ class SlamGmappingNode {
     get_d("delta", &o.delta);
     get_d("maxUrange", &o.maxUrange);
     get_d("maxRange", &o.maxRange);
+    get_i("clearMaxRange", &o.clearMaxRange);
     get_d("xmin", &o.xmin);
     get_d("ymin", &o.ymin);
     get_d("xmax", &o.xmax);

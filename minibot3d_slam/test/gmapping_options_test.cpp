@@ -114,6 +114,18 @@ TEST(GmappingOptionsTest, LoopClosureOptionsAreValidatedAndSetByName) {
   EXPECT_THROW(SetOption(&o, "loopSubmapScans", "2.5"), std::invalid_argument);
 }
 
+TEST(GmappingOptionsTest, ClearMaxRangeIsOffByDefaultValidatedAndSetByName) {
+  GmappingOptions o;
+  EXPECT_EQ(o.clearMaxRange, 0);  // gmapping's behaviour unless asked
+  SetOption(&o, "clearMaxRange", "1");
+  EXPECT_EQ(o.clearMaxRange, 1);
+  EXPECT_NO_THROW(ValidateOptions(o));
+  o.clearMaxRange = 2;
+  const std::string m = ValidationMessage(o);
+  EXPECT_NE(m.find("clearMaxRange = 2 (must be 0 or 1)"), std::string::npos) << m;
+  EXPECT_THROW(SetOption(&o, "clearMaxRange", "yes"), std::invalid_argument);
+}
+
 TEST(GmappingOptionsTest, SetOptionByGmappingName) {
   GmappingOptions o;
   SetOption(&o, "particles", "80");

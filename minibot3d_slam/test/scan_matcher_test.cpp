@@ -219,5 +219,67 @@ TEST(ScanMatcherTest, PrepareClassifiesBeams) {
   EXPECT_EQ(ScanMatcher(o).Prepare(s).map_range.size(), 2u);
 }
 
+TEST(ScanMatcherTest, ClearMaxRangeTurnsNoReturnsIntoFreeBeams) {
+  GmappingOptions o;
+  o.maxUrange = 5.0;
+  o.clearMaxRange = 1;
+  LaserScan s;
+  s.range_min = 0.1;
+  s.range_max = 20.0;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  s.ranges = {1.0, nan, inf, 0.0, 0.05, 7.0, 20.0, 25.0, 2.0, -inf};
+  for (std::size_t i = 0; i < s.ranges.size(); ++i) s.angles.push_back(0.1 * static_cast<double>(i));
+  const PreparedScan p = ScanMatcher(o).Prepare(s);
+  // +inf, 20.0 (at range_max) and 25.0 now clear out to maxUrange and mark nothing; NaN, -inf, 0
+  // and below range_min still update nothing.
+  ASSERT_EQ(p.map_range.size(), 6u);
+  const std::vector<std::uint32_t> beams = {0, 2, 5, 6, 7, 8};
+  const std::vector<double> ranges = {1.0, 5.0, 5.0, 5.0, 5.0, 2.0};
+  const std::vector<int> hits = {1, 0, 0, 0, 0, 1};
+  for (std::size_t k = 0; k < beams.size(); ++k) {
+    EXPECT_EQ(p.map_beam[k], beams[k]) << k;
+    EXPECT_DOUBLE_EQ(p.map_range[k], ranges[k]) << k;
+    EXPECT_EQ(p.map_hit[k], hits[k]) << k;
+  }
+  ASSERT_EQ(p.match_range.size(), 2u);  // only real returns are matched
+  // With maxUrange beyond the sensor's reach a no-return clears only as far as that reach.
+  o.maxUrange = 30.0;
+  o.maxRange = 0.0;
+  const PreparedScan q = ScanMatcher(o).Prepare(s);
+  ASSERT_EQ(q.map_range.size(), 6u);
+  EXPECT_DOUBLE_EQ(q.map_range[1], 20.0);
+  EXPECT_EQ(q.map_hit[1], 0);
+}
+
+// Down a corridor longer than the lidar reaches, the beams along it return nothing. gmapping drops
+// them, so one scan leaves the corridor ahead unknown from where the side walls' beams stop
+// crossing it (a few metres at a 1° beam spacing); with clearMaxRange they clear it to maxUrange.
+TEST(ScanMatcherTest, ClearMaxRangeMapsALongCorridorAhead) {
+  World corridor;
+  corridor.walls.push_back({-1.0, -0.7513, 60.0, -0.7513});
+  corridor.walls.push_back({-1.0, 0.7487, 60.0, 0.7487});
+  corridor.walls.push_back({-1.0, -0.7513, -1.0, 0.7487});
+  const Pose2 robot{0.0137, -0.0213, 0.0};
+  const LaserScan scan = corridor.Scan(robot, 361, 2 * M_PI * 360 / 361, 12.0);
+  ASSERT_TRUE(std::isinf(scan.ranges[180])) << "the beam straight ahead must see no end";
+  auto unknown_ahead = [&](int clear_max_range) {
+    GmappingOptions o;
+    o.maxUrange = 11.5;
+    o.clearMaxRange = clear_max_range;
+    const ScanMatcher matcher(o);
+    Grid grid(0.05);
+    matcher.Register(matcher.Prepare(scan), robot, &grid);
+    // Cells along the corridor's centre line from 1 m to 11 m ahead that no beam crossed.
+    int unknown = 0;
+    for (double x = 1.0; x <= 11.0; x += 0.05) {
+      if (grid.At(grid.CellX(x), grid.CellY(robot.y)).visits == 0) ++unknown;
+    }
+    return unknown;
+  };
+  EXPECT_GT(unknown_ahead(0), 100) << "the test proves nothing: the corridor ahead is mapped anyway";
+  EXPECT_EQ(unknown_ahead(1), 0);
+}
+
 }  // namespace
 }  // namespace minibot3d_slam

@@ -43,6 +43,16 @@ struct GmappingOptions {
   double delta = 0.05;        // resolution (m)
   double maxUrange = 80.0;    // readings used to update the map are cut to this range (m)
   double maxRange = 0.0;      // beyond it a reading is a no-return; 0: the sensor's range_max
+  // 1: a reading of +inf or at or beyond the maximum range (REP 117: nothing within the sensor's
+  // reach along the beam) clears free space out to min(maxUrange, maximum range) and marks
+  // nothing. That is what gmapping's documented recipe "maxUrange < range of the sensor <=
+  // maxRange" is for, but gmapping's code drops such readings, and a lidar that reports no-returns
+  // as +inf (as REP 117 says, and the simulator does) then leaves everything it sees no end of
+  // unknown: down a corridor longer than its range the map stays unknown up to a metre or two
+  // ahead of the robot, and frontier exploration creeps along in short hops. NaN, -inf and
+  // readings at or below range_min still update nothing. 0: gmapping's behaviour. Not a gmapping
+  // parameter (slam_toolbox's clear_max_range).
+  int clearMaxRange = 0;
   double xmin = -100.0, ymin = -100.0, xmax = 100.0, ymax = 100.0;  // initial map extent
   double occ_thresh = 0.25;   // occupancy probability above which a cell is published occupied
   // Loop closure (loop_closer.h; not gmapping parameters): a pose graph of the best particle's

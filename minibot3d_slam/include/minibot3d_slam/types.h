@@ -35,8 +35,9 @@ inline Pose2 Between(const Pose2& a, const Pose2& b) {
 }
 
 // One laser scan, in the sensor's frame. Beams may come in any order and any field of view.
-// A reading that is NaN, ±inf, <= range_min or >= range_max is a no-return (it clears nothing
-// beyond maxUrange and marks nothing) — see RbpfSlam for how free space is traced on no-returns.
+// A reading that is NaN, ±inf, <= range_min or >= range_max is a no-return: it marks and clears
+// nothing, except that with GmappingOptions::clearMaxRange a +inf or >= range_max reading clears
+// free space out to maxUrange (ScanMatcher::Prepare).
 struct LaserScan {
   double time = 0.0;                 // s
   std::vector<double> ranges;        // m
