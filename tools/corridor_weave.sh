@@ -3,7 +3,7 @@
 # a private master and runs tools/corridor_weave.py, which sends a goal straight down a corridor
 # along +x and prints the lateral deviation, heading oscillation, angular-velocity sign changes per
 # metre and mean speed / max_vel_x.
-#   MODE=mapless (default): mapless_navigation.launch in minibot3d_sim/worlds/corridor.world (1.5 m
+#   MODE=mapless (default): mapless_navigation.launch in tools/worlds/corridor.world (1.5 m
 #     wide, 22 m long), start (0, 0), goal (19.5, 0) in odom, the global costmap widened to 48 m.
 #   MODE=explore: explore.launch (SLAM + frontier exploration) in the office world from (3, 19.5) in
 #     corridor B, no goal sent: records RECORD_S (120) s of sim time.
@@ -56,7 +56,7 @@ else
       -e 's/origin_x: -12.0/origin_x: -24.0/; s/origin_y: -12.0/origin_y: -24.0/' \
       minibot3d_bringup/config/global_costmap_mapless_params.yaml > "$costmap"
   roslaunch -p "$ROS_PORT" minibot3d_navigation mapless_navigation.launch \
-      world:="${WORLD:-$PWD/minibot3d_sim/worlds/corridor.world}" global_costmap_params:="$costmap" \
+      world:="${WORLD:-$PWD/tools/worlds/corridor.world}" global_costmap_params:="$costmap" \
       x:="$sx" y:="$sy" yaw:="$syaw" lockstep:=true real_time_factor:=0 \
       lockstep_participants:="/move_base /corridor_weave" ${LAUNCH_ARGS:-} \
       > "${OUT%.json}.launch.log" 2>&1 &
