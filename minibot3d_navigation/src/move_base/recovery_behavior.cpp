@@ -83,13 +83,10 @@ void BackOutRecovery::Start(const RobotState& state) {
     outcome_ = "no trail recorded: nothing to back along";
     return;
   }
-  // After oscillation the robot may still be making progress, unless its
-  // footprint already touches a lethal cell: then nothing but the way it came
-  // is known to be open.
-  const bool wedged = state.local_costmap != nullptr && !footprint_.empty() &&
-                      FootprintCost(*state.local_costmap, footprint_, state.local_pose) ==
-                          kLethalObstacle;
-  if (!state.control_failed && !wedged && CanTurnAt(state.local_costmap, state.local_pose)) {
+  // After oscillation or a planning failure the robot may still make
+  // progress, unless it cannot turn where it is (a wedged robot cannot: its
+  // own heading is one of those tried): then the way it came is the way out.
+  if (!state.control_failed && CanTurnAt(state.local_costmap, state.local_pose)) {
     outcome_ = "not needed: the local planner still finds commands and the robot can turn here";
     return;
   }
