@@ -266,14 +266,27 @@ double DistanceToTrail(const std::vector<Pose2D>& trail, const Pose2D& p) {
   return best;
 }
 
-TEST(BackOutRecovery, ReversesAlongTheTrailItDroveThrough) {
-  const std::vector<Pose2D> trail = ArcTrail();
-  Costmap2D costmap(80, 80, 0.05, -2.0, -2.0);
+// A robot at the end of `trail`, backing out on `costmap`.
+RobotState AtTrailEnd(const std::vector<Pose2D>& trail, const Costmap2D& costmap,
+                      bool control_failed) {
   RobotState state;
   state.local_pose = trail.back();
   state.local_costmap = &costmap;
   state.trail = &trail;
-  state.control_failed = true;
+  state.control_failed = control_failed;
+  return state;
+}
+
+void SetLethal(Costmap2D* costmap, double x, double y) {
+  int mx, my;
+  costmap->WorldToMapNoBounds(x, y, &mx, &my);
+  costmap->set_cost(mx, my, kLethalObstacle);
+}
+
+TEST(BackOutRecovery, ReversesAlongTheTrailItDroveThrough) {
+  const std::vector<Pose2D> trail = ArcTrail();
+  Costmap2D costmap(80, 80, 0.05, -2.0, -2.0);
+  RobotState state = AtTrailEnd(trail, costmap, /*control_failed=*/true);
   BackOutOptions o;
   o.distance = 0.6;
   BackOutRecovery rec("back_out", o, MakeCircleFootprint(0.12));
@@ -301,12 +314,9 @@ TEST(BackOutRecovery, ReversesAlongTheTrailItDroveThrough) {
 TEST(BackOutRecovery, DoesNothingAfterOscillationOrWithoutTrail) {
   const std::vector<Pose2D> trail = ArcTrail();
   Costmap2D costmap(80, 80, 0.05, -2.0, -2.0);
-  RobotState state;
-  state.local_pose = trail.back();
-  state.local_costmap = &costmap;
-  state.trail = &trail;
+  RobotState state = AtTrailEnd(trail, costmap, /*control_failed=*/false);
   BackOutRecovery rec("back_out", BackOutOptions(), MakeCircleFootprint(0.12));
-  state.control_failed = false;  // oscillation: reversing would undo progress
+  // Oscillation with room to turn: reversing would undo progress.
   EXPECT_EQ(RunRecovery(&rec, &state), 0);
   EXPECT_NE(rec.outcome().find("not needed"), std::string::npos) << rec.outcome();
   state.control_failed = true;
@@ -322,16 +332,9 @@ TEST(BackOutRecovery, BacksOutAfterOscillationWhenWedged) {
   Costmap2D costmap(80, 80, 0.05, -2.0, -2.0);
   const Footprint fp = MakeCircleFootprint(0.12);
   const Pose2D end = trail.back();
-  int mx, my;
   // An obstacle cell under the front of the footprint.
-  costmap.WorldToMapNoBounds(end.x + 0.11 * std::cos(end.yaw), end.y + 0.11 * std::sin(end.yaw),
-                             &mx, &my);
-  costmap.set_cost(mx, my, kLethalObstacle);
-  RobotState state;
-  state.local_pose = end;
-  state.local_costmap = &costmap;
-  state.trail = &trail;
-  state.control_failed = false;
+  SetLethal(&costmap, end.x + 0.11 * std::cos(end.yaw), end.y + 0.11 * std::sin(end.yaw));
+  RobotState state = AtTrailEnd(trail, costmap, /*control_failed=*/false);
   ASSERT_EQ(FootprintCost(costmap, fp, state.local_pose), kLethalObstacle);
   BackOutRecovery rec("back_out", BackOutOptions(), fp);
   EXPECT_GT(RunRecovery(&rec, &state), 0);
@@ -348,24 +351,15 @@ TEST(BackOutRecovery, LeavesADeadEndSlotLongerThanItsDistance) {
   // it cannot turn, so the route goes on to where it can; the grazed cells
   // do not stop it.
   Costmap2D costmap(120, 80, 0.05, -3.0, -2.0);
-  auto set = [&costmap](double x, double y) {
-    int mx, my;
-    costmap.WorldToMapNoBounds(x, y, &mx, &my);
-    costmap.set_cost(mx, my, kLethalObstacle);
-  };
   for (double x = 0.0; x <= 1.3; x += 0.025) {
-    set(x, 0.14);
-    set(x, -0.14);
+    SetLethal(&costmap, x, 0.14);
+    SetLethal(&costmap, x, -0.14);
   }
-  for (double y = -0.14; y <= 0.14; y += 0.025) set(1.3, y);
+  for (double y = -0.14; y <= 0.14; y += 0.025) SetLethal(&costmap, 1.3, y);
   const Footprint fp = {{0.12, 0.115}, {-0.12, 0.115}, {-0.12, -0.115}, {0.12, -0.115}};
   std::vector<Pose2D> trail;
   for (double x = -1.0; x <= 1.0 + 1e-9; x += 0.02) trail.push_back({x, 0.0, 0.0});
-  RobotState state;
-  state.local_pose = trail.back();
-  state.local_costmap = &costmap;
-  state.trail = &trail;
-  state.control_failed = true;
+  RobotState state = AtTrailEnd(trail, costmap, /*control_failed=*/true);
   BackOutOptions o;
   o.distance = 0.6;
   BackOutRecovery rec("back_out", o, fp);
@@ -388,11 +382,7 @@ TEST(BackOutRecovery, StopsBeforeSomethingNewOnItsWay) {
     costmap.WorldToMapNoBounds(0.85, 0.0, &mx, &unused);
     costmap.set_cost(mx, my, kLethalObstacle);
   }
-  RobotState state;
-  state.local_pose = trail.back();
-  state.local_costmap = &costmap;
-  state.trail = &trail;
-  state.control_failed = true;
+  RobotState state = AtTrailEnd(trail, costmap, /*control_failed=*/true);
   const Footprint fp = MakeCircleFootprint(0.12);
   BackOutRecovery rec("back_out", BackOutOptions(), fp);
   RunRecovery(&rec, &state);

@@ -191,9 +191,9 @@ TEST(ScanMatcherTest, CachedEvaluationEqualsFreshEvaluation) {
   }
 }
 
-TEST(ScanMatcherTest, PrepareClassifiesBeams) {
-  GmappingOptions o;
-  o.maxUrange = 5.0;
+// One beam of each kind, range_min 0.1, range_max 20: 1.0, NaN, +inf, 0, 0.05 (below
+// range_min), 7.0, 20.0 (at range_max), 25.0 (beyond), 2.0, -inf.
+LaserScan EveryKindOfReading() {
   LaserScan s;
   s.range_min = 0.1;
   s.range_max = 20.0;
@@ -201,6 +201,13 @@ TEST(ScanMatcherTest, PrepareClassifiesBeams) {
   const double inf = std::numeric_limits<double>::infinity();
   s.ranges = {1.0, nan, inf, 0.0, 0.05, 7.0, 20.0, 25.0, 2.0, -inf};
   for (std::size_t i = 0; i < s.ranges.size(); ++i) s.angles.push_back(0.1 * static_cast<double>(i));
+  return s;
+}
+
+TEST(ScanMatcherTest, PrepareClassifiesBeams) {
+  GmappingOptions o;
+  o.maxUrange = 5.0;
+  const LaserScan s = EveryKindOfReading();
   const PreparedScan p = ScanMatcher(o).Prepare(s);
   // 1.0, 7.0 (cut to 5, free only) and 2.0 remain; NaN, ±inf, 0, below range_min, at or beyond
   // range_max are no-returns.
@@ -223,13 +230,7 @@ TEST(ScanMatcherTest, ClearMaxRangeTurnsNoReturnsIntoFreeBeams) {
   GmappingOptions o;
   o.maxUrange = 5.0;
   o.clearMaxRange = 1;
-  LaserScan s;
-  s.range_min = 0.1;
-  s.range_max = 20.0;
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  const double inf = std::numeric_limits<double>::infinity();
-  s.ranges = {1.0, nan, inf, 0.0, 0.05, 7.0, 20.0, 25.0, 2.0, -inf};
-  for (std::size_t i = 0; i < s.ranges.size(); ++i) s.angles.push_back(0.1 * static_cast<double>(i));
+  const LaserScan s = EveryKindOfReading();
   const PreparedScan p = ScanMatcher(o).Prepare(s);
   // +inf, 20.0 (at range_max) and 25.0 now clear out to maxUrange and mark nothing; NaN, -inf, 0
   // and below range_min still update nothing.
