@@ -53,5 +53,9 @@ def test_demo_passes(world, tmp_path):
     reached = re.match(r'(\d+) of (\d+)', summary_value(out, 'goals reached'))
     assert reached and reached.group(1) == reached.group(2) and int(reached.group(2)) >= 4, \
         'goals on %s: %s' % (world, summary_value(out, 'goals reached'))
+    # Time against path length / max_vel_x (issue 14 item 5): no goal faster than the speed limit
+    # allows along the path the robot drove.
+    ratio = re.search(r'mean ([\d.]+) \(driven path', summary_value(out, 'time / (path / max_vel_x)'))
+    assert ratio and float(ratio.group(1)) >= 1.0, summary_value(out, 'time / (path / max_vel_x)')
     assert p.returncode == 0 and 'demo: all steps succeeded' in out, out[-3000:]
     assert os.path.getsize(tmp_path / 'out' / 'demo.png') > 10000

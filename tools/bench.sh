@@ -11,6 +11,8 @@ mkdir -p build/bench
 urdf=build/bench/minibot3d.urdf
 xacro minibot3d_description/urdf/minibot3d.xacro -o "$urdf"
 echo "== machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')"
+echo "== tree: $(git rev-parse --short HEAD 2>/dev/null || echo 'not a git checkout')$(git diff --quiet HEAD 2>/dev/null || echo ' with uncommitted changes'), started $(date -u '+%Y-%m-%d %H:%M UTC')"
+bench_start=$SECONDS
 
 echo "== simulator core (no ROS): 600 s of sim time driving a 1 m square in the default world,"
 echo "   lidar 360 beams at 10 Hz, physics step 1 ms, one core"
@@ -162,3 +164,5 @@ a, b = rows(sys.argv[1]), rows(sys.argv[2])
 print('RTF 1 and RTF 0: %s (%d trials each)' % ('identical results' if a == b else 'RESULTS DIFFER',
                                                len(a)))
 PY
+
+echo "== make bench took $(( (SECONDS - bench_start) / 60 )) min wall"

@@ -283,8 +283,11 @@ def navigate(args, lockstep):
               % (g[0], g[1], 'reached' if out.returncode == 0 else 'FAILED',
                  m.group(1) if m else '?', results[-1]['error'],
                  '%.3f' % amcl_err if amcl_err is not None else '?'), flush=True)
+    # The controller's speed limit, for the summary's time against path length / max_vel_x.
+    max_vel_x = rospy.get_param('/move_base/TrajectoryPlannerROS/max_vel_x', None)
     write_json(os.path.join(args.out, 'demo_nav.json'), dict(
-        localization_error=loc_error, goals=results, collisions=rec.collisions))
+        localization_error=loc_error, goals=results, collisions=rec.collisions,
+        max_vel_x=max_vel_x))
     return 0 if all(r['ok'] for r in results) else 1
 
 

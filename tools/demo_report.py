@@ -90,6 +90,30 @@ def coverage(reach, gres, gorigin, known, res, origin, spawn):
     return float(hit.mean())
 
 
+def path_length(path):
+    """Length (m) of a driven path, a list of [x, y, ...] points."""
+    if len(path) < 2:
+        return 0.0
+    p = np.asarray(path, dtype=float)[:, :2]
+    return float(np.hypot(*np.diff(p, axis=0).T).sum())
+
+
+def time_against_path(goals, max_vel_x):
+    """Each reached goal's sim time over the time its driven path takes at max_vel_x (1.0 would
+    be the whole way at full speed, no turning on the spot), and their mean."""
+    if not max_vel_x or max_vel_x <= 0:
+        return 'n/a (max_vel_x not recorded)'
+    ratios = []
+    for g in goals:
+        length = path_length(g['path'])
+        ratios.append(g['sim_s'] / (length / max_vel_x)
+                      if g['ok'] and g['sim_s'] and length > 0.05 else None)
+    known = [r for r in ratios if r is not None]
+    return '%s; mean %s (driven path, max_vel_x %.2f m/s)' % (
+        ', '.join('%.2f' % r if r is not None else '-' for r in ratios),
+        '%.2f' % np.mean(known) if known else 'n/a', max_vel_x)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--out', required=True)
@@ -154,6 +178,7 @@ def main():
                  ('goals reached', '%d of %d' % (len(reached), len(goals))),
                  ('time per goal', ', '.join('%.1f s' % g['sim_s'] if g['sim_s'] else '?'
                                              for g in goals) + ' (sim)'),
+                 ('time / (path / max_vel_x)', time_against_path(goals, nav.get('max_vel_x'))),
                  ('collisions while navigating', str(nav['collisions']))]
         if len(reached) != len(goals):
             failures.append('navigation (%d of %d goals)' % (len(reached), len(goals)))
