@@ -127,7 +127,8 @@ PY
   done
   /usr/bin/python3 minibot3d_slam/scripts/plot_map.py build/bench/carmen_s1/map.yaml \
     build/bench/carmen_s1/trajectory.txt build/bench/carmen_s1/map.png
-  echo "map with trajectory: build/bench/carmen_s1/map.png"
+  cp build/bench/carmen_s1/map.png docs/intel_map.png
+  echo "map with trajectory: build/bench/carmen_s1/map.png (README: docs/intel_map.png)"
 else
   echo "skipped: no CARMEN log at '${log}' (make bench BENCH_LOG=path/to/log.clf)"
 fi

@@ -15,6 +15,17 @@ goal SUCCEEDED (1 otherwise, 2 on bad arguments).
 
 sends a goal at (X, Y) with heading YAW (radians) in the named frame.
 
+    simple_navi_goals.py --frame map X Y YAW --wait-for-fix S [--spin-for-fix RAD_S]
+
+first waits, at most S seconds of ROS time, for a confident fix from amcl (issue 14: not a fixed
+number of turns): amcl's own claim on amcl/confidence (the scan explained at the estimate, one
+mode, evidence gathered over motion) and an amcl_pose covariance with cov_xx + cov_yy under
+--fix-covariance (0.05 m^2, make demo's threshold), both from messages received after the wait
+began.  With --spin-for-fix it turns on the spot at RAD_S while it waits (the motion amcl needs for
+evidence; it stops before sending the goal).  With --global-localization it first calls amcl's
+global_localization service, so the wait is for a fix found from nothing.  Without a fix in time it
+says what was missing and exits 1 without sending the goal.
+
 Under lock-step time (/use_lockstep, see minibot3d_lockstep) it is a participant: it waits for
 the server and the result on sim time that moves only when it is done looking, so a route of
 goals gives the same times in every run.
@@ -29,7 +40,10 @@ from minibot3d_lockstep import Participant, action_server_ready  # before rospy.
 import actionlib
 import rospy
 from actionlib_msgs.msg import GoalStatus
+from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
+from std_msgs.msg import Float32MultiArray
+from std_srvs.srv import Empty
 
 STATE_NAMES = {getattr(GoalStatus, n): n for n in (
     'PENDING', 'ACTIVE', 'PREEMPTED', 'SUCCEEDED', 'ABORTED', 'REJECTED',
@@ -47,6 +61,16 @@ def parse_args(argv):
                         help='give up (and cancel the goal) after S seconds of ROS time; '
                              '0 waits forever (default)')
     parser.add_argument('--server', default='move_base', help='action server name')
+    parser.add_argument('--wait-for-fix', type=float, default=0.0, metavar='S',
+                        help='before sending the goal, wait at most S seconds of ROS time for a '
+                             'confident amcl fix; 0 does not wait (default)')
+    parser.add_argument('--fix-covariance', type=float, default=0.05, metavar='M2',
+                        help='a fix needs cov_xx + cov_yy of amcl_pose under this (m^2; '
+                             'default 0.05, as make demo)')
+    parser.add_argument('--spin-for-fix', type=float, default=0.0, metavar='RAD_S',
+                        help='turn on the spot at RAD_S (cmd_vel) while waiting for the fix')
+    parser.add_argument('--global-localization', action='store_true',
+                        help="call amcl's global_localization service before waiting for the fix")
     parser.add_argument('values', nargs='+', type=float,
                         help='X W (seed form, frame base_link) or, with --frame, X Y YAW')
     args = parser.parse_args(argv)
@@ -58,7 +82,56 @@ def parse_args(argv):
         parser.error('goal values must be finite numbers')
     if args.timeout < 0.0:
         parser.error('--timeout must be >= 0')
+    if not math.isfinite(args.wait_for_fix) or args.wait_for_fix < 0.0:
+        parser.error('--wait-for-fix must be a finite number of seconds >= 0')
+    if not math.isfinite(args.fix_covariance) or args.fix_covariance <= 0.0:
+        parser.error('--fix-covariance must be a finite number > 0 (m^2)')
+    if not math.isfinite(args.spin_for_fix) or abs(args.spin_for_fix) > 2.0:
+        parser.error('--spin-for-fix must be a yaw rate in [-2, 2] rad/s')
+    if (args.spin_for_fix or args.global_localization) and not args.wait_for_fix:
+        parser.error('--spin-for-fix and --global-localization need --wait-for-fix S')
     return args
+
+
+def fix_problems(cov_xy, confidence, max_cov):
+    """What keeps amcl's estimate from being a confident fix (an empty list: it is one).
+    cov_xy: cov_xx + cov_yy of the latest amcl_pose; confidence: the latest amcl/confidence data
+    (explained_fraction, modes, confident, evidence_updates, beams_used); None: not received."""
+    if cov_xy is None or confidence is None:
+        return ['no %s received since the wait began' % ' or '.join(
+            n for n, v in (('amcl_pose', cov_xy), ('amcl/confidence', confidence)) if v is None)]
+    missing = []
+    if len(confidence) < 3 or confidence[2] < 0.5:
+        detail = ''
+        if len(confidence) >= 5:
+            detail = ' (explained fraction %.2f of %d beams, %d modes, %d evidence updates)' % (
+                confidence[0], confidence[4], confidence[1], confidence[3])
+        missing.append('amcl not confident%s' % detail)
+    if not cov_xy < max_cov:
+        missing.append('covariance cov_xx+cov_yy %.3g m^2 >= %g' % (cov_xy, max_cov))
+    return missing
+
+
+class FixWatch(object):
+    """The latest amcl_pose covariance and amcl/confidence, from after its creation."""
+
+    def __init__(self):
+        self.cov_xy = None
+        self.confidence = None
+        self._subs = [rospy.Subscriber('amcl_pose', PoseWithCovarianceStamped, self._on_pose),
+                      rospy.Subscriber('amcl/confidence', Float32MultiArray, self._on_confidence)]
+
+    def _on_pose(self, m):
+        self.cov_xy = m.pose.covariance[0] + m.pose.covariance[7]
+
+    def _on_confidence(self, m):
+        self.confidence = list(m.data)
+
+    def reset(self):
+        self.cov_xy = self.confidence = None
+
+    def problems(self, max_cov):
+        return fix_problems(self.cov_xy, self.confidence, max_cov)
 
 
 def make_goal(args):
@@ -87,8 +160,12 @@ def main():
     rospy.init_node('simple_navi_goals')
     goal = make_goal(args)
     client = actionlib.SimpleActionClient(args.server, MoveBaseAction)
-    lockstep = Participant(wake_topics=[args.server.rstrip('/') + '/result',
-                                        args.server.rstrip('/') + '/status'])
+    wake = [args.server.rstrip('/') + '/result', args.server.rstrip('/') + '/status']
+    if args.wait_for_fix:
+        args.fix_watch = FixWatch()
+        args.cmd_pub = rospy.Publisher('cmd_vel', Twist, queue_size=1) if args.spin_for_fix else None
+        wake += ['amcl_pose', 'amcl/confidence']
+    lockstep = Participant(wake_topics=wake)
     try:
         return run(args, goal, client, lockstep)
     finally:
@@ -100,6 +177,8 @@ def run(args, goal, client, lockstep):
     if not lockstep.wait_for(lambda: action_server_ready(client), args.timeout):
         rospy.logerr('No action server %s within %.1f s: is move_base running?',
                      args.server, args.timeout)
+        return 1
+    if args.wait_for_fix and not wait_for_fix(args, lockstep):
         return 1
     goal.target_pose.header.stamp = rospy.Time.now()
     rospy.loginfo('Sending Goals')
@@ -120,6 +199,40 @@ def run(args, goal, client, lockstep):
     log('Result: %s%s after %.2f s (%.2f s wall)', name, (' (%s)' % text) if text else '',
         elapsed_ros, elapsed_wall)
     return 0 if state == GoalStatus.SUCCEEDED else 1
+
+
+def wait_for_fix(args, lockstep):
+    """Waits for a confident fix (see the module doc); True when there is one."""
+    watch = args.fix_watch
+    if args.global_localization:
+        rospy.loginfo('Calling global_localization')
+        try:
+            rospy.wait_for_service('global_localization', 30.0)
+            rospy.ServiceProxy('global_localization', Empty)()
+        except (rospy.ROSException, rospy.ServiceException) as e:
+            rospy.logerr('global_localization failed: %s (is amcl running?)', e)
+            return False
+    watch.reset()  # a fix must come from estimates made after this point
+    rospy.loginfo('Waiting for a confident fix (at most %.1f s)', args.wait_for_fix)
+    start = rospy.Time.now()
+    spinning = [args.cmd_pub is not None]
+    if spinning[0]:
+        spin = Twist()
+        spin.angular.z = args.spin_for_fix
+        # At 10 Hz of sim time while waiting (the job stays, idle, once the wait is over).
+        lockstep.add_periodic(0.1, lambda now: args.cmd_pub.publish(spin) if spinning[0] else None)
+        args.cmd_pub.publish(spin)
+    ok = lockstep.wait_for(lambda: not watch.problems(args.fix_covariance), args.wait_for_fix)
+    if spinning[0]:
+        spinning[0] = False
+        args.cmd_pub.publish(Twist())
+    waited = (rospy.Time.now() - start).to_sec()
+    if not ok:
+        rospy.logerr('No confident fix within --wait-for-fix %.1f s: %s', args.wait_for_fix,
+                     '; '.join(watch.problems(args.fix_covariance)))
+        return False
+    rospy.loginfo('Confident fix after %.1f s (cov_xx+cov_yy %.3g m^2)', waited, watch.cov_xy)
+    return True
 
 
 if __name__ == '__main__':

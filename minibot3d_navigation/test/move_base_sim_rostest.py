@@ -7,7 +7,8 @@ default world, amcl started there, the map frame = the world frame:
  3. a goal inside a wall is ABORTED, and the status text says why;
  4. cancelling a goal mid-way stops the robot (PREEMPTED, ground-truth speed falls to ~0);
  5. a goal with an all-zero quaternion is rejected saying so; one with w = 2 is normalised and
-    reached, with feedback in the map frame.
+    reached, with feedback in the map frame; after global_localization, `simple_navi_goals.py
+    --wait-for-fix` turns on the spot until amcl claims a confident fix, then reaches its goal.
 No collisions are reported by the simulator during the whole run.  Every wait is on a condition
 (an action result, a message, a process exit) with a timeout, never a fixed sleep."""
 import math
@@ -177,6 +178,27 @@ class MoveBaseSim(unittest.TestCase):
                          self.client.get_goal_status_text())
         self.assertTrue(feedback, 'no feedback published')
         self.assertEqual(feedback[-1].base_position.header.frame_id, 'map')
+
+    def test_5b_goal_after_global_localization_waits_for_a_fix(self):
+        # Lost on purpose: the client calls global_localization, turns on the spot until amcl
+        # claims a confident fix, and only then sends its goal (issue 14 item 3).
+        x, y, yaw = GOALS[1]
+        finished, proc = self.lockstep.run(
+            '/simple_navi_goals',
+            ['rosrun', 'minibot3d_navigation', 'simple_navi_goals.py', '--frame', 'map',
+             str(x), str(y), str(yaw), '--global-localization', '--wait-for-fix', '120',
+             '--spin-for-fix', '0.6', '--timeout', '300'],
+            600.0, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
+        self.assertTrue(finished, 'simple_navi_goals.py did not finish within 600 s of sim time')
+        stdout, _ = proc.communicate(timeout=60)
+        self.assertEqual(proc.returncode, 0, stdout)
+        for text in ('Calling global_localization', 'Waiting for a confident fix',
+                     'Confident fix after', 'Sending Goals', 'SUCCEEDED'):
+            self.assertIn(text, stdout)
+        self.assertLess(stdout.index('Confident fix after'), stdout.index('Sending Goals'))
+        px, py, _ = self.truth.pose
+        self.assertLess(math.hypot(px - x, py - y), 0.3,
+                        'goal (%.2f, %.2f) reached at true (%.2f, %.2f):\n%s' % (x, y, px, py, stdout))
 
     def test_6_no_collisions(self):
         self.assertEqual(self.truth.collision_count, 0)
