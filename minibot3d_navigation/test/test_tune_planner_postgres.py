@@ -4,7 +4,8 @@ PostgreSQL (README "Past one machine").  A throw-away server (Debian's initdb + 
 two workers with their own output directories and sampler seeds run at once against one study,
 and every trial either ran must be in the study exactly once: as many COMPLETE trials as the
 workers' results.csv rows, no trial number twice, each with the value and settings its worker
-measured, no setting measured twice, and the two workers' trials overlapping in time.  Skipped only
+measured, no setting measured twice, and the two workers' trials overlapping in time.  Workers that
+start together on a fresh database all open the study (Optuna's schema is created once).  Skipped only
 when the PostgreSQL server binaries are not installed (Debian package `postgresql`)."""
 import csv
 import glob
@@ -73,8 +74,12 @@ class Server:
         # -w: pg_ctl returns once the server accepts connections (or fails after -t seconds).
         self.run('pg_ctl', '-D', self.data, '-l', self.log, '-w', '-t', '60', '-o',
                  "-c listen_addresses='' -k %s -c fsync=off" % self.dir, 'start')
-        self.run('createdb', '-h', self.dir, '-U', 'postgres', 'tune')
-        return 'postgresql://postgres@/tune?host=%s' % self.dir
+        return self.create_database('tune')
+
+    def create_database(self, name):
+        """A new, empty database; its URL."""
+        self.run('createdb', '-h', self.dir, '-U', 'postgres', name)
+        return 'postgresql://postgres@/%s?host=%s' % (name, self.dir)
 
     def stop(self):
         try:
@@ -85,16 +90,22 @@ class Server:
 
 
 @pytest.fixture
-def postgres_url():
+def postgres_server():
     bindir = postgres_bin_dir()
     if bindir is None:
         pytest.skip('PostgreSQL server binaries not found under /usr/lib/postgresql/*/bin '
                     '(Debian package postgresql; make setup installs it)')
     server = Server(bindir)
     try:
-        yield server.start()
+        server.url = server.start()
+        yield server
     finally:
         server.stop()
+
+
+@pytest.fixture
+def postgres_url(postgres_server):
+    return postgres_server.url
 
 
 def read_rows(out):
@@ -166,3 +177,29 @@ def test_two_workers_share_one_study_on_postgresql(tmp_path, postgres_url):
     a, b = spans['a'], spans['b']
     assert min(t.datetime_start for t in a) < max(t.datetime_complete for t in b)
     assert min(t.datetime_start for t in b) < max(t.datetime_complete for t in a)
+
+
+OPEN_STUDY = '''
+import sys
+sys.path.insert(0, sys.argv[1])
+import optuna
+from minibot3d_navigation.tuning import study
+optuna.logging.set_verbosity(optuna.logging.WARNING)
+study.open_study(optuna, 'race', sys.argv[2], optuna.samplers.RandomSampler(seed=1))
+'''
+
+
+def test_workers_starting_together_on_a_fresh_database_all_open_the_study(postgres_server):
+    """Optuna creates its schema on first use, and workers started together race to create it
+    (a worker failed with 'relation "studies" already exists'). Six processes open one study at
+    once on each of three fresh databases: every one must get it."""
+    import optuna
+    for db in ('race1', 'race2', 'race3'):
+        url = postgres_server.create_database(db)
+        procs = [subprocess.Popen([sys.executable, '-c', OPEN_STUDY, os.path.join(HERE, '..', 'src'),
+                                   url], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                  universal_newlines=True) for _ in range(6)]
+        outs = [p.communicate(timeout=300)[0] for p in procs]
+        for p, out in zip(procs, outs):
+            assert p.returncode == 0, 'a worker could not open the study on %s:\n%s' % (db, out)
+        assert optuna.load_study(study_name='race', storage=url).study_name == 'race'

@@ -342,19 +342,35 @@ def optuna_space(sweeps):
     return space
 
 
-def open_study(optuna, study_name, storage, sampler, attempts=5):
-    """Creates the study, or loads it if another worker has.  Workers started together on a fresh
-    database race to create Optuna's schema: on PostgreSQL the loser's CREATE TYPE fails with a
-    unique violation on pg_type once the winner's transaction commits.  The schema is then there,
-    so the loser tries again (create_all skips what exists), a bounded number of times."""
-    import sqlalchemy.exc
-    for attempt in range(attempts):
-        try:
-            return optuna.create_study(study_name=study_name, storage=storage, sampler=sampler,
-                                       direction='minimize', load_if_exists=True)
-        except sqlalchemy.exc.IntegrityError:
-            if attempt == attempts - 1:
-                raise
+# Key of the PostgreSQL advisory lock that serialises opening studies (any 64-bit number that no
+# other application on the same database uses for its own lock).
+SCHEMA_LOCK_KEY = 0x6d696e69626f7433  # "minibot3"
+
+
+def open_study(optuna, study_name, storage, sampler):
+    """Creates the study, or loads it if another worker has.  Optuna creates its schema on a
+    database's first use, and workers started together on a fresh database race to create it: the
+    loser's CREATE TABLE or CREATE TYPE fails ('relation "studies" already exists', or a unique
+    violation on pg_type).  On PostgreSQL the workers therefore take turns, holding a session-level
+    advisory lock (pg_advisory_lock: the next worker blocks until the holder has committed the
+    schema and its study), so the second finds both in place.  Other databases (SQLite, for one
+    machine) open the study directly."""
+    if not str(storage).startswith('postgresql'):
+        return optuna.create_study(study_name=study_name, storage=storage, sampler=sampler,
+                                   direction='minimize', load_if_exists=True)
+    import sqlalchemy
+    engine = sqlalchemy.create_engine(storage, poolclass=sqlalchemy.pool.NullPool)
+    try:
+        with engine.connect() as conn:
+            conn.execute(sqlalchemy.text('SELECT pg_advisory_lock(:key)'), {'key': SCHEMA_LOCK_KEY})
+            try:
+                return optuna.create_study(study_name=study_name, storage=storage, sampler=sampler,
+                                           direction='minimize', load_if_exists=True)
+            finally:
+                conn.execute(sqlalchemy.text('SELECT pg_advisory_unlock(:key)'),
+                             {'key': SCHEMA_LOCK_KEY})
+    finally:
+        engine.dispose()
 
 
 def run_optuna(setup, sweeps, repeats, results, jobs, registry, stop, storage, study_name,
