@@ -173,6 +173,14 @@ def test_mapless_navigation_has_an_odom_costmap_and_no_map():
     assert (p[g + 'width'], p[g + 'height']) == (24.0, 24.0)
     assert (p[g + 'origin_x'], p[g + 'origin_y']) == (-12.0, -12.0)
     assert p['/move_base/NavfnROS/allow_unknown'] is True
+    # Pockets met without a map: back_out, remembered blocked stretches, recovery reset (loaded
+    # over move_base_params.yaml, which leaves them off for the mapped stacks).
+    assert os.path.realpath(os.path.join(ROOT, 'config', 'move_base_mapless_params.yaml')) in files
+    assert p['/move_base/back_out_distance'] == 0.6
+    assert p['/move_base/blocked_radius'] == 0.2
+    assert p['/move_base/recovery_reset_distance'] == 0.5
+    for k in ('back_out_distance', 'blocked_radius', 'recovery_reset_distance'):
+        assert '/' + k in move_base_parameter_names()
     assert p['/use_lockstep'] is False
     types = sorted(n.type for n in config.nodes)
     assert 'amcl' not in types and 'map_server' not in types
@@ -182,6 +190,10 @@ def test_mapless_navigation_has_an_odom_costmap_and_no_map():
     unknown = [k for k in p if k.startswith(g) and k[len('/move_base/'):] not in names
                and k != g + 'observation_sources' and not k.startswith(g + 'laser_scan_sensor')]
     assert not unknown, unknown
+
+    config, _ = load(os.path.join(ROOT, 'minibot3d_navigation', 'launch',
+                                  'mapless_navigation.launch'), *HEADLESS, 'pocket_recoveries:=false')
+    assert '/move_base/back_out_distance' not in config.params
 
     config, _ = load(os.path.join(ROOT, 'minibot3d_navigation', 'launch',
                                   'mapless_navigation.launch'),

@@ -494,10 +494,10 @@ TEST(DwaPlannerTest, CentripetalLimitKeepsFastArcsWide) {
 }
 
 TEST(DwaPlannerTest, FastRobotCarriedIntoTheBandBrakes) {
-  // Moving at 0.8 m/s towards a wall 0.26 m to the left, at 20 degrees, the
-  // front corner already in the inscribed band (slip, a late costmap):
-  // nothing keeps the outline out of the band, so the first pass
-  // fails.  The way out is for creeping robots; a fast one brakes.
+  // Moving at 0.8 m/s towards a wall 0.23 m to the left, at 20 degrees, the
+  // front corner 7 cm from it, deep in the inscribed band (slip, a late
+  // costmap): no command keeps the margin a fast robot needs, so the first
+  // pass fails.  The way out is for creeping robots; a fast one brakes.
   Costmap2D map = EmptyMap(6.0, 3.0);
   AddBox(&map, 0.0, 1.5, 6.0, 3.0);
   Inflate(&map);
@@ -508,7 +508,7 @@ TEST(DwaPlannerTest, FastRobotCarriedIntoTheBandBrakes) {
   const Path plan = PolylinePlan({{1.0, 1.24}, {5.0, 1.24}}, 0.0);
   Twist2D v;
   v.vx = 0.8;
-  const Twist2D cmd = planner.ComputeVelocity({1.0, 1.24, 0.35}, v, plan, map);
+  const Twist2D cmd = planner.ComputeVelocity({1.0, 1.27, 0.35}, v, plan, map);
   EXPECT_LT(cmd.vx, v.vx);
   EXPECT_NEAR(cmd.vx, v.vx - o.acc_lim_x / o.controller_frequency, 1e-9);
   EXPECT_EQ(cmd.vtheta, 0.0);
@@ -516,7 +516,7 @@ TEST(DwaPlannerTest, FastRobotCarriedIntoTheBandBrakes) {
   Twist2D slow;
   slow.vx = 0.05;
   DwaPlanner creeping(o, kFootprint);
-  const Twist2D way_out = creeping.ComputeVelocity({1.0, 1.24, 0.35}, slow, plan, map);
+  const Twist2D way_out = creeping.ComputeVelocity({1.0, 1.27, 0.35}, slow, plan, map);
   EXPECT_TRUE(way_out.vtheta < 0.0 || way_out.vx < 0.0)
       << "turns or backs away from the wall: " << way_out.vx << " " << way_out.vtheta;
 }
@@ -644,14 +644,17 @@ void ExpectStopsInFrontOfWall(const DwaOptions& o, const char* label) {
   EXPECT_FALSE(r.reached);
   EXPECT_LT(r.max_cost, kLethalObstacle) << "the footprint touched the wall";
   EXPECT_GT(r.max_speed, 0.9) << "never got fast, the test proves nothing";
-  // The outline never enters a wall cell; at speed it keeps out of the
-  // inscribed band (0.125 m), only creeping may come closer.
+  // The outline never enters a wall cell; faster than creeping it keeps a
+  // margin growing linearly from 0 at min_vel_x to the whole inscribed band
+  // (0.125 m) at max_vel_x (half a cell's slack for the grid).
   double closest = 0.0;
   for (size_t i = 0; i < r.track.size(); ++i) {
     const Pose2D& p = r.track[i];
     EXPECT_LT(p.x + 0.13, 5.0);
-    if (r.speeds[i] > 0.1 + 1e-6) {
-      EXPECT_LT(p.x + 0.13, 5.0 - kInscribed + 0.025) << "at " << r.speeds[i] << " m/s";
+    if (r.speeds[i] > o.min_vel_x + 1e-6) {
+      const double margin = kInscribed * std::min(1.0, (r.speeds[i] - o.min_vel_x) /
+                                                           (o.max_vel_x - o.min_vel_x));
+      EXPECT_LT(p.x + 0.13, 5.0 - margin + 0.025) << "at " << r.speeds[i] << " m/s";
     }
     closest = std::max(closest, p.x + 0.13);
   }
@@ -781,6 +784,43 @@ TEST(DwaTightSpacesTest, BetweenTableLegsFortyTwoCentimetresApart) {
                     "table legs 0.42 m apart");
 }
 
+TEST(DwaTightSpacesTest, ThroughAGapBetweenPostsFasterThanCreeping) {
+  // A row of thin posts (0.05 m cells) across y = 3 with a 0.40 m gap at
+  // x in [2.80, 3.20]: narrower than the robot (0.25 m) plus two inscribed
+  // radii, so the outline has to enter the inscribed band.  It used to cross
+  // at creeping speed (0.1 m/s) only; now its margin shrinks with speed and
+  // it crosses at the speed the gap allows, never nearer a post than that
+  // speed's margin (linear from 0 at min_vel_x to 0.125 m at max_vel_x).
+  // The rule reads distances between cell centres (the outline's cells, the
+  // posts' cells): up to half a cell plus half a diagonal (0.06 m) more than
+  // the geometric clearance checked here.
+  Costmap2D map = EmptyMap(6.0, 6.0);
+  for (double x = 0.2; x < 2.8; x += 0.4) AddBox(&map, x, 2.95, x + 0.05, 3.0);
+  AddBox(&map, 2.75, 2.95, 2.80, 3.0);
+  AddBox(&map, 3.20, 2.95, 3.25, 3.0);
+  for (double x = 3.6; x < 5.9; x += 0.4) AddBox(&map, x, 2.95, x + 0.05, 3.0);
+  Inflate(&map);
+  const DwaOptions o = ShippedOptions(0.5);
+  DwaPlanner planner(o, kFootprint);
+  const Path plan = PolylinePlan({{3.0, 1.0}, {3.0, 5.0}}, kPi / 2);
+  const SimResult r = Simulate(&planner, map, {3.0, 1.0, kPi / 2}, plan, 60.0);
+  ASSERT_TRUE(r.reached) << r.error << " at (" << r.pose.x << ", " << r.pose.y << ")";
+  EXPECT_LT(r.max_cost, kLethalObstacle);
+  double crossing_speed = 1e9;
+  for (size_t i = 0; i < r.track.size(); ++i) {
+    const Pose2D& p = r.track[i];
+    if (std::fabs(p.y - 2.975) > 0.15) continue;  // the outline is level with the posts
+    crossing_speed = std::min(crossing_speed, r.speeds[i]);
+    // Outline to the nearer post cell, sideways (the robot drives along y).
+    const double clearance = std::min(p.x - 0.125 - 2.80, 3.20 - (p.x + 0.125));
+    const double margin = kInscribed * std::clamp((r.speeds[i] - o.min_vel_x) /
+                                                      (o.max_vel_x - o.min_vel_x), 0.0, 1.0);
+    EXPECT_GT(clearance, margin - 0.06) << "at " << r.speeds[i] << " m/s, x " << p.x;
+  }
+  ASSERT_LT(crossing_speed, 1e9) << "never between the posts";
+  EXPECT_GT(crossing_speed, 0.15) << "crept through a gap it has room to drive through";
+}
+
 TEST(DwaPlannerTest, ARobotTouchingAWallSlidesAwayInsteadOfFreezing) {
   // Localization error has put the robot's right side on a wall cell, parallel
   // to the wall; the plan runs along it.  Every move touches a wall cell in
@@ -805,6 +845,29 @@ TEST(DwaPlannerTest, ARobotTouchingAWallSlidesAwayInsteadOfFreezing) {
   // Turning away swings the rear corner towards the wall by at most a quarter
   // cell; the outline never reaches a wall cell's centre (y = 0.475).
   EXPECT_GE(lowest - 0.125, 0.475) << "got closer to the wall than allowed";
+}
+
+TEST(DwaPlannerTest, ARobotWithinAQuarterCellOfAWallStillMovesAway) {
+  // As above, but 1 cm from the wall cells' centres (under the quarter cell
+  // the rule keeps as a floor): every first step away is still nearer than a
+  // quarter cell, and the robot used to freeze there ("first collision after
+  // 0.00 m", backing up too), as in a clutter world where it crept up to a
+  // post.  Now it may go as near as half its distance, and drives on along
+  // the plan, edging no nearer.
+  Costmap2D map = EmptyMap(8.0, 3.0);
+  AddBox(&map, 0.0, 0.0, 8.0, 0.5);
+  Inflate(&map);
+  const Pose2D start{1.0, 0.61, 0.0};
+  ASSERT_EQ(FootprintCost(map, kFootprint, start), kLethalObstacle);
+  const Path plan = PolylinePlan({{1.0, 0.61}, {4.0, 0.9}, {7.0, 0.9}}, 0.0);
+  DwaPlanner planner(ShippedOptions(0.5), kFootprint);
+  const SimResult r = Simulate(&planner, map, start, plan, 20.0);
+  EXPECT_FALSE(r.control_error) << r.error;
+  EXPECT_GT(r.pose.x - start.x, 1.0) << "froze beside the wall";
+  EXPECT_GE(r.pose.y, start.y) << "ended nearer the wall";
+  double lowest = 1e9;
+  for (const Pose2D& p : r.track) lowest = std::min(lowest, p.y);
+  EXPECT_GE(lowest - 0.125, 0.475 + 0.005 - 1e-6) << "got closer to the wall than allowed";
 }
 
 void ExpectRotatesToGoalYaw(double controller_frequency) {

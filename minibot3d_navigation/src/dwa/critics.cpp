@@ -306,31 +306,51 @@ double ObstacleCostCritic::Clearance(const Pose2D& pose) const {
   return nearest;
 }
 
+double ObstacleCostCritic::RequiredClearance(double speed) const {
+  if (speed <= tight_speed_ + 1e-9) return 0.0;
+  if (full_margin_speed_ <= tight_speed_ + 1e-9 || speed >= full_margin_speed_) {
+    return band_width_;
+  }
+  return band_width_ * (speed - tight_speed_) / (full_margin_speed_ - tight_speed_);
+}
+
 int ObstacleCostCritic::Check(const Trajectory& traj, double* collision_distance,
                               double* band_depth) const {
   // The outline must not touch a lethal or unknown cell. It may enter the
   // inscribed band (cost 253: within one inscribed radius of an obstacle)
-  // only at creeping speed: through a door the robot fits through it slows
-  // down, and at speed it keeps a margin of one inscribed radius for slip
-  // and for obstacles the costmap shows late.  An escape (backing out of the
-  // band) and turns on the spot only have to avoid lethal cells.
-  const bool creeping = std::max(std::fabs(traj.command.vx), std::fabs(traj.start_vx)) <=
-                        tight_speed_ + 1e-9;
-  const int limit = traj.kind == TrajectoryKind::kEscape || lethal_only_ || creeping
-                        ? kLethalObstacle
-                        : kInscribedInflatedObstacle;
+  // keeping a margin that grows with speed: none at creeping speed, the whole
+  // band from full_margin_speed on (RequiredClearance).  Through a gap the
+  // robot fits through it slows down as far as the gap asks, and at speed
+  // it keeps a margin of one inscribed radius for slip and for obstacles the
+  // costmap shows late.  An escape (backing out of the band) and turns on the
+  // spot only have to avoid lethal cells.
+  const double speed = std::max(std::fabs(traj.command.vx), std::fabs(traj.start_vx));
+  const double margin =
+      traj.kind == TrajectoryKind::kEscape || lethal_only_ ? 0.0 : RequiredClearance(speed);
+  const bool whole_band = margin > 0.0 && margin >= band_width_;
+  const int limit = whole_band ? kInscribedInflatedObstacle : kLethalObstacle;
+  // Inside the band, a pose nearer to a lethal cell than the margin is
+  // rejected like a collision.
+  auto too_close = [&](int c, const Pose2D& pose) {
+    return c == kInscribedInflatedObstacle && margin > 0.0 && !whole_band &&
+           Clearance(pose) < margin - 1e-6;
+  };
   // A robot already within a cell of a lethal cell (a few centimetres of
   // localization error or slip beside a wall it passed at a cell's distance)
   // has every move touch one in the cell grid.  There a pose may touch lethal
   // cells if its outline stays within a quarter cell of the start's distance
   // to their centres (turning away from a wall swings the rear corner towards
-  // it first), never nearer than a quarter cell, and the rollout must end with
-  // its centre no nearer to them than at the start: the robot slides along
-  // the wall or edges away, never turns or creeps into it.
+  // it first), never nearer than a quarter cell (or, for a robot already
+  // nearer than that, than half its distance: a fixed floor above the start's
+  // distance froze it, every first step away still being under the floor),
+  // and the rollout must end with its centre no nearer to them than at the
+  // start: the robot slides along the wall or edges away, never turns or
+  // creeps into it.
   const double res = costmap_->resolution();
   const double start_clearance = StartClearance(traj.poses.front());
   const bool near_lethal = start_clearance < res;
-  const double floor = std::max(0.25 * res, start_clearance - 0.25 * res);
+  const double floor = std::max(std::min(0.25 * res, 0.5 * start_clearance),
+                                start_clearance - 0.25 * res);
   bool relaxed = false;
   auto cost_at = [&](const Pose2D& pose) {
     int c = FootprintCost(*costmap_, footprint_, pose);
@@ -345,7 +365,7 @@ int ObstacleCostCritic::Check(const Trajectory& traj, double* collision_distance
   // The start pose is where the robot already is: not checked.
   for (size_t i = 1; i < traj.poses.size(); ++i) {
     const int c = cost_at(traj.poses[i]);
-    if (c < 0 || c >= limit) {
+    if (c < 0 || c >= limit || too_close(c, traj.poses[i])) {
       if (collision_distance != nullptr) {
         *collision_distance = ArcLength(traj.poses, i);
       }
@@ -367,7 +387,7 @@ int ObstacleCostCritic::Check(const Trajectory& traj, double* collision_distance
   if (band_depth != nullptr) *band_depth = depth;
   for (size_t i = 0; i < traj.braking_poses.size(); ++i) {
     const int c = cost_at(traj.braking_poses[i]);
-    if (c < 0 || c >= limit) {
+    if (c < 0 || c >= limit || too_close(c, traj.braking_poses[i])) {
       if (collision_distance != nullptr) {
         *collision_distance = traj.braking_start_distance +
                               ArcLength(traj.braking_poses, i);

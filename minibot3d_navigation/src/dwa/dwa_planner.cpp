@@ -113,6 +113,7 @@ DwaPlanner::DwaPlanner(const DwaOptions& options, const Footprint& footprint)
                &obstacle_critic_} {
   oscillation_critic_.set_scale(0.0);
   obstacle_critic_.set_tight_speed(CreepSpeed());
+  obstacle_critic_.set_full_margin_speed(options_.max_vel_x);
 }
 
 void DwaPlanner::Reset() {

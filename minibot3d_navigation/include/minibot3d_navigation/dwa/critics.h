@@ -21,16 +21,24 @@
 //                      its outline touches a lethal (254) or unknown cell, as
 //                      base_local_planner's CostmapModel decides.  The
 //                      inscribed band (253: the outline within one inscribed
-//                      radius of an obstacle) is a cost, not a wall, but
-//                      only at creeping speed: a rollout whose outline enters
-//                      it must have |vx| <= tight_speed (turns on the spot
-//                      always may), so the robot slows to get through a door
-//                      it fits through and keeps its margin at speed, where
-//                      slip and a late costmap matter.  A robot already
+//                      radius of an obstacle) is a cost, not a wall, with a
+//                      margin that grows with speed: a rollout whose outline
+//                      enters it must keep the outline at least
+//                        band * (|vx| - tight_speed) / (full_margin_speed - tight_speed)
+//                      from the nearest lethal cell (band: the band's width),
+//                      so at |vx| <= tight_speed (and on turns on the spot)
+//                      only lethal cells count and from full_margin_speed
+//                      (max_vel_x) on the whole band is kept.  The robot slows
+//                      down in proportion to the room it has, rather than to
+//                      creeping speed as soon as a gap is narrower than the
+//                      robot plus two inscribed radii, and keeps its whole
+//                      margin at full speed, where slip and a late costmap
+//                      matter most.  A robot already
 //                      within a cell of a lethal cell (localization error)
 //                      may touch lethal cells on poses within a quarter cell
 //                      of its distance to them (never nearer than a quarter
-//                      cell), its centre ending no closer: it can edge away
+//                      cell, or half its distance if it is already nearer),
+//                      its centre ending no closer: it can edge away
 //                      or slide along, not turn or creep into the wall.
 //  OscillationCritic   TrajectoryPlanner's oscillation flags: after an
 //                      in-place rotation one way and then the other, the
@@ -114,8 +122,15 @@ class ObstacleCostCritic : public TrajectoryCritic {
   // false (default): the outline may enter the inscribed band (253) only at
   // |vx| <= tight_speed; true: only lethal cells (254) collide, at any speed.
   void set_lethal_only(bool lethal_only) { lethal_only_ = lethal_only; }
-  // The fastest |vx| at which the outline may enter the inscribed band.
+  // The fastest |vx| at which the outline may come as near a lethal cell as
+  // it likes (creeping), and the |vx| from which it keeps the whole inscribed
+  // band; in between the margin grows linearly.
   void set_tight_speed(double tight_speed) { tight_speed_ = tight_speed; }
+  void set_full_margin_speed(double speed) { full_margin_speed_ = speed; }
+  // The clearance (m) the outline must keep from lethal cells at |vx| = speed
+  // (0 up to tight_speed, the band's width from full_margin_speed); the band
+  // width comes from the last Prepare/SetCostmap.
+  double RequiredClearance(double speed) const;
 
  private:
   // Worst cost, or -1 with *collision_distance set (if non-null); in
@@ -136,6 +151,7 @@ class ObstacleCostCritic : public TrajectoryCritic {
   double nearest_collision_ = 0.0;
   bool lethal_only_ = false;
   double tight_speed_ = 0.0;
+  double full_margin_speed_ = 0.0;
   // Distance (m, cell centres, 8-neighbour chamfer) from each cell to the
   // nearest lethal cell, and the inscribed band's width: the largest such
   // distance among cells of cost 253.
