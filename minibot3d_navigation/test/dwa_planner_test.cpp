@@ -332,6 +332,14 @@ TEST(DwaPlannerTest, ConstructorValidatesOptionsAndFootprint) {
   }
   EXPECT_THROW(DwaPlanner(DwaOptions(), Footprint{{0, 0}, {1, 0}}),
                std::invalid_argument);
+  DwaOptions no_margin;
+  no_margin.full_margin_vel = 0.0;
+  try {
+    DwaPlanner p(no_margin, kFootprint);
+    FAIL() << "full_margin_vel 0 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("full_margin_vel"), std::string::npos) << e.what();
+  }
 }
 
 TEST(DwaPlannerTest, ErrorsSayWhy) {
@@ -646,15 +654,18 @@ void ExpectStopsInFrontOfWall(const DwaOptions& o, const char* label) {
   EXPECT_GT(r.max_speed, 0.9) << "never got fast, the test proves nothing";
   // The outline never enters a wall cell; faster than creeping it keeps a
   // margin growing linearly from 0 at min_vel_x to the whole inscribed band
-  // (0.125 m) at max_vel_x (half a cell's slack for the grid).
+  // (0.125 m) at full_margin_vel.  The rule measures between cell centres
+  // (the outline's cell, the wall's cell, whose centre is 0.025 m inside the
+  // wall): up to a cell (0.05 m) more than the geometric gap checked here.
   double closest = 0.0;
   for (size_t i = 0; i < r.track.size(); ++i) {
     const Pose2D& p = r.track[i];
     EXPECT_LT(p.x + 0.13, 5.0);
     if (r.speeds[i] > o.min_vel_x + 1e-6) {
-      const double margin = kInscribed * std::min(1.0, (r.speeds[i] - o.min_vel_x) /
-                                                           (o.max_vel_x - o.min_vel_x));
-      EXPECT_LT(p.x + 0.13, 5.0 - margin + 0.025) << "at " << r.speeds[i] << " m/s";
+      const double full = std::min(o.full_margin_vel, o.max_vel_x);
+      const double margin =
+          kInscribed * std::min(1.0, (r.speeds[i] - o.min_vel_x) / (full - o.min_vel_x));
+      EXPECT_LT(p.x + 0.13, 5.0 - margin + 0.05) << "at " << r.speeds[i] << " m/s";
     }
     closest = std::max(closest, p.x + 0.13);
   }

@@ -52,7 +52,8 @@ const options::OptionTable<O>& Table() {
        Field("escape_reset_theta", &O::escape_reset_theta),
        Field("prune_plan", &O::prune_plan),
        Field("rotate_to_path_angle", &O::rotate_to_path_angle),
-       Field("max_centripetal_acc", &O::max_centripetal_acc)});
+       Field("max_centripetal_acc", &O::max_centripetal_acc),
+       Field("full_margin_vel", &O::full_margin_vel)});
   return table;
 }
 
@@ -247,6 +248,7 @@ void ValidateDwaOptions(const DwaOptions& o) {
   non_negative("escape_reset_theta", o.escape_reset_theta);
   positive("rotate_to_path_angle", o.rotate_to_path_angle);
   non_negative("max_centripetal_acc", o.max_centripetal_acc);
+  positive("full_margin_vel", o.full_margin_vel);
 
   // A rollout shorter than one control period would leave the robot
   // unchecked for the rest of the period.

@@ -113,7 +113,7 @@ DwaPlanner::DwaPlanner(const DwaOptions& options, const Footprint& footprint)
                &obstacle_critic_} {
   oscillation_critic_.set_scale(0.0);
   obstacle_critic_.set_tight_speed(CreepSpeed());
-  obstacle_critic_.set_full_margin_speed(options_.max_vel_x);
+  obstacle_critic_.set_full_margin_speed(std::min(options_.full_margin_vel, options_.max_vel_x));
 }
 
 void DwaPlanner::Reset() {

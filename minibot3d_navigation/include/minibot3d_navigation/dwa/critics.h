@@ -28,7 +28,8 @@
 //                      from the nearest lethal cell (band: the band's width),
 //                      so at |vx| <= tight_speed (and on turns on the spot)
 //                      only lethal cells count and from full_margin_speed
-//                      (max_vel_x) on the whole band is kept.  The robot slows
+//                      (min(full_margin_vel, max_vel_x)) on the whole band
+//                      is kept.  The robot slows
 //                      down in proportion to the room it has, rather than to
 //                      creeping speed as soon as a gap is narrower than the
 //                      robot plus two inscribed radii, and keeps its whole

@@ -103,6 +103,15 @@ struct DwaOptions {
   // wheel odometry under-reports the turn.  Fast commands then have to slow
   // down before they turn hard, as a car does.
   double max_centripetal_acc = 0.0;
+  // m/s (not in TrajectoryPlannerROS): the speed from which the footprint's
+  // outline keeps the whole inscribed band (one inscribed radius) from
+  // obstacles; below it the margin shrinks linearly, to none at creeping
+  // speed (max(min_vel_x, |escape_vel|)), so the robot drives through a gap
+  // as fast as the room it has allows instead of creeping as soon as the
+  // band is entered.  The margin is for slip and for obstacles the costmap
+  // shows late, both of which grow with the speed actually driven, so it is
+  // a speed, not a fraction of max_vel_x (min(this, max_vel_x) is used).
+  double full_margin_vel = 0.5;
 };
 
 // Throws std::invalid_argument whose message lists every offending parameter
