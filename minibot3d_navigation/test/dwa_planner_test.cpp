@@ -282,6 +282,29 @@ TEST(TrajectoryGeneratorTest, BrakingTailRejectsCommandsThatCannotStop) {
   EXPECT_FALSE(planner.last_trajectory().braking_poses.empty());
 }
 
+TEST(DwaCriticsTest, RequiredClearanceGrowsWithSpeedFromCreepingToFullMargin) {
+  Costmap2D map = EmptyMap(4.0, 2.0);
+  AddBox(&map, 2.0, 0.0, 2.2, 2.0);
+  Inflate(&map);
+  ObstacleCostCritic critic(kFootprint);
+  critic.SetCostmap(map);
+  critic.set_tight_speed(0.1);
+  critic.set_full_margin_speed(0.5);
+  const double band = critic.RequiredClearance(10.0);
+  // The band's width, read from the costmap: one inscribed radius, to a cell.
+  EXPECT_NEAR(band, kInscribed, 0.05);
+  EXPECT_EQ(critic.RequiredClearance(0.0), 0.0);
+  EXPECT_EQ(critic.RequiredClearance(0.1), 0.0);  // creeping: lethal cells only
+  EXPECT_NEAR(critic.RequiredClearance(0.3), 0.5 * band, 1e-12);
+  EXPECT_NEAR(critic.RequiredClearance(0.5), band, 1e-12);
+  EXPECT_NEAR(critic.RequiredClearance(0.8), band, 1e-12);
+  // A full-margin speed at or below creeping: the whole band above it (the
+  // rule before full_margin_vel).
+  critic.set_full_margin_speed(0.1);
+  EXPECT_EQ(critic.RequiredClearance(0.1), 0.0);
+  EXPECT_NEAR(critic.RequiredClearance(0.11), band, 1e-12);
+}
+
 // --- map grid ---
 
 TEST(MapGridTest, BreadthFirstDistancesAvoidObstacles) {
@@ -801,7 +824,8 @@ TEST(DwaTightSpacesTest, ThroughAGapBetweenPostsFasterThanCreeping) {
   // radii, so the outline has to enter the inscribed band.  It used to cross
   // at creeping speed (0.1 m/s) only; now its margin shrinks with speed and
   // it crosses at the speed the gap allows, never nearer a post than that
-  // speed's margin (linear from 0 at min_vel_x to 0.125 m at max_vel_x).
+  // speed's margin (linear from 0 at min_vel_x to 0.125 m at
+  // min(full_margin_vel, max_vel_x)).
   // The rule reads distances between cell centres (the outline's cells, the
   // posts' cells): up to half a cell plus half a diagonal (0.06 m) more than
   // the geometric clearance checked here.
@@ -824,8 +848,9 @@ TEST(DwaTightSpacesTest, ThroughAGapBetweenPostsFasterThanCreeping) {
     crossing_speed = std::min(crossing_speed, r.speeds[i]);
     // Outline to the nearer post cell, sideways (the robot drives along y).
     const double clearance = std::min(p.x - 0.125 - 2.80, 3.20 - (p.x + 0.125));
-    const double margin = kInscribed * std::clamp((r.speeds[i] - o.min_vel_x) /
-                                                      (o.max_vel_x - o.min_vel_x), 0.0, 1.0);
+    const double full = std::min(o.full_margin_vel, o.max_vel_x);
+    const double margin =
+        kInscribed * std::clamp((r.speeds[i] - o.min_vel_x) / (full - o.min_vel_x), 0.0, 1.0);
     EXPECT_GT(clearance, margin - 0.06) << "at " << r.speeds[i] << " m/s, x " << p.x;
   }
   ASSERT_LT(crossing_speed, 1e9) << "never between the posts";

@@ -340,12 +340,13 @@ int ObstacleCostCritic::Check(const Trajectory& traj, double* collision_distance
   // has every move touch one in the cell grid.  There a pose may touch lethal
   // cells if its outline stays within a quarter cell of the start's distance
   // to their centres (turning away from a wall swings the rear corner towards
-  // it first), never nearer than a quarter cell (or, for a robot already
-  // nearer than that, than half its distance: a fixed floor above the start's
-  // distance froze it, every first step away still being under the floor),
-  // and the rollout must end with its centre no nearer to them than at the
-  // start: the robot slides along the wall or edges away, never turns or
-  // creeps into it.
+  // it first), never nearer than min(a quarter cell, half the start's
+  // distance) (a fixed quarter-cell floor froze a robot that was already
+  // nearer than that: every first step away was still under the floor), and
+  // the rollout must end with its centre no nearer to them than at the start:
+  // the robot slides along the wall or edges away, never turns or creeps into
+  // it.  (A lethal cell centre inside the outline, a negative distance, still
+  // leaves a floor above it: such a robot does not move.)
   const double res = costmap_->resolution();
   const double start_clearance = StartClearance(traj.poses.front());
   const bool near_lethal = start_clearance < res;

@@ -334,10 +334,10 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
   bool have_best = false;
   double best_cost = kInf;
   // Two passes: first the rule of ObstacleCostCritic (the outline off lethal
-  // cells, and out of the inscribed band unless creeping); then, only if
-  // nothing passed, a
-  // way out: any trajectory (arc or turn on the spot) that touches no lethal
-  // cell, brakes in time, and ends with the outline back out of the band.  A
+  // cells, and inside the inscribed band no nearer to them than the speed's
+  // margin); then, only if nothing passed, a way out: any trajectory (arc or
+  // turn on the spot) that touches no lethal cell, brakes in time, and ends
+  // with the outline back out of the band.  A
   // robot that drifted to the edge of the band (slip, localization, a
   // recovery turn) can so leave it instead of freezing, but never creeps
   // along inside it towards a wall.

@@ -14,33 +14,36 @@
 //                      Within the inscribed band the costmap is flat (253),
 //                      so there the score goes on rising, below 254, as the
 //                      outline nears a lethal cell (a distance transform of
-//                      the lethal cells): of two creeping rollouts the one
-//                      keeping further from the wall is cheaper.
+//                      the lethal cells): of two rollouts in the band the
+//                      one keeping further from the wall is cheaper.
 //                      Illegal if any pose after the start, on the rollout or
 //                      on its braking tail (trajectory.h), is off the map or
 //                      its outline touches a lethal (254) or unknown cell, as
 //                      base_local_planner's CostmapModel decides.  The
 //                      inscribed band (253: the outline within one inscribed
 //                      radius of an obstacle) is a cost, not a wall, with a
-//                      margin that grows with speed: a rollout whose outline
-//                      enters it must keep the outline at least
-//                        band * (|vx| - tight_speed) / (full_margin_speed - tight_speed)
-//                      from the nearest lethal cell (band: the band's width),
-//                      so at |vx| <= tight_speed (and on turns on the spot)
-//                      only lethal cells count and from full_margin_speed
-//                      (min(full_margin_vel, max_vel_x)) on the whole band
-//                      is kept.  The robot slows
-//                      down in proportion to the room it has, rather than to
-//                      creeping speed as soon as a gap is narrower than the
-//                      robot plus two inscribed radii, and keeps its whole
-//                      margin at full speed, where slip and a late costmap
-//                      matter most.  A robot already
-//                      within a cell of a lethal cell (localization error)
-//                      may touch lethal cells on poses within a quarter cell
-//                      of its distance to them (never nearer than a quarter
-//                      cell, or half its distance if it is already nearer),
-//                      its centre ending no closer: it can edge away
-//                      or slide along, not turn or creep into the wall.
+//                      margin that grows with speed: with v the larger of
+//                      the rollout's |command vx| and |start vx|, a rollout
+//                      whose outline enters it must keep the outline at
+//                      least band * (v - tight_speed) /
+//                      (full_margin_speed - tight_speed) from the nearest
+//                      lethal cell (band: the band's width), so at
+//                      v <= tight_speed (turns on the spot of a robot at
+//                      most creeping) only lethal cells count, and from
+//                      full_margin_speed (min(full_margin_vel, max_vel_x))
+//                      on the whole band is kept; if that is not above
+//                      tight_speed, the whole band above tight_speed (the
+//                      rule before full_margin_vel).  The robot slows down as
+//                      far as the room it has asks, rather than to creeping
+//                      speed as soon as a gap is narrower than the robot plus
+//                      two inscribed radii, and keeps its whole margin at
+//                      full speed, where slip and a late costmap matter
+//                      most.  A robot already within a cell of a lethal cell
+//                      (localization error) may touch lethal cells on poses
+//                      within a quarter cell of its distance d to them, but
+//                      never nearer than min(a quarter cell, d / 2), its
+//                      centre ending no closer: it can edge away or slide
+//                      along, not turn or creep into the wall.
 //  OscillationCritic   TrajectoryPlanner's oscillation flags: after an
 //                      in-place rotation one way and then the other, the
 //                      first direction is forbidden; after switching between
@@ -120,8 +123,9 @@ class ObstacleCostCritic : public TrajectoryCritic {
   // Smallest distance travelled before a collision over the trajectories
   // rejected since Prepare (infinity if none).
   double nearest_collision_distance() const { return nearest_collision_; }
-  // false (default): the outline may enter the inscribed band (253) only at
-  // |vx| <= tight_speed; true: only lethal cells (254) collide, at any speed.
+  // false (default): inside the inscribed band (253) the outline keeps the
+  // speed's margin (RequiredClearance); true: only lethal cells (254)
+  // collide, at any speed.
   void set_lethal_only(bool lethal_only) { lethal_only_ = lethal_only; }
   // The fastest |vx| at which the outline may come as near a lethal cell as
   // it likes (creeping), and the |vx| from which it keeps the whole inscribed

@@ -45,10 +45,12 @@
 // tail (the command held for one control period, then braking at acc_lim_x
 // and acc_lim_theta) puts the footprint's outline on a lethal or unknown cell
 // or off the map, or, faster than creeping (max(min_vel_x, |escape_vel|)),
-// into the inscribed band (cost 253); speeds are capped so a rollout is at least as long as the
-// stopping distance: Fox et al.'s admissible velocities, v <= sqrt(2 *
-// dist(v, w) * acc_lim_x).  So the planner slows down for an obstacle it can
-// see whatever max_vel_x, sim_time and controller_frequency are.  When
+// nearer to a lethal cell than a margin growing with speed (the whole
+// inscribed band, cost 253, from full_margin_vel on); speeds are capped so a
+// rollout is at least as long as the stopping distance: Fox et al.'s
+// admissible velocities, v <= sqrt(2 * dist(v, w) * acc_lim_x).  So the
+// planner slows down for an obstacle it can see whatever max_vel_x, sim_time
+// and controller_frequency are.  When
 // ComputeVelocity throws, the caller must command zero (move_base does): the
 // previous command was chosen so that braking from here is collision-free.
 //
