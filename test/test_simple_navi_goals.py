@@ -27,6 +27,11 @@ def load():
      '--fix-covariance'),
     (['--frame', 'map', '1', '2', '0', '--wait-for-fix', '9', '--spin-for-fix', '5'],
      '--spin-for-fix'),
+    (['--frame', 'map', '1', '2', '0', '--wander-for-fix', '0.2'], '--wait-for-fix'),
+    (['--frame', 'map', '1', '2', '0', '--wait-for-fix', '9', '--wander-for-fix', '3'],
+     '--wander-for-fix must be a speed'),
+    (['--frame', 'map', '1', '2', '0', '--wait-for-fix', '9', '--wander-for-fix', '0.2',
+      '--spin-for-fix', '0.5'], 'choose one'),
 ])
 def test_bad_fix_options_exit_2_naming_the_option(argv, message):
     p = subprocess.run(['/usr/bin/python3', SCRIPT] + argv, stdout=subprocess.PIPE,

@@ -1,14 +1,10 @@
-"""tools/wanderer.py (seek_openings=True) on scans cast in hand-made rooms: it heads for the door of a closed room, keeps
+"""minibot3d_navigation.wanderer (seek_openings=True) on scans cast in hand-made rooms: it heads for the door of a closed room, keeps
 going along a corridor, turns in place when blocked, and copes with NaN / inf readings and a laser
 mounted backwards."""
 import math
-import os
-import sys
 from types import SimpleNamespace
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, 'tools'))
-from wanderer import Wanderer  # noqa: E402
+from minibot3d_navigation.wanderer import Wanderer
 
 
 def cast(segments, x, y, yaw, laser_yaw=0.0, beams=360, range_max=12.0):

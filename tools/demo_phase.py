@@ -5,7 +5,7 @@
       runs `explore` until no reachable frontier is left, recording the true path, then saves the
       SLAM map to DIR/demo_map.{pgm,yaml}; writes DIR/demo_explore.json.
   demo_phase.py navigate --out DIR --spawn X,Y,YAW --goals "x,y,yaw ..." --timeout SIM_S
-      global localization (amcl's global_localization, then wandering (tools/wanderer.py) until
+      global localization (amcl's global_localization, then wandering (minibot3d_navigation.wanderer) until
       amcl has a confident fix: see confident_fix), then each goal with simple_navi_goals.py in
       the SLAM map's frame; writes DIR/demo_nav.json.
 Poses given on the command line are in the world frame; the SLAM map's frame is the world frame
@@ -34,9 +34,7 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import Float32MultiArray
 from std_srvs.srv import Empty
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from wanderer import Wanderer  # noqa: E402
+from minibot3d_navigation.wanderer import Wanderer
 
 # A confident fix (what the demo trusts before sending goals): amcl's covariance
 # cov_xx + cov_yy under COV_FIX, its scan explained at the estimate (amcl/confidence) and one mode.

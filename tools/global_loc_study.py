@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Global-localization study (make bench; issue 14 item 3 / issue 20 item 5): N seeded random starts
 in one world, each: the robot is carried (the simulator's set_pose; odometry is not told) to a
-random free pose, amcl's /global_localization is called once, and tools/wanderer.py drives it
+random free pose, amcl's /global_localization is called once, and minibot3d_navigation.wanderer drives it
 (ahead where the laser shows room, turning away where not) for --travel metres. Every amcl_pose
 after the call is compared with /ground_truth/odom:
   claim        cov_xx + cov_yy < 0.05 m^2 (make demo's threshold)
@@ -27,14 +27,15 @@ from minibot3d_lockstep import Participant  # before rospy.init_node: it counts 
 
 import rospy
 from geometry_msgs.msg import PoseArray, PoseWithCovarianceStamped, Twist
+from minibot3d_navigation.wanderer import Wanderer
 from minibot3d_sim.srv import SetPose
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import LaserScan
+from std_msgs.msg import Float32MultiArray
 from std_srvs.srv import Empty
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from demo_report import load_trinary, route_driver  # noqa: E402
-from wanderer import Wanderer  # noqa: E402
 
 CLAIM = 0.05
 FALSE_DIST, FALSE_YAW = 1.0, math.radians(30.0)
@@ -61,6 +62,13 @@ class State(object):
         rospy.Subscriber('/amcl_pose', PoseWithCovarianceStamped, self.on_pose, queue_size=50)
         rospy.Subscriber('/scan', LaserScan, self.on_scan, queue_size=1)
         rospy.Subscriber('/amcl/search_candidates', PoseArray, self.on_candidates, queue_size=5)
+        self.confidence = None  # the last amcl/confidence, for --trace
+        self.trace = None  # --trace: an open file, one line per amcl_pose
+        rospy.Subscriber('/amcl/confidence', Float32MultiArray, self.on_confidence, queue_size=5)
+
+    def on_confidence(self, m):
+        with self.lock:
+            self.confidence = list(m.data)
 
     def on_truth(self, m):
         p = m.pose.pose
@@ -86,6 +94,11 @@ class State(object):
                                 m.header.stamp.to_sec()))
             if self.recording is not None:
                 self.recording['estimates'].append((p.position.x, p.position.y, c[0] + c[7]))
+            if self.trace is not None:
+                e = self.events[-1]
+                self.trace.write('%.3f %.2f %.2f %.2f %.2f %.3f %.3f %.1f %.4g %s\n' % (
+                    e[4], e[0], t[0], t[1], p.position.x, p.position.y, e[1],
+                    math.degrees(e[2]), e[3], ' '.join('%.3g' % v for v in self.confidence or [])))
 
     def on_candidates(self, m):
         with self.lock:
@@ -219,12 +232,14 @@ def main():
                     help='m: how far at least (on a small map: the farthest of 5000 draws)')
     ap.add_argument('--kidnap-travel', type=float, default=15.0, help='m driven after a kidnap')
     ap.add_argument('--wanderer', choices=('sides', 'openings'), default='sides',
-                    help='tools/wanderer.py: steer towards the side with more room (default), or '
-                    'head for the deepest opening (tools/wanderer.py and the README say why it is '
+                    help='the wanderer: steer towards the side with more room (default), or '
+                    'head for the deepest opening (its module doc and the README say why it is '
                     'not the default)')
     ap.add_argument('--picture', help='PNG: the map, the search candidates, the true and estimated '
                     'paths of one start (and its kidnapping)')
     ap.add_argument('--picture-start', type=int, default=0, help='which start --picture shows')
+    ap.add_argument('--trace', help='text file: one line per amcl_pose (stamp, travel, truth x y, '
+                    'estimate x y, error m and deg, cov_xx + cov_yy, then amcl/confidence)')
     args = ap.parse_args(rospy.myargv()[1:])
     for name, ok in (('--starts', args.starts >= 1), ('--travel', args.travel > 0),
                      ('--timeout', args.timeout > 0), ('--kidnaps', args.kidnaps >= 0),
@@ -239,6 +254,8 @@ def main():
     lockstep = Participant(wake_topics=['/amcl_pose', '/ground_truth/odom'],
                            wake_on_participants=True)
     st = State()
+    if args.trace:
+        st.trace = open(args.trace, 'w')
     cmd_pub = rospy.Publisher('/cmd_vel', Twist, queue_size=1)
     if not lockstep.wait_for(lambda: st.truth is not None and st.scan is not None, 120.0):
         print('global_loc_study: no /ground_truth/odom or /scan', flush=True)

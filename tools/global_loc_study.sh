@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Global-localization study (part of make bench): for each world, the simulator + map_server +
 # amcl on lock-step time (full speed) and tools/global_loc_study.py: N seeded random starts, each
-# carried there, /global_localization called once, driven by tools/wanderer.py.
+# carried there, /global_localization called once, driven by minibot3d_navigation's wanderer
+# (src/minibot3d_navigation/wanderer.py).
 # OUT=DIR: where logs and pictures go (build/bench/global_loc); AMCL_PARAMS=YAML: loaded over
-# config/amcl.yaml; WANDERER=openings: the wanderer heads for the deepest opening (tools/wanderer.py).
+# config/amcl.yaml; WANDERER=openings: the wanderer heads for the deepest opening.
 # With KIDNAPS=N the first N starts of each world are followed by a kidnapping (see the .py);
-# PICTURE_START=K draws start K instead of start 0.
+# PICTURE_START=K draws start K instead of start 0; TRACE=FILE writes one line per amcl_pose (the .py's --trace).
 #   [KIDNAPS=N] tools/global_loc_study.sh [STARTS] [WORLD ...]   (default: 10 starts; default arena)
 # Writes build/bench/global_loc/global_loc_WORLD.png: the map, the candidates, the paths of one start.
 # Worlds: default, arena, office (minibot3d_sim/worlds/office.world, made by tools/office_world.py).
@@ -48,7 +49,7 @@ for w in "${worlds[@]}"; do
     > "$out/amcl_$w.log" 2>&1 &
   amcl=$!
   /usr/bin/python3 tools/global_loc_study.py --map "$map" --starts "$starts" --seed 1 \
-    --spawn="${spawn[0]},${spawn[1]}"  --kidnaps "${KIDNAPS:-0}" --wanderer "${WANDERER:-sides}" --picture "$out/global_loc_$w.png" --picture-start "${PICTURE_START:-0}" || true
+    --spawn="${spawn[0]},${spawn[1]}"  --kidnaps "${KIDNAPS:-0}" --wanderer "${WANDERER:-sides}" --picture "$out/global_loc_$w.png" --picture-start "${PICTURE_START:-0}" ${TRACE:+--trace "$TRACE"} || true
   stop_group "$amcl"
   stop_group "$sim"
   trap - EXIT

@@ -15,14 +15,18 @@ goal SUCCEEDED (1 otherwise, 2 on bad arguments).
 
 sends a goal at (X, Y) with heading YAW (radians) in the named frame.
 
-    simple_navi_goals.py --frame map X Y YAW --wait-for-fix S [--spin-for-fix RAD_S]
+    simple_navi_goals.py --frame map X Y YAW --wait-for-fix S [--wander-for-fix M_S | --spin-for-fix RAD_S]
 
 first waits, at most S seconds of ROS time, for a confident fix from amcl (issue 14: not a fixed
 number of turns): amcl's own claim on amcl/confidence (the scan explained at the estimate, one
 mode, evidence gathered over motion) and an amcl_pose covariance with cov_xx + cov_yy under
 --fix-covariance (0.05 m^2, make demo's threshold), both from messages received after the wait
-began.  With --spin-for-fix it turns on the spot at RAD_S while it waits (the motion amcl needs for
-evidence; it stops before sending the goal).  With --global-localization it first calls amcl's
+began.  amcl earns evidence from new views, so the robot has to move while it waits: with
+--wander-for-fix it wanders at up to M_S m/s (minibot3d_navigation.wanderer: ahead where the laser
+shows room, turning away where not), with --spin-for-fix it turns on the spot at RAD_S, which brings
+new views only to a laser with a blind sector (a turn shows a laser that sees all round, such as
+minibot3d's, the same scan rotated: amcl counts no evidence from it).  Either stops before the goal
+is sent.  With --global-localization it first calls amcl's
 global_localization service, so the wait is for a fix found from nothing.  Without a fix in time it
 says what was missing and exits 1 without sending the goal.
 
@@ -33,6 +37,7 @@ goals gives the same times in every run.
 import argparse
 import math
 import sys
+import threading
 import time
 
 from minibot3d_lockstep import Participant, action_server_ready  # before rospy.init_node
@@ -42,8 +47,11 @@ import rospy
 from actionlib_msgs.msg import GoalStatus
 from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
 from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
+from sensor_msgs.msg import LaserScan
 from std_msgs.msg import Float32MultiArray
 from std_srvs.srv import Empty
+
+from minibot3d_navigation.wanderer import Wanderer
 
 STATE_NAMES = {getattr(GoalStatus, n): n for n in (
     'PENDING', 'ACTIVE', 'PREEMPTED', 'SUCCEEDED', 'ABORTED', 'REJECTED',
@@ -68,7 +76,13 @@ def parse_args(argv):
                         help='a fix needs cov_xx + cov_yy of amcl_pose under this (m^2; '
                              'default 0.05, as make demo)')
     parser.add_argument('--spin-for-fix', type=float, default=0.0, metavar='RAD_S',
-                        help='turn on the spot at RAD_S (cmd_vel) while waiting for the fix')
+                        help='turn on the spot at RAD_S (cmd_vel) while waiting for the fix; '
+                             'new views only for a laser with a blind sector')
+    parser.add_argument('--wander-for-fix', type=float, default=0.0, metavar='M_S',
+                        help='wander (cmd_vel) at up to M_S m/s while waiting for the fix: ahead '
+                             'where the laser (scan) shows room, turning away where not')
+    parser.add_argument('--base-frame', default='base_footprint',
+                        help='the robot frame the laser is mounted on (tf), for --wander-for-fix')
     parser.add_argument('--global-localization', action='store_true',
                         help="call amcl's global_localization service before waiting for the fix")
     parser.add_argument('values', nargs='+', type=float,
@@ -88,8 +102,14 @@ def parse_args(argv):
         parser.error('--fix-covariance must be a finite number > 0 (m^2)')
     if not math.isfinite(args.spin_for_fix) or abs(args.spin_for_fix) > 2.0:
         parser.error('--spin-for-fix must be a yaw rate in [-2, 2] rad/s')
-    if (args.spin_for_fix or args.global_localization) and not args.wait_for_fix:
-        parser.error('--spin-for-fix and --global-localization need --wait-for-fix S')
+    if not math.isfinite(args.wander_for_fix) or not 0.0 <= args.wander_for_fix <= 1.0:
+        parser.error('--wander-for-fix must be a speed in [0, 1] m/s')
+    if args.wander_for_fix and args.spin_for_fix:
+        parser.error('--wander-for-fix and --spin-for-fix: choose one')
+    if (args.spin_for_fix or args.wander_for_fix or args.global_localization) and \
+            not args.wait_for_fix:
+        parser.error('--spin-for-fix, --wander-for-fix and --global-localization need '
+                     '--wait-for-fix S')
     return args
 
 
@@ -134,6 +154,42 @@ class FixWatch(object):
         return fix_problems(self.cov_xy, self.confidence, max_cov)
 
 
+class ScanWatch(object):
+    """The latest scan and the yaw of its laser on base_frame (from tf), for the wanderer."""
+
+    def __init__(self, base_frame):
+        import tf2_ros  # only when wandering
+        self.base_frame = base_frame
+        self.buffer = tf2_ros.Buffer()
+        self.listener = tf2_ros.TransformListener(self.buffer)
+        self.lock = threading.Lock()
+        self.scan = None
+        self.laser_yaw = None
+        self.error = ''
+        self.sub = rospy.Subscriber('scan', LaserScan, self._on_scan, queue_size=1)
+
+    def _on_scan(self, m):
+        import tf2_ros
+        yaw = self.laser_yaw
+        if yaw is None:
+            try:
+                t = self.buffer.lookup_transform(self.base_frame, m.header.frame_id, rospy.Time(0))
+                q = t.transform.rotation
+                yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+            except (tf2_ros.LookupException, tf2_ros.ConnectivityException,
+                    tf2_ros.ExtrapolationException) as e:
+                with self.lock:
+                    self.error = 'no tf from %s to the scan frame %s yet (%s)' % (
+                        self.base_frame, m.header.frame_id, e)
+                return
+        with self.lock:
+            self.scan, self.laser_yaw, self.error = m, yaw, ''
+
+    def latest(self):
+        with self.lock:
+            return self.scan, self.laser_yaw
+
+
 def make_goal(args):
     goal = MoveBaseGoal()
     pose = goal.target_pose.pose
@@ -163,7 +219,9 @@ def main():
     wake = [args.server.rstrip('/') + '/result', args.server.rstrip('/') + '/status']
     if args.wait_for_fix:
         args.fix_watch = FixWatch()
-        args.cmd_pub = rospy.Publisher('cmd_vel', Twist, queue_size=1) if args.spin_for_fix else None
+        moving = args.spin_for_fix or args.wander_for_fix
+        args.cmd_pub = rospy.Publisher('cmd_vel', Twist, queue_size=1) if moving else None
+        args.scan_watch = ScanWatch(args.base_frame) if args.wander_for_fix else None
         wake += ['amcl_pose', 'amcl/confidence']
     lockstep = Participant(wake_topics=wake)
     try:
@@ -217,15 +275,31 @@ def wait_for_fix(args, lockstep):
     start = rospy.Time.now()
     spinning = [args.cmd_pub is not None]
     if spinning[0]:
-        spin = Twist()
-        spin.angular.z = args.spin_for_fix
+        wanderer = None
+        if args.wander_for_fix:
+            wanderer = Wanderer(speed=args.wander_for_fix)
+
+        def command():
+            cmd = Twist()
+            if wanderer is None:
+                cmd.angular.z = args.spin_for_fix
+            else:  # stands still until the first scan and the laser's mounting are known
+                scan, laser_yaw = args.scan_watch.latest()
+                if scan is not None:
+                    wanderer.laser_yaw = laser_yaw
+                    cmd.linear.x, cmd.angular.z = wanderer.command(scan)
+            return cmd
+
         # At 10 Hz of sim time while waiting (the job stays, idle, once the wait is over).
-        lockstep.add_periodic(0.1, lambda now: args.cmd_pub.publish(spin) if spinning[0] else None)
-        args.cmd_pub.publish(spin)
+        lockstep.add_periodic(0.1, lambda now: args.cmd_pub.publish(command())
+                              if spinning[0] else None)
+        args.cmd_pub.publish(command())
     ok = lockstep.wait_for(lambda: not watch.problems(args.fix_covariance), args.wait_for_fix)
     if spinning[0]:
         spinning[0] = False
         args.cmd_pub.publish(Twist())
+    if args.scan_watch is not None and args.scan_watch.error:
+        rospy.logerr('--wander-for-fix: %s', args.scan_watch.error)
     waited = (rospy.Time.now() - start).to_sec()
     if not ok:
         rospy.logerr('No confident fix within --wait-for-fix %.1f s: %s', args.wait_for_fix,

@@ -310,6 +310,58 @@ TEST(AmclConfidenceTest, SplitParticleSetClaimsLargeCovarianceAndTwoModes) {
   EXPECT_LT(filter.estimate().covariance(0, 0), 0.05);
 }
 
+// Resampling keeps a hypothesis the evidence has not refuted, with its
+// probability: in two identical rooms the scans never tell the seeded places
+// apart, so a light hypothesis must stay exactly as probable as it was seeded
+// (plain resampling lets it die by chance, and it never comes back).  A place
+// in the third room, whose scans do not fit, is refuted and loses its floor.
+TEST(AmclConfidenceTest, HypothesisKeepsItsProbabilityUntilTheEvidenceRefutesIt) {
+  const OccupancyGrid grid = MakeTwinRooms(/*third_room=*/true);
+  const Pose2D truth{2.2, 1.6, 0.4};
+  const Pose2D twin{truth.x + kTwinShift, truth.y, truth.yaw};
+  const Pose2D elsewhere{18.2, 2.0, 0.4};  // the third room
+  for (int floor_count : {0, 100}) {
+    AmclOptions o = ShippedOptions();
+    o.hypothesis_min_particles = floor_count;
+    o.recovery_alpha_slow = o.recovery_alpha_fast = 0.0;  // no injection
+    AmclFilter filter(o, grid);
+    // Seeded as the search would: weights in proportion to the scores.
+    filter.SeedFromCandidates(
+        {{truth, 1.0}, {twin, 0.002}, {elsewhere, 1.0}});
+    ASSERT_EQ(filter.hypotheses().size(), 3u);
+    RobotSim sim(grid, truth, 41);
+    filter.Update(sim.odom(), sim.Scan());
+    const double seeded = filter.hypotheses()[1].probability /
+                          filter.hypotheses()[0].probability;
+    EXPECT_NEAR(seeded, 0.002, 0.001) << "the twin's prior";
+    std::vector<Pose2D> path;
+    for (int k = 0; k < 10; ++k) path.push_back({0.1, 0.0, 0.0});
+    for (int k = 0; k < 10; ++k) path.push_back({0.0, 0.0, 15 * kDeg});
+    for (int k = 0; k < 10; ++k) path.push_back({0.05, 0.0, -15 * kDeg});
+    Drive(path, &sim, &filter);
+    ASSERT_FALSE(HasFatalFailure());
+    const std::vector<Hypothesis>& h = filter.hypotheses();
+    ASSERT_EQ(h.size(), 3u);
+    EXPECT_TRUE(h[2].refuted) << "the third room does not fit";
+    EXPECT_EQ(h[2].particles, 0) << "a refuted place keeps no floor";
+    EXPECT_FALSE(h[0].refuted);
+    EXPECT_LT(PosError(filter.estimate().mean, sim.truth()), 0.3);
+    if (floor_count == 0) {
+      // Plain resampling: the twin's few particles died by chance.
+      EXPECT_EQ(h[1].particles, 0);
+      EXPECT_EQ(h[1].probability, 0.0);
+    } else {
+      EXPECT_FALSE(h[1].refuted);
+      EXPECT_GE(h[1].particles, floor_count);
+      // Same scans at both places: the ratio of probabilities is the prior's
+      // (up to the particles' different fit, a factor of a few at most).
+      const double ratio = h[1].probability / h[0].probability;
+      EXPECT_GT(ratio, 0.002 / 5) << ratio;
+      EXPECT_LT(ratio, 0.002 * 5) << ratio;
+    }
+  }
+}
+
 TEST(AmclConfidenceTest, ScanNotExplainedAtTheEstimateGivesLowFractionAndLargeCovariance) {
   const OccupancyGrid grid = testing::MakeAsymmetricRoom();
   AmclOptions o = ShippedOptions();
@@ -383,16 +435,13 @@ TEST(AmclConfidenceTest, ChallengeAddsTheLookAlikeTheSearchMissedSoNoClaim) {
     filter.Update(sim.odom(), sim.Scan());
     ASSERT_EQ(filter.last_search().candidates.size(), 1u);
     bool claimed = false, challenged = false;
-    for (int lap = 0; lap < 2; ++lap) {
-      for (int k = 0; k < 10; ++k) {
-        sim.Move({0.1, 0.0, 0.0});
-        ASSERT_FALSE(HasFatalFailure());
-        filter.Update(sim.odom(), sim.Scan());
-        claimed = claimed || filter.confidence().confident;
-        challenged = challenged || filter.last_search().challenge;
-      }
-      for (int k = 0; k < 10; ++k) {
-        sim.Move({0.0, 0.0, 18 * kDeg});
+    // Back and forth, U-turns on the move (a turn on the spot shows the
+    // filter no new view): ~2.5 m of new views.
+    for (int lap = 0; lap < 3; ++lap) {
+      std::vector<Pose2D> leg(10, Pose2D{0.1, 0.0, 0.0});
+      leg.insert(leg.end(), 10, Pose2D{0.05, 0.0, 18 * kDeg});
+      for (const Pose2D& u : leg) {
+        sim.Move(u);
         ASSERT_FALSE(HasFatalFailure());
         filter.Update(sim.odom(), sim.Scan());
         claimed = claimed || filter.confidence().confident;
@@ -408,6 +457,58 @@ TEST(AmclConfidenceTest, ChallengeAddsTheLookAlikeTheSearchMissedSoNoClaim) {
       EXPECT_GE(filter.confidence().modes, 2);
       EXPECT_GT(ClaimXY(filter), kDemoThreshold);
     }
+  }
+}
+
+// A turn on the spot shows a laser that sees all round the same scan,
+// rotated: it fits a wrong place as well as the right one, so it earns no
+// evidence (the study's false claims were made turning on the spot); travel
+// does.  A laser with a blind sector sees new walls as it turns, and its turns
+// count.
+TEST(AmclConfidenceTest, TurningOnTheSpotEarnsEvidenceOnlyForALaserWithABlindSector) {
+  const OccupancyGrid grid = testing::MakeAsymmetricRoom();
+  for (bool all_round : {true, false}) {
+    SCOPED_TRACE(all_round ? "360 deg laser" : "180 deg laser");
+    AmclFilter filter(ShippedOptions(), grid, AmclFilter::Initialization::kGlobal);
+    RobotSim sim(grid, kStartTruth, 37);
+    auto scan = [&] {
+      LaserScan s = sim.Scan();
+      if (all_round) return s;
+      LaserScan front = s;  // the beams within 90 deg of the laser's axis
+      front.ranges.clear();
+      front.angles.clear();
+      for (size_t k = 0; k < s.angles.size(); ++k) {
+        if (std::fabs(NormalizeAngle(s.angles[k])) <= kPi / 2) {
+          front.ranges.push_back(s.ranges[k]);
+          front.angles.push_back(s.angles[k]);
+        }
+      }
+      return front;
+    };
+    filter.Update(sim.odom(), scan());
+    ASSERT_EQ(filter.last_search().count, 1);
+    bool claimed = false;
+    for (int k = 0; k < 40; ++k) {  // two turns on the spot
+      sim.Move({0.0, 0.0, 18 * kDeg});
+      ASSERT_FALSE(HasFatalFailure());
+      filter.Update(sim.odom(), scan());
+      claimed = claimed || filter.confidence().confident;
+    }
+    if (all_round) {
+      EXPECT_FALSE(claimed) << "claimed after turning on the spot";
+      // (The odometry's sideways noise, 5 mm a step, adds up to a view or
+      // two of "travel".)
+      EXPECT_LE(filter.confidence().evidence_updates, 2);
+      EXPECT_GT(ClaimXY(filter), kDemoThreshold);
+      // ... until it travels: 15 new views of 0.1 m.
+      for (int k = 0; k < 25 && !filter.confidence().confident; ++k) {
+        sim.Move({0.1, 0.0, k % 2 ? 4 * kDeg : -4 * kDeg});
+        ASSERT_FALSE(HasFatalFailure());
+        filter.Update(sim.odom(), scan());
+      }
+    }
+    EXPECT_TRUE(filter.confidence().confident);
+    EXPECT_LT(PosError(filter.estimate().mean, sim.truth()), 0.1);
   }
 }
 
@@ -756,6 +857,8 @@ TEST(AmclOptionsTest, ValidationNamesEveryOffendingParameter) {
   o.beam_skip_threshold = 1.5;
   o.initial_cov_xx = kNaN;
   o.global_search_angular_step = 0.5;
+  o.hypothesis_min_particles = -1;
+  o.hypothesis_refuted_ratio = 1.0;
   try {
     ValidateAmclOptions(o);
     FAIL() << "expected std::invalid_argument";
@@ -767,7 +870,8 @@ TEST(AmclOptionsTest, ValidationNamesEveryOffendingParameter) {
           "laser_z_hit+laser_z_rand=0", "kld_err=0", "resample_interval=0",
           "recovery_alpha_slow=0.2 must be < recovery_alpha_fast=0.1",
           "beam_skip_threshold=1.5", "initial_cov_xx=nan",
-          "global_search_angular_step=0.5"}) {
+          "global_search_angular_step=0.5", "hypothesis_min_particles=-1",
+          "hypothesis_refuted_ratio=1 must be in (0, 1)"}) {
       EXPECT_NE(msg.find(part), std::string::npos) << part << " in: " << msg;
     }
   }
@@ -797,7 +901,7 @@ TEST(AmclOptionsTest, SetOptionParsesRosParameterText) {
                std::invalid_argument);
   EXPECT_FALSE(IsAmclOptionName("base_frame_id"));
   EXPECT_TRUE(IsAmclOptionName("laser_likelihood_max_dist"));
-  EXPECT_EQ(AmclOptionNames().size(), 51u);
+  EXPECT_EQ(AmclOptionNames().size(), 53u);
   // Defaults are amcl's.
   const AmclOptions d;
   EXPECT_EQ(d.min_particles, 100);

@@ -180,14 +180,15 @@ class MoveBaseSim(unittest.TestCase):
         self.assertEqual(feedback[-1].base_position.header.frame_id, 'map')
 
     def test_5b_goal_after_global_localization_waits_for_a_fix(self):
-        # Lost on purpose: the client calls global_localization, turns on the spot until amcl
-        # claims a confident fix, and only then sends its goal (issue 14 item 3).
+        # Lost on purpose: the client calls global_localization, wanders until amcl claims a
+        # confident fix (turning on the spot would earn none: the lidar sees all round), and
+        # only then sends its goal (issue 14 item 3).
         x, y, yaw = GOALS[1]
         finished, proc = self.lockstep.run(
             '/simple_navi_goals',
             ['rosrun', 'minibot3d_navigation', 'simple_navi_goals.py', '--frame', 'map',
              str(x), str(y), str(yaw), '--global-localization', '--wait-for-fix', '120',
-             '--spin-for-fix', '0.6', '--timeout', '300'],
+             '--wander-for-fix', '0.2', '--timeout', '300'],
             600.0, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
         self.assertTrue(finished, 'simple_navi_goals.py did not finish within 600 s of sim time')
         stdout, _ = proc.communicate(timeout=60)

@@ -39,6 +39,24 @@ double LogMix(double log_a, double log_b, double alpha) {
                       alpha * std::exp(log_b - m));
 }
 
+// Least travel (m) that counts as a new view when update_min_d is smaller.
+constexpr double kMinViewTravel = 0.01;
+
+// Widest angle between neighbouring beams of the scan, all round: about one
+// increment for a laser that sees all round, its blind sector otherwise.
+double LargestBeamGap(const LaserScan& scan) {
+  std::vector<double> a;
+  a.reserve(scan.angles.size());
+  for (double b : scan.angles) {
+    if (std::isfinite(b)) a.push_back(NormalizeAngle(b));
+  }
+  if (a.size() < 2) return 2.0 * kPi;
+  std::sort(a.begin(), a.end());
+  double gap = 2.0 * kPi - (a.back() - a.front());
+  for (size_t k = 1; k < a.size(); ++k) gap = std::max(gap, a[k] - a[k - 1]);
+  return gap;
+}
+
 std::string PoseText(const Pose2D& p) {
   std::ostringstream os;
   os << "(x=" << p.x << ", y=" << p.y << ", yaw=" << p.yaw << ")";
@@ -183,6 +201,7 @@ void AmclFilter::SampleGaussian(const Pose2D& mean, const Eigen::Matrix3d& cov,
     p.pose = {mean.x + d.x(), mean.y + d.y(), NormalizeAngle(mean.yaw + d.z())};
     p.weight = w;
     p.injected = false;
+    p.hypothesis = -1;
   }
 }
 
@@ -191,6 +210,7 @@ void AmclFilter::SetPose(const Pose2D& mean,
   std::vector<Particle> fresh;
   SampleGaussian(mean, covariance, *map_, &fresh);  // throws before any change
   particles_.swap(fresh);
+  hypotheses_.clear();
   pending_search_ = false;
   ResetAfterInitialization(options_.confidence_min_updates);  // user's pose
 }
@@ -202,7 +222,9 @@ void AmclFilter::GlobalLocalization() {
     p.pose = map_->SampleFreePose(&rng_);
     p.weight = w;
     p.injected = false;
+    p.hypothesis = -1;
   }
+  hypotheses_.clear();
   pending_search_ = global_search() != nullptr;
   pending_relocalization_ = false;
   ResetAfterInitialization(0);
@@ -217,7 +239,9 @@ void AmclFilter::SeedFromCandidates(
   constexpr int kTries = 10;  // draws before falling back to the candidate
   std::normal_distribution<double> gauss(0.0, 1.0);
   const int n = options_.max_particles;
-  const int k = static_cast<int>(candidates.size());
+  // Particle::hypothesis is 16 bits; the search returns a handful.
+  const int k = std::min<int>(static_cast<int>(candidates.size()),
+                              std::numeric_limits<int16_t>::max());
   std::vector<Particle> fresh(n);
   double total = 0.0;
   for (int m = 0; m < n; ++m) {
@@ -235,10 +259,13 @@ void AmclFilter::SeedFromCandidates(
     }
     fresh[m].pose = p;
     fresh[m].weight = std::max(c.score, 1e-6);
+    fresh[m].hypothesis = static_cast<int16_t>(m % k);
     total += fresh[m].weight;
   }
   for (Particle& p : fresh) p.weight /= total;
   particles_.swap(fresh);
+  hypotheses_.assign(k, Hypothesis());
+  for (int h = 0; h < k; ++h) hypotheses_[h].candidate = candidates[h];
   ResetAfterInitialization(0);
 }
 
@@ -285,6 +312,7 @@ void AmclFilter::SetMap(const OccupancyGrid& grid, Initialization init) {
     for (Particle& p : fresh) {
       p.pose = new_map->SampleFreePose(&rng_);
       p.weight = 1.0 / options_.max_particles;
+      p.hypothesis = -1;
     }
   } else if (init == Initialization::kFromOptions) {
     Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
@@ -300,6 +328,7 @@ void AmclFilter::SetMap(const OccupancyGrid& grid, Initialization init) {
   sensor_ = std::move(new_sensor);
   search_ = std::move(new_search);
   particles_.swap(fresh);
+  hypotheses_.clear();
   pending_relocalization_ = false;
   pending_search_ = init == Initialization::kGlobal && global_search();
   ResetAfterInitialization(
@@ -321,6 +350,7 @@ void AmclFilter::ResetAfterInitialization(int evidence_updates) {
   measured_ = false;
   confidence_ = Confidence();
   confidence_.evidence_updates = evidence_updates;
+  view_translation_ = view_rotation_ = 0.0;
   challenges_left_ = evidence_updates >= options_.confidence_min_updates
                          ? 0
                          : options_.confidence_challenges;
@@ -358,6 +388,8 @@ UpdateResult AmclFilter::Update(const Pose2D& odom_pose,
       return result;
     }
     motion_->SamplePoses(odom_ref_, odom_pose, &rng_, &particles_);
+    view_translation_ += moved;
+    view_rotation_ += turned;
   }
   have_odom_ = true;
   odom_ref_ = odom_pose;
@@ -450,10 +482,12 @@ int AmclFilter::LowVarianceDraw(int count, double inject_probability) {
     if (inject_probability > 0.0 && unit(rng_) < inject_probability) {
       out.pose = map_->SampleFreePose(&rng_);
       out.injected = true;
+      out.hypothesis = -1;
       ++injected;
     } else {
       out.pose = particles_[i].pose;
       out.injected = particles_[i].injected;
+      out.hypothesis = particles_[i].hypothesis;
     }
     out.weight = step;
   }
@@ -479,6 +513,7 @@ void AmclFilter::Resample() {
     }
   }
   if (!settled) injected = LowVarianceDraw(count, inject);
+  KeepHypothesisFloors();
   particles_.swap(resample_buffer_);
   // Injected particles fit the scan badly and drag the next averages down,
   // which would inject more and more ("spiralling into randomness").  amcl
@@ -491,6 +526,89 @@ void AmclFilter::Resample() {
   // the robot stays lost.
   if (injected > 0) log_w_fast_ = log_w_slow_;
   UpdateConvergence();
+}
+
+void AmclFilter::MeasureHypotheses() {
+  for (Hypothesis& h : hypotheses_) {
+    h.probability = 0.0;
+    h.particles = 0;
+  }
+  const int k = static_cast<int>(hypotheses_.size());
+  for (const Particle& p : particles_) {
+    if (p.hypothesis < 0 || p.hypothesis >= k) continue;
+    hypotheses_[p.hypothesis].probability += p.weight;
+    ++hypotheses_[p.hypothesis].particles;
+  }
+  double best = 0.0;
+  for (const Hypothesis& h : hypotheses_) best = std::max(best, h.probability);
+  if (best <= 0.0) return;
+  // Refuted: far less probable than the best.  Final: a hypothesis the
+  // evidence has ruled out is not brought back by keeping its particles.
+  for (Hypothesis& h : hypotheses_) {
+    if (h.probability < options_.hypothesis_refuted_ratio * best) {
+      h.refuted = true;
+    }
+  }
+}
+
+void AmclFilter::KeepHypothesisFloors() {
+  const int floor_count = options_.hypothesis_min_particles;
+  const int k = static_cast<int>(hypotheses_.size());
+  if (k < 2 || floor_count <= 0) return;
+  MeasureHypotheses();  // probabilities before this resampling
+  std::vector<int> drawn(k, 0);
+  for (const Particle& p : resample_buffer_) {
+    if (p.hypothesis >= 0 && p.hypothesis < k) ++drawn[p.hypothesis];
+  }
+  // Hypotheses the draw left short of the floor: their particles are drawn
+  // again from their own, floor_count of them, keeping their probability.
+  std::vector<char> short_of_floor(k, 0);
+  double floored_probability = 0.0;
+  bool any = false;
+  for (int h = 0; h < k; ++h) {
+    const Hypothesis& hyp = hypotheses_[h];
+    if (hyp.refuted || hyp.probability <= 0.0 || drawn[h] >= floor_count) {
+      continue;
+    }
+    short_of_floor[h] = 1;
+    floored_probability += hyp.probability;
+    any = true;
+  }
+  if (!any) return;
+  auto floored = [&](const Particle& p) {
+    return p.hypothesis >= 0 && p.hypothesis < k && short_of_floor[p.hypothesis];
+  };
+  // The rest of the draw shares the rest of the probability equally (it was
+  // drawn with equal weights).
+  size_t kept = 0;
+  for (size_t m = 0; m < resample_buffer_.size(); ++m) {
+    if (!floored(resample_buffer_[m])) resample_buffer_[kept++] = resample_buffer_[m];
+  }
+  resample_buffer_.resize(kept);
+  const double rest = std::max(0.0, 1.0 - floored_probability);
+  for (Particle& p : resample_buffer_) p.weight = kept > 0 ? rest / kept : 0.0;
+  // Low-variance draw of floor_count particles within each short hypothesis.
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int h = 0; h < k; ++h) {
+    if (!short_of_floor[h]) continue;
+    const double mass = hypotheses_[h].probability;
+    const double step = mass / floor_count;
+    double target = unit(rng_) * step;
+    double cumulative = 0.0;
+    for (const Particle& p : particles_) {
+      if (p.hypothesis != h) continue;
+      cumulative += p.weight;
+      while (target < cumulative && target < mass) {
+        Particle out = p;
+        out.weight = step;
+        resample_buffer_.push_back(out);
+        target += step;
+      }
+    }
+  }
+  double total = 0.0;
+  for (const Particle& p : resample_buffer_) total += p.weight;
+  for (Particle& p : resample_buffer_) p.weight /= total;
 }
 
 void AmclFilter::UpdateConvergence() {
@@ -516,6 +634,7 @@ void AmclFilter::UpdateConvergence() {
 }
 
 void AmclFilter::UpdateEstimate() {
+  MeasureHypotheses();
   clusters_ = ClusterParticles(particles_);
   estimate_ = PoseEstimate();
   estimate_.cluster_count = static_cast<int>(clusters_.size());
@@ -613,10 +732,25 @@ void AmclFilter::UpdateConfidence(bool motion_update, const LaserScan& scan) {
       global_search() != nullptr && !clusters_.empty() &&
       clusters_.front().injected_weight > 0.5 * clusters_.front().weight;
   if (explained && confidence_.modes == 1 && !found_by_injection) {
-    // Only motion brings new evidence; a forced update re-reads the same view.
-    if (motion_update) ++confidence_.evidence_updates;
+    // Only a new view brings new evidence: a forced update re-reads the same
+    // one, and so does a turn on the spot for a laser that sees all round
+    // (the same scan, rotated, fits a wrong place exactly as well as before:
+    // the study's false claims were made turning on the spot).  A new view
+    // is update_min_d of travel since the last counted update, or, for a
+    // laser with a blind sector wider than update_min_a, a turn of
+    // update_min_a, which brings walls into view that were not seen.
+    const bool new_view =
+        motion_update &&
+        (view_translation_ >= std::max(options_.update_min_d, kMinViewTravel) ||
+         (LargestBeamGap(scan) > options_.update_min_a &&
+          view_rotation_ >= options_.update_min_a));
+    if (new_view) {
+      ++confidence_.evidence_updates;
+      view_translation_ = view_rotation_ = 0.0;
+    }
   } else {
     confidence_.evidence_updates = 0;
+    view_translation_ = view_rotation_ = 0.0;
   }
   if (found_by_injection && explained) {
     pending_search_ = true;

@@ -61,6 +61,8 @@ const options::OptionTable<O>& Table() {
        Field("confidence_challenges", &O::confidence_challenges),
        Field("confidence_challenge_min_relative_score",
              &O::confidence_challenge_min_relative_score),
+       Field("hypothesis_min_particles", &O::hypothesis_min_particles),
+       Field("hypothesis_refuted_ratio", &O::hypothesis_refuted_ratio),
        Field("global_search", &O::global_search),
        Field("global_search_budget", &O::global_search_budget),
        Field("global_search_max_candidates", &O::global_search_max_candidates),
@@ -202,6 +204,17 @@ void ValidateAmclOptions(const AmclOptions& o) {
   require(o.confidence_lost_updates >= 0,
           "confidence_lost_updates=" +
               std::to_string(o.confidence_lost_updates) + " must be >= 0");
+  require(o.hypothesis_min_particles >= 0 &&
+              o.hypothesis_min_particles <= o.max_particles,
+          "hypothesis_min_particles=" +
+              std::to_string(o.hypothesis_min_particles) +
+              " must be in [0, max_particles=" +
+              std::to_string(o.max_particles) + "]");
+  require(std::isfinite(o.hypothesis_refuted_ratio) &&
+              o.hypothesis_refuted_ratio > 0.0 &&
+              o.hypothesis_refuted_ratio < 1.0,
+          "hypothesis_refuted_ratio=" + Num(o.hypothesis_refuted_ratio) +
+              " must be in (0, 1)");
   positive("global_search_budget", o.global_search_budget);
   require(o.global_search_max_candidates >= 1,
           "global_search_max_candidates=" +

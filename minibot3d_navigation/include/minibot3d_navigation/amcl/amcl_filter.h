@@ -37,9 +37,14 @@
 //    obstacle (the likelihood field's distance);
 //  * modes: the heaviest clusters that together hold 1 -
 //    confidence_mode_weight of the weight;
-//  * evidence: consecutive motion-triggered updates with the scan explained
-//    and one mode.  It restarts at 0 on global localization and on a
-//    re-seed, and starts satisfied for a pose the user gave (initial pose).
+//  * evidence: consecutive updates with the scan explained and one mode,
+//    each from a new view: update_min_d of travel since the last counted one
+//    (a turn on the spot shows a laser that sees all round the same scan,
+//    rotated, which fits a wrong place as well as before; for a laser with a
+//    blind sector wider than update_min_a, a turn of update_min_a counts
+//    too).  Updates that bring no new view neither count nor break the run.
+//    It restarts at 0 on global localization and on a re-seed, and starts
+//    satisfied for a pose the user gave (initial pose).
 //  * origin: each particle knows whether it descends from augmented MCL's
 //    random draws since the hypotheses were last set (Particle::injected).
 //    A heaviest cluster made mostly of such particles is a place resampling
@@ -64,6 +69,25 @@
 //    look-alike room the search's first few candidates missed) are added as
 //    hypotheses beside the estimate, evidence restarts, and motion must
 //    decide again.  A pose the user gave is never challenged.
+//
+// Hypotheses: every particle seeded round a search candidate carries the
+// candidate's index (Particle::hypothesis), and so do its descendants; the
+// total weight of a candidate's particles is its probability: the search's
+// score as prior, times the likelihood of every scan since.  Resampling
+// keeps each probability in expectation, but a light hypothesis on a few
+// particles can die by chance, and an under-sampled one after an unlucky
+// stretch of updates.  A dead hypothesis never comes back, whatever the robot
+// sees later, so the survivor earned the claim by default (a false claim in
+// the study's default world: the search's first candidate was the truth, the
+// filter kept its second and claimed it).  So resampling keeps at least
+// hypothesis_min_particles particles on every hypothesis not yet refuted:
+// drawn from its own particles in proportion to their weights, and weighted
+// so that the hypothesis keeps its probability exactly (stratified
+// resampling, the rest of the set sharing the rest).  A hypothesis is refuted
+// once its probability falls below hypothesis_refuted_ratio times the most
+// probable one's, and from then on is resampled like any other particles.
+// With one hypothesis (or none: a pose the user gave, a uniform spread) this
+// is plain resampling.
 //
 // Global localization with the map-wide search (global_search.h): the set is
 // first spread uniformly (amcl); the next Update() runs the search on its
@@ -175,6 +199,14 @@ struct SearchReport {
   std::vector<SearchCandidate> candidates;  // best first; empty: none found
 };
 
+// A seeded hypothesis (see "Hypotheses" in the header comment).
+struct Hypothesis {
+  SearchCandidate candidate;  // where the search put it, and its score
+  double probability = 0.0;   // its particles' total weight
+  int particles = 0;          // how many particles carry it
+  bool refuted = false;       // probability fell below the refuted ratio
+};
+
 class AmclFilter {
  public:
   enum class Initialization {
@@ -226,6 +258,9 @@ class AmclFilter {
     return search_ ? search_->fallback_reason() : "no occupancy grid given";
   }
   const SearchReport& last_search() const { return last_search_; }
+  // The hypotheses of the last seeding (empty after a pose, a uniform spread
+  // or a map change), in the order of the candidates they were seeded from.
+  const std::vector<Hypothesis>& hypotheses() const { return hypotheses_; }
   const Confidence& confidence() const { return confidence_; }
 
   // The next Update() corrects even if the robot has not moved (amcl's
@@ -276,6 +311,12 @@ class AmclFilter {
   // each replaced by a free-space pose with probability inject_probability.
   // Returns the number of injected poses.
   int LowVarianceDraw(int count, double inject_probability);
+  // After a resampling draw into resample_buffer_ (from particles_): keeps
+  // hypothesis_min_particles on every hypothesis not refuted, with its
+  // probability (see Hypotheses in the header comment).
+  void KeepHypothesisFloors();
+  // Hypotheses' probabilities and particle counts from particles_.
+  void MeasureHypotheses();
   void UpdateConvergence();
   void UpdateEstimate();
   // After a correction: explained fraction, evidence, lost test.
@@ -317,9 +358,14 @@ class AmclFilter {
   bool pending_relocalization_ = false;
   bool pending_found_by_injection_ = false;
   SearchReport last_search_;
+  std::vector<Hypothesis> hypotheses_;
   Confidence confidence_;
   bool measured_ = false;  // explained fraction measured since the last init
   int challenges_left_ = 0;  // look-alike checks left before the next claim
+  // Odometry travel and turn since the last update that counted as evidence
+  // (see UpdateConfidence: only a new view counts).
+  double view_translation_ = 0.0;
+  double view_rotation_ = 0.0;
 };
 
 }  // namespace amcl

@@ -80,9 +80,10 @@ struct AmclOptions {
   // at least 1 - confidence_mode_weight of the weight; the lighter rest is
   // ignored.  One mode is needed for a claim.
   double confidence_mode_weight = 0.05;
-  // Consecutive motion-triggered updates with the scan explained and one mode
-  // before the filter claims a pose after global localization (evidence over
-  // motion; resampling alone earns nothing).  0: claim at once.
+  // Consecutive updates with the scan explained and one mode, each from a new
+  // view (update_min_d of travel; amcl_filter.h "evidence"), before the
+  // filter claims a pose after global localization (evidence over motion;
+  // resampling alone earns nothing).  0: claim at once.
   int confidence_min_updates = 15;
   // Consecutive motion-triggered updates with the scan not explained after
   // which the filter counts itself lost (kidnapped) and, with the global
@@ -95,6 +96,13 @@ struct AmclOptions {
   // ... counting only places that score at least this fraction of the best
   // one the check found (near-equals: a weaker place dies in a few updates).
   double confidence_challenge_min_relative_score = 0.9;
+  // Particles every seeded hypothesis keeps through resampling until the
+  // evidence refutes it (amcl_filter.h, "Hypotheses"); 0: plain resampling,
+  // where a light hypothesis can die by chance.
+  int hypothesis_min_particles = 100;
+  // A hypothesis is refuted (and loses its floor) once its probability falls
+  // below this fraction of the most probable hypothesis's.
+  double hypothesis_refuted_ratio = 1e-6;
 
   // --- Map-wide correlative search for global localization (see
   // global_search.h) ---

@@ -4,6 +4,7 @@
 #define MINIBOT3D_NAVIGATION_AMCL_TYPES_H_
 
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace minibot3d_navigation {
@@ -59,6 +60,10 @@ struct Particle {
   // spread over free space).  A mode made of such particles was found by
   // resampling, not among the places the filter was told to consider.
   bool injected = false;
+  // The seeded hypothesis (a map-wide search candidate, AmclFilter::
+  // hypotheses()) this particle descends from; -1: none (a pose the user
+  // gave, a uniform spread, or an injected draw).
+  int16_t hypothesis = -1;
 };
 
 // One laser scan as the filter consumes it.  The ROS node fills this from a

@@ -1,4 +1,5 @@
-"""A simple wanderer for global-localization runs (make demo, tools/global_loc_study.py): drive
+"""A simple wanderer for global-localization runs (simple_navi_goals.py --wander-for-fix, make demo,
+tools/global_loc_study.py): drive
 ahead where the laser shows room, steering towards the side with more of it, turning away where
 there is none. It sees only the scan, as a robot switched on in an unknown place would.
 
