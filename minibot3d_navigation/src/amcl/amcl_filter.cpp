@@ -350,7 +350,7 @@ void AmclFilter::ResetAfterInitialization(int evidence_updates) {
   measured_ = false;
   confidence_ = Confidence();
   confidence_.evidence_updates = evidence_updates;
-  view_translation_ = view_rotation_ = 0.0;
+  evidence_views_.clear();
   challenges_left_ = evidence_updates >= options_.confidence_min_updates
                          ? 0
                          : options_.confidence_challenges;
@@ -388,8 +388,6 @@ UpdateResult AmclFilter::Update(const Pose2D& odom_pose,
       return result;
     }
     motion_->SamplePoses(odom_ref_, odom_pose, &rng_, &particles_);
-    view_translation_ += moved;
-    view_rotation_ += turned;
   }
   have_odom_ = true;
   odom_ref_ = odom_pose;
@@ -419,7 +417,7 @@ UpdateResult AmclFilter::Update(const Pose2D& odom_pose,
     result.resampled = true;
   }
   UpdateEstimate();
-  UpdateConfidence(motion_update, scan);
+  UpdateConfidence(motion_update, odom_pose, scan);
   return result;
 }
 
@@ -714,7 +712,22 @@ void AmclFilter::Challenge(const LaserScan& scan) {
   challenges_left_ = left;
 }
 
-void AmclFilter::UpdateConfidence(bool motion_update, const LaserScan& scan) {
+bool AmclFilter::IsNewView(const Pose2D& odom_pose, const LaserScan& scan) const {
+  const double min_travel = std::max(options_.update_min_d, kMinViewTravel);
+  const bool blind_sector = LargestBeamGap(scan) > options_.update_min_a;
+  for (const Pose2D& v : evidence_views_) {
+    if (std::hypot(odom_pose.x - v.x, odom_pose.y - v.y) >= min_travel) continue;
+    if (blind_sector &&
+        std::fabs(AngleDiff(odom_pose.yaw, v.yaw)) >= options_.update_min_a) {
+      continue;
+    }
+    return false;  // seen from here before
+  }
+  return true;
+}
+
+void AmclFilter::UpdateConfidence(bool motion_update, const Pose2D& odom_pose,
+                                  const LaserScan& scan) {
   confidence_.explained_fraction = ExplainedFraction(
       *map_, scan_, estimate_.mean,
       options_.confidence_hit_dist > 0.0 ? options_.confidence_hit_dist
@@ -732,25 +745,18 @@ void AmclFilter::UpdateConfidence(bool motion_update, const LaserScan& scan) {
       global_search() != nullptr && !clusters_.empty() &&
       clusters_.front().injected_weight > 0.5 * clusters_.front().weight;
   if (explained && confidence_.modes == 1 && !found_by_injection) {
-    // Only a new view brings new evidence: a forced update re-reads the same
-    // one, and so does a turn on the spot for a laser that sees all round
-    // (the same scan, rotated, fits a wrong place exactly as well as before:
-    // the study's false claims were made turning on the spot).  A new view
-    // is update_min_d of travel since the last counted update, or, for a
-    // laser with a blind sector wider than update_min_a, a turn of
-    // update_min_a, which brings walls into view that were not seen.
-    const bool new_view =
-        motion_update &&
-        (view_translation_ >= std::max(options_.update_min_d, kMinViewTravel) ||
-         (LargestBeamGap(scan) > options_.update_min_a &&
-          view_rotation_ >= options_.update_min_a));
-    if (new_view) {
+    // Only a new view brings new evidence (see IsNewView): a forced update
+    // re-reads the same one, and so do a turn on the spot for a laser that
+    // sees all round (the same scan, rotated, fits a wrong place exactly as
+    // well as before) and driving back and forth over the same half metre
+    // (the study's false claims were made both ways, in a corner).
+    if (motion_update && IsNewView(odom_pose, scan)) {
       ++confidence_.evidence_updates;
-      view_translation_ = view_rotation_ = 0.0;
+      evidence_views_.push_back(odom_pose);
     }
   } else {
     confidence_.evidence_updates = 0;
-    view_translation_ = view_rotation_ = 0.0;
+    evidence_views_.clear();
   }
   if (found_by_injection && explained) {
     pending_search_ = true;

@@ -38,11 +38,14 @@
 //  * modes: the heaviest clusters that together hold 1 -
 //    confidence_mode_weight of the weight;
 //  * evidence: consecutive updates with the scan explained and one mode,
-//    each from a new view: update_min_d of travel since the last counted one
-//    (a turn on the spot shows a laser that sees all round the same scan,
-//    rotated, which fits a wrong place as well as before; for a laser with a
-//    blind sector wider than update_min_a, a turn of update_min_a counts
-//    too).  Updates that bring no new view neither count nor break the run.
+//    each from a new view: a place (in odometry) at least update_min_d from
+//    every place counted before in the run.  A turn on the spot shows a laser
+//    that sees all round the same scan, rotated, which fits a wrong place as
+//    well as before, and driving back and forth re-reads the same views; for
+//    a laser with a blind sector wider than update_min_a, a heading turned by
+//    update_min_a from those counted nearby is a new view too.  Updates
+//    without a new view do not count, but an unexplained one (or two modes)
+//    still breaks the run.
 //    It restarts at 0 on global localization and on a re-seed, and starts
 //    satisfied for a pose the user gave (initial pose).
 //  * origin: each particle knows whether it descends from augmented MCL's
@@ -320,7 +323,13 @@ class AmclFilter {
   void UpdateConvergence();
   void UpdateEstimate();
   // After a correction: explained fraction, evidence, lost test.
-  void UpdateConfidence(bool motion_update, const LaserScan& scan);
+  void UpdateConfidence(bool motion_update, const Pose2D& odom_pose,
+                        const LaserScan& scan);
+  // Whether the robot at odom_pose sees from a new place: at least
+  // update_min_d (in odometry) from every update counted in the current run
+  // of evidence, or, for a laser with a blind sector wider than update_min_a,
+  // turned by update_min_a from those within that distance.
+  bool IsNewView(const Pose2D& odom_pose, const LaserScan& scan) const;
   // The look-alike check before a claim (see Confidence above).
   void Challenge(const LaserScan& scan);
   // Modes' second moment and the confidence floors -> claim_covariance.
@@ -362,10 +371,9 @@ class AmclFilter {
   Confidence confidence_;
   bool measured_ = false;  // explained fraction measured since the last init
   int challenges_left_ = 0;  // look-alike checks left before the next claim
-  // Odometry travel and turn since the last update that counted as evidence
-  // (see UpdateConfidence: only a new view counts).
-  double view_translation_ = 0.0;
-  double view_rotation_ = 0.0;
+  // Odometry poses of the updates that counted in the current run of
+  // evidence (IsNewView).
+  std::vector<Pose2D> evidence_views_;
 };
 
 }  // namespace amcl
