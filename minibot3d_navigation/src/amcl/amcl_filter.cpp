@@ -753,6 +753,14 @@ void AmclFilter::UpdateConfidence(bool motion_update, const Pose2D& odom_pose,
     if (motion_update && IsNewView(odom_pose, scan)) {
       ++confidence_.evidence_updates;
       evidence_views_.push_back(odom_pose);
+      // A long run (hours of confident tracking) keeps only its recent
+      // views: by then the claim has been earned, and the check stays cheap.
+      const size_t keep = 4 * static_cast<size_t>(
+                                  std::max(options_.confidence_min_updates, 16));
+      if (evidence_views_.size() > 2 * keep) {
+        evidence_views_.erase(evidence_views_.begin(),
+                              evidence_views_.end() - keep);
+      }
     }
   } else {
     confidence_.evidence_updates = 0;
