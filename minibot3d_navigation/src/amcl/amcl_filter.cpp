@@ -527,6 +527,7 @@ void AmclFilter::Resample() {
 }
 
 void AmclFilter::MeasureHypotheses() {
+  if (hypotheses_.empty()) return;  // tracking: nothing to measure
   for (Hypothesis& h : hypotheses_) {
     h.probability = 0.0;
     h.particles = 0;
@@ -714,9 +715,12 @@ void AmclFilter::Challenge(const LaserScan& scan) {
 
 bool AmclFilter::IsNewView(const Pose2D& odom_pose, const LaserScan& scan) const {
   const double min_travel = std::max(options_.update_min_d, kMinViewTravel);
-  const bool blind_sector = LargestBeamGap(scan) > options_.update_min_a;
+  int blind_sector = -1;  // the scan's beam gap, computed only when needed
   for (const Pose2D& v : evidence_views_) {
     if (std::hypot(odom_pose.x - v.x, odom_pose.y - v.y) >= min_travel) continue;
+    if (blind_sector < 0) {
+      blind_sector = LargestBeamGap(scan) > options_.update_min_a ? 1 : 0;
+    }
     if (blind_sector &&
         std::fabs(AngleDiff(odom_pose.yaw, v.yaw)) >= options_.update_min_a) {
       continue;
