@@ -244,31 +244,44 @@ AmclOptions ShippedOptions() {
   o.laser_max_range = 12.0;
   o.laser_max_beams = 60;
   o.laser_sigma_hit = 0.1;
+  o.laser_model_type = "likelihood_field_prob";
+  o.laser_independent_beams = 0.5;
+  o.confidence_challenges = 1;
+  o.confidence_challenge_min_relative_score = 1.0;
   return o;
 }
 
 // Two identical 5 m x 4 m rooms side by side (10 m apart), each with the
 // same asymmetric furniture: nothing in a scan tells them apart.  With
 // `third_room`, a room of its own 2 m east of the second (x 17 to 22 m).
+// The map reaches 2 m (laser_likelihood_max_dist) beyond the twins' outer
+// walls, so an end point just past a wall sees the same field in both rooms
+// (past a map edge it would be "off the map", the farthest distance, in one
+// room only and the twins would not be identical).
 constexpr double kTwinShift = 10.0;
 OccupancyGrid MakeTwinRooms(bool third_room = false) {
-  OccupancyGrid g = testing::MakeFreeGrid(third_room ? 22.0 : 15.0, 4.0, 0.05);
+  constexpr double kMargin = 2.0;
+  OccupancyGrid g = testing::MakeFreeGrid(
+      kMargin + (third_room ? 22.0 : 15.0 + kMargin), 4.0, 0.05, -kMargin);
+  auto box = [&](double x0, double y0, double x1, double y1) {
+    testing::FillBox(&g, x0 + kMargin, y0, x1 + kMargin, y1);
+  };
   if (third_room) {
-    testing::FillBox(&g, 17.0, 0.0, 22.0, 0.05);
-    testing::FillBox(&g, 17.0, 3.95, 22.0, 4.0);
-    testing::FillBox(&g, 17.0, 0.0, 17.05, 4.0);
-    testing::FillBox(&g, 21.95, 0.0, 22.0, 4.0);
-    testing::FillBox(&g, 19.0, 0.6, 19.3, 0.9);    // pillar
-    testing::FillBox(&g, 20.6, 2.6, 21.95, 3.95);  // cabinet
+    box(17.0, 0.0, 22.0, 0.05);
+    box(17.0, 3.95, 22.0, 4.0);
+    box(17.0, 0.0, 17.05, 4.0);
+    box(21.95, 0.0, 22.0, 4.0);
+    box(19.0, 0.6, 19.3, 0.9);    // pillar
+    box(20.6, 2.6, 21.95, 3.95);  // cabinet
   }
   for (int r = 0; r < 2; ++r) {
     const double x0 = r * kTwinShift;
-    testing::FillBox(&g, x0, 0.0, x0 + 5.0, 0.05);
-    testing::FillBox(&g, x0, 3.95, x0 + 5.0, 4.0);
-    testing::FillBox(&g, x0, 0.0, x0 + 0.05, 4.0);
-    testing::FillBox(&g, x0 + 4.95, 0.0, x0 + 5.0, 4.0);
-    testing::FillBox(&g, x0 + 1.0, 2.8, x0 + 1.6, 3.95);  // cupboard
-    testing::FillBox(&g, x0 + 3.5, 0.05, x0 + 3.7, 1.2);  // partition
+    box(x0, 0.0, x0 + 5.0, 0.05);
+    box(x0, 3.95, x0 + 5.0, 4.0);
+    box(x0, 0.0, x0 + 0.05, 4.0);
+    box(x0 + 4.95, 0.0, x0 + 5.0, 4.0);
+    box(x0 + 1.0, 2.8, x0 + 1.6, 3.95);  // cupboard
+    box(x0 + 3.5, 0.05, x0 + 3.7, 1.2);  // partition
   }
   return g;
 }
@@ -333,9 +346,14 @@ TEST(AmclConfidenceTest, HypothesisKeepsItsProbabilityUntilTheEvidenceRefutesIt)
     ASSERT_EQ(filter.hypotheses().size(), 3u);
     RobotSim sim(grid, truth, 41);
     filter.Update(sim.odom(), sim.Scan());
-    const double seeded = filter.hypotheses()[1].probability /
-                          filter.hypotheses()[0].probability;
-    EXPECT_NEAR(seeded, 0.002, 0.001) << "the twin's prior";
+    if (floor_count > 0) {
+      // The first update cannot tell the twins apart either (over 30 seeds
+      // the ratio stayed within 4 % of the prior).  Plain resampling keeps
+      // the twin's ~3 expected particles or none, by chance.
+      const double seeded = filter.hypotheses()[1].probability /
+                            filter.hypotheses()[0].probability;
+      EXPECT_NEAR(seeded, 0.002, 0.0002) << "the twin's prior";
+    }
     std::vector<Pose2D> path;
     for (int k = 0; k < 10; ++k) path.push_back({0.1, 0.0, 0.0});
     for (int k = 0; k < 10; ++k) path.push_back({0.0, 0.0, 15 * kDeg});
@@ -394,20 +412,24 @@ TEST(AmclConfidenceTest, ScanNotExplainedAtTheEstimateGivesLowFractionAndLargeCo
 }
 
 // Global localization: never a claim while wrong, then the right one.
+// `searches` (if given) receives every map-wide search run meanwhile.
 void ExpectNoFalseClaimsThenRight(AmclFilter* filter, RobotSim* sim,
                                   const std::vector<Pose2D>& path,
-                                  double* travel_to_claim) {
+                                  double* travel_to_claim,
+                                  std::vector<SearchReport>* searches = nullptr) {
   double travel = 0.0;
   *travel_to_claim = -1.0;
   for (const Pose2D& u : path) {
     sim->Move(u);
     ASSERT_FALSE(::testing::Test::HasFatalFailure());
     travel += std::hypot(u.x, u.y);
+    const int count = filter->last_search().count;
     // A claim is published with an update (amcl_pose): judge those.
-    if (filter->Update(sim->odom(), sim->Scan()).status !=
-        UpdateStatus::kUpdated) {
-      continue;
+    const UpdateStatus status = filter->Update(sim->odom(), sim->Scan()).status;
+    if (searches != nullptr && filter->last_search().count != count) {
+      searches->push_back(filter->last_search());
     }
+    if (status != UpdateStatus::kUpdated) continue;
     if (ClaimXY(*filter) < kDemoThreshold) {
       // The definition of a false claim: > 1 m or > 30 deg off.
       // A right one is far closer.
@@ -458,6 +480,58 @@ TEST(AmclConfidenceTest, ChallengeAddsTheLookAlikeTheSearchMissedSoNoClaim) {
       EXPECT_FALSE(claimed) << "claimed one of two identical rooms";
       EXPECT_GE(filter.confidence().modes, 2);
       EXPECT_GT(ClaimXY(filter), kDemoThreshold);
+    }
+  }
+}
+
+// The filter is given only a wrong place that explains nearly all of every
+// scan (the room next door, the same but for a pillar the robot sees): left
+// alone it claims it.  The look-alike check before the claim searches the
+// map, finds a place that explains the view better than the estimate's own,
+// and adds it, even when it adds only such places (relative score 1.0, the
+// shipped setting): the filter then claims the right room.
+TEST(AmclConfidenceTest, ChallengeFindsAPlaceThatExplainsTheViewBetterThanTheEstimate) {
+  OccupancyGrid grid = MakeTwinRooms();
+  // A pillar in the second room only (grid frame: 2 m of margin).
+  testing::FillBox(&grid, 2.0 + kTwinShift + 4.0, 3.0, 2.0 + kTwinShift + 4.5,
+                   3.5);
+  const Pose2D truth{2.2 + kTwinShift, 1.6, 0.4};
+  const Pose2D wrong{2.2, 1.6, 0.4};
+  for (int challenges : {0, 1}) {
+    SCOPED_TRACE(challenges ? "checked" : "unchecked");
+    AmclOptions o = ShippedOptions();
+    o.recovery_alpha_slow = o.recovery_alpha_fast = 0.0;  // no random draws
+    o.confidence_challenges = challenges;
+    o.confidence_challenge_min_relative_score = 1.0;
+    AmclFilter filter(o, grid);
+    filter.SeedFromCandidates({{wrong, 1.0}});
+    RobotSim sim(grid, truth, 43);
+    filter.Update(sim.odom(), sim.Scan());
+    EXPECT_GT(filter.confidence().explained_fraction,
+              o.confidence_min_explained)
+        << "the wrong room must pass the explained-beams test";
+    bool false_claim = false, right_claim = false, challenged = false;
+    for (int lap = 0; lap < 6; ++lap) {
+      std::vector<Pose2D> leg(10, Pose2D{0.1, 0.0, 0.0});
+      leg.insert(leg.end(), 10, Pose2D{0.05, 0.0, 18 * kDeg});
+      for (const Pose2D& u : leg) {
+        sim.Move(u);
+        ASSERT_FALSE(HasFatalFailure());
+        filter.Update(sim.odom(), sim.Scan());
+        challenged = challenged || filter.last_search().challenge;
+        if (ClaimXY(filter) < kDemoThreshold) {
+          const double err = PosError(filter.estimate().mean, sim.truth());
+          false_claim = false_claim || err > 1.0;
+          right_claim = right_claim || err < 0.3;
+        }
+      }
+    }
+    if (challenges == 0) {
+      EXPECT_TRUE(false_claim) << "the unchecked filter claims the wrong room";
+    } else {
+      EXPECT_TRUE(challenged);
+      EXPECT_FALSE(false_claim);
+      EXPECT_TRUE(right_claim);
     }
   }
 }
@@ -569,10 +643,12 @@ TEST(AmclConfidenceTest, KidnappedRobotIsFoundAgainByTheSearch) {
   EXPECT_EQ(filter.last_search().count, 0) << "tracking needs no search";
   sim.Kidnap({6.0, 4.0, 3.0});
   double travel = -1.0;
-  ExpectNoFalseClaimsThenRight(&filter, &sim, ShuttlePath(60), &travel);
+  std::vector<SearchReport> searches;
+  ExpectNoFalseClaimsThenRight(&filter, &sim, ShuttlePath(60), &travel,
+                               &searches);
   ASSERT_FALSE(HasFatalFailure());
-  EXPECT_GE(filter.last_search().count, 1);
-  EXPECT_TRUE(filter.last_search().relocalization);
+  ASSERT_GE(searches.size(), 1u);
+  EXPECT_TRUE(searches.front().relocalization) << "lost: searched again";
   EXPECT_GT(travel, 0.0) << "never claimed again";
   EXPECT_LT(PosError(filter.estimate().mean, sim.truth()), 0.1);
 }
@@ -872,6 +948,7 @@ TEST(AmclOptionsTest, ValidationNamesEveryOffendingParameter) {
   o.global_search_angular_step = 0.5;
   o.hypothesis_min_particles = -1;
   o.hypothesis_refuted_ratio = 1.0;
+  o.laser_independent_beams = 4.0;  // with the 'sonar' model
   try {
     ValidateAmclOptions(o);
     FAIL() << "expected std::invalid_argument";
@@ -883,6 +960,8 @@ TEST(AmclOptionsTest, ValidationNamesEveryOffendingParameter) {
           "laser_z_hit+laser_z_rand=0", "kld_err=0", "resample_interval=0",
           "recovery_alpha_slow=0.2 must be < recovery_alpha_fast=0.1",
           "beam_skip_threshold=1.5", "initial_cov_xx=nan",
+          "laser_independent_beams=4 applies only to laser_model_type "
+          "likelihood_field_prob (it is 'sonar')",
           "global_search_angular_step=0.5", "hypothesis_min_particles=-1",
           "hypothesis_refuted_ratio=1 must be in (0, 1)"}) {
       EXPECT_NE(msg.find(part), std::string::npos) << part << " in: " << msg;
@@ -891,6 +970,12 @@ TEST(AmclOptionsTest, ValidationNamesEveryOffendingParameter) {
   // The filter constructor validates too, before touching the map.
   EXPECT_THROW(AmclFilter(o, testing::MakeAsymmetricRoom()),
                std::invalid_argument);
+  AmclOptions prob;
+  prob.laser_model_type = "likelihood_field_prob";
+  prob.laser_independent_beams = -1.0;
+  EXPECT_THROW(ValidateAmclOptions(prob), std::invalid_argument);
+  prob.laser_independent_beams = 0.5;
+  EXPECT_NO_THROW(ValidateAmclOptions(prob));
 }
 
 TEST(AmclOptionsTest, SetOptionParsesRosParameterText) {
@@ -914,7 +999,7 @@ TEST(AmclOptionsTest, SetOptionParsesRosParameterText) {
                std::invalid_argument);
   EXPECT_FALSE(IsAmclOptionName("base_frame_id"));
   EXPECT_TRUE(IsAmclOptionName("laser_likelihood_max_dist"));
-  EXPECT_EQ(AmclOptionNames().size(), 53u);
+  EXPECT_EQ(AmclOptionNames().size(), 54u);
   // Defaults are amcl's.
   const AmclOptions d;
   EXPECT_EQ(d.min_particles, 100);

@@ -2,6 +2,7 @@
 // the ray caster, scan preprocessing, likelihoods computed by hand, and the
 // sanity property that a scan matches the true pose better than a shifted or
 // rotated one.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -267,6 +268,17 @@ TEST(AmclSensorModelTest, LikelihoodFieldProbIsProductOfBeams) {
   for (double d : {0.1, 0.3, 0.7, 2.0}) log_p += std::log(HandPz(d, o, 4.0));
   EXPECT_NEAR(LogLikelihood(model.get(), HandScan(), o, {0.25, 0.35, 0.0}),
               log_p, 1e-6);
+
+  // Tempered: the four used beams weigh as laser_independent_beams; more
+  // than are used leaves the product as it is.
+  for (double k : {0.5, 2.0, 10.0}) {
+    o.laser_independent_beams = k;
+    auto tempered = CreateSensorModel(o, map);
+    EXPECT_NEAR(
+        LogLikelihood(tempered.get(), HandScan(), o, {0.25, 0.35, 0.0}),
+        std::min(1.0, k / 4.0) * log_p, 1e-6)
+        << k;
+  }
 }
 
 TEST(AmclSensorModelTest, BeamModelMatchesHandComputation) {

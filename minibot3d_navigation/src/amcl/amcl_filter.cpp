@@ -693,16 +693,24 @@ void AmclFilter::Challenge(const LaserScan& scan) {
   report.candidates =
       search->Search(scan, &report.seconds, &report.cpu_seconds,
                      options_.global_search_max_candidates + 1);
-  std::vector<SearchCandidate> seeds;
-  double best = options_.global_search_min_score;
-  for (const SearchCandidate& c : report.candidates) best = std::max(best, c.score);
+  auto here = [&](const SearchCandidate& c) {
+    return std::hypot(c.pose.x - estimate_.mean.x,
+                      c.pose.y - estimate_.mean.y) < 1.0 &&
+           std::fabs(AngleDiff(c.pose.yaw, estimate_.mean.yaw)) < kPi / 4;
+  };
+  // The bar a look-alike must reach: a share of the score of the estimate's
+  // own place in this search (scored on the same lattice as the others), or
+  // of the best place found when the estimate's is not among the candidates.
+  double best = options_.global_search_min_score, own = 0.0;
   for (const SearchCandidate& c : report.candidates) {
-    if (c.score < options_.confidence_challenge_min_relative_score * best) continue;
-    const bool here = std::hypot(c.pose.x - estimate_.mean.x,
-                                 c.pose.y - estimate_.mean.y) < 1.0 &&
-                      std::fabs(AngleDiff(c.pose.yaw, estimate_.mean.yaw)) <
-                          kPi / 4;
-    if (!here) seeds.push_back(c);
+    best = std::max(best, c.score);
+    if (here(c)) own = std::max(own, c.score);
+  }
+  const double bar =
+      options_.confidence_challenge_min_relative_score * (own > 0.0 ? own : best);
+  std::vector<SearchCandidate> seeds;
+  for (const SearchCandidate& c : report.candidates) {
+    if (c.score >= bar && !here(c)) seeds.push_back(c);
   }
   last_search_ = report;
   if (seeds.empty()) return;  // the view has no look-alike: claim

@@ -47,6 +47,7 @@ const options::OptionTable<O>& Table() {
        Field("beam_skip_distance", &O::beam_skip_distance),
        Field("beam_skip_threshold", &O::beam_skip_threshold),
        Field("beam_skip_error_threshold", &O::beam_skip_error_threshold),
+       Field("laser_independent_beams", &O::laser_independent_beams),
        Field("initial_pose_x", &O::initial_pose_x),
        Field("initial_pose_y", &O::initial_pose_y),
        Field("initial_pose_a", &O::initial_pose_a),
@@ -179,6 +180,12 @@ void ValidateAmclOptions(const AmclOptions& o) {
   non_negative("beam_skip_distance", o.beam_skip_distance);
   unit_interval("beam_skip_threshold", o.beam_skip_threshold);
   unit_interval("beam_skip_error_threshold", o.beam_skip_error_threshold);
+  non_negative("laser_independent_beams", o.laser_independent_beams);
+  require(o.laser_independent_beams == 0.0 ||
+              o.laser_model_type == "likelihood_field_prob",
+          "laser_independent_beams=" + Num(o.laser_independent_beams) +
+              " applies only to laser_model_type likelihood_field_prob (it is '" +
+              o.laser_model_type + "'); set it to 0");
 
   finite("initial_pose_x", o.initial_pose_x);
   finite("initial_pose_y", o.initial_pose_y);

@@ -227,7 +227,8 @@ class LikelihoodFieldProbModel : public LikelihoodFieldBase {
         do_beamskip_(o.do_beamskip),
         beam_skip_distance_(o.beam_skip_distance),
         beam_skip_threshold_(o.beam_skip_threshold),
-        beam_skip_error_threshold_(o.beam_skip_error_threshold) {}
+        beam_skip_error_threshold_(o.beam_skip_error_threshold),
+        independent_beams_(o.laser_independent_beams) {}
 
   void ComputeLogLikelihoods(const PreparedScan& scan,
                              const std::vector<Particle>& particles,
@@ -241,12 +242,13 @@ class LikelihoodFieldProbModel : public LikelihoodFieldBase {
     // before that "most particles disagree" says nothing about the beam.
     const bool skip = do_beamskip_ && filter_converged && np > 0 && nb > 0;
     if (!skip) {
+      const double scale = Tempering(nb);
       for (size_t k = 0; k < np; ++k) {
         double log_p = 0.0;
         ForEachEndpoint(particles[k].pose, [&](size_t, std::ptrdiff_t idx) {
           log_p += Term(idx);
         });
-        (*log_likelihoods)[k] = log_p;
+        (*log_likelihoods)[k] = scale * log_p;
       }
       return;
     }
@@ -281,13 +283,14 @@ class LikelihoodFieldProbModel : public LikelihoodFieldBase {
     // (Unlike amcl, max-range readings do not count as skipped beams here,
     // so open space cannot trigger this by itself.)
     const bool use_all = skipped >= nb * beam_skip_error_threshold_;
+    const double scale = Tempering(use_all ? nb : nb - skipped);
     for (size_t k = 0; k < np; ++k) {
       const double* row = &log_pz_[k * nb];
       double log_p = 0.0;
       for (size_t b = 0; b < nb; ++b) {
         if (use_all || use_beam_[b]) log_p += row[b];
       }
-      (*log_likelihoods)[k] = log_p;
+      (*log_likelihoods)[k] = scale * log_p;
     }
   }
 
@@ -303,10 +306,19 @@ class LikelihoodFieldProbModel : public LikelihoodFieldBase {
   double BeamTerm(double pz) const override { return std::log(pz); }
 
  private:
+  // The factor on the sum of log pz over `used` beams: the scan counts as
+  // laser_independent_beams independent beams (1 when that is 0, or when
+  // fewer beams than that are used).
+  double Tempering(size_t used) const {
+    if (independent_beams_ <= 0.0 || used == 0) return 1.0;
+    return std::min(1.0, independent_beams_ / static_cast<double>(used));
+  }
+
   bool do_beamskip_;
   double beam_skip_distance_;
   double beam_skip_threshold_;
   double beam_skip_error_threshold_;
+  double independent_beams_;
   std::vector<double> log_pz_;  // particle-major scratch for beam skipping
   std::vector<int> agree_count_;
   std::vector<char> use_beam_;

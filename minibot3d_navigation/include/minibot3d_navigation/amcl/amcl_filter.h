@@ -67,9 +67,11 @@
 //    When the evidence first reaches confidence_min_updates after a global
 //    localization or a re-seed, the map-wide search runs on the current scan
 //    (up to confidence_challenges times per seeding); places that explain it
-//    nearly as well (>= confidence_challenge_min_relative_score of the best
-//    place found) and lie >= 1 m or >= 45 deg from the estimate (a
-//    look-alike room the search's first few candidates missed) are added as
+//    as well as the estimate's own place in that search, or better
+//    (>= confidence_challenge_min_relative_score of its score; of the best
+//    place's when the estimate's is not among the candidates), and lie
+//    >= 1 m or >= 45 deg from the estimate (the true place the first search
+//    ranked below six look-alikes, or a twin room it missed) are added as
 //    hypotheses beside the estimate, evidence restarts, and motion must
 //    decide again.  A pose the user gave is never challenged.
 //

@@ -58,6 +58,11 @@ struct AmclOptions {
   double beam_skip_distance = 0.5;
   double beam_skip_threshold = 0.3;
   double beam_skip_error_threshold = 0.9;
+  // likelihood_field_prob only (not in ROS amcl): the scan counts as this
+  // many independent beams, i.e. the sum of log pz over the n used beams is
+  // scaled by min(1, laser_independent_beams / n).  0: every beam is
+  // independent (ROS amcl's product).  See sensor_model.h.
+  double laser_independent_beams = 0.0;
 
   // --- Initial pose (Gaussian) ---
   double initial_pose_x = 0.0;
@@ -90,12 +95,15 @@ struct AmclOptions {
   // search, seeds again from the map-wide search.  0 disables.
   int confidence_lost_updates = 8;
   // Map-wide look-alike checks before the first claim after a global
-  // localization or re-seed (amcl_filter.h, "challenge"); 0 disables (the
-  // default: on the office study it cost ~4 m more travel per claim, README).
-  int confidence_challenges = 0;
-  // ... counting only places that score at least this fraction of the best
-  // one the check found (near-equals: a weaker place dies in a few updates).
-  double confidence_challenge_min_relative_score = 0.9;
+  // localization or re-seed (amcl_filter.h, "challenge"); 0 disables.
+  int confidence_challenges = 1;
+  // ... counting only places that score at least this fraction of the
+  // estimate's own place in that search (of the best place found when the
+  // estimate's is not among the candidates).  1.0: only places that explain
+  // the view as well as the estimate or better; 0.9 also near look-alikes
+  // (safer among identical rooms; ~4 m more travel per claim in the office
+  // study, README).
+  double confidence_challenge_min_relative_score = 1.0;
   // Particles every seeded hypothesis keeps through resampling until the
   // evidence refutes it (amcl_filter.h, "Hypotheses"); 0: plain resampling,
   // where a light hypothesis can die by chance.

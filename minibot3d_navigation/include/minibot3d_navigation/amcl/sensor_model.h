@@ -12,7 +12,16 @@
 //    instead of the product, which keeps a few unexplained beams (people,
 //    furniture) from zeroing a good particle.  Max-range readings are skipped.
 //  * "likelihood_field_prob": same pz, combined as a true product
-//    (sum of log pz), plus optional beam skipping (do_beamskip): once the
+//    (sum of log pz), or, with laser_independent_beams = k > 0, as a
+//    tempered product: the sum of log pz over the n used beams times
+//    min(1, k / n), so the scan weighs as much as k independent beams.
+//    Neighbouring beams are not independent (the same wall, the same map
+//    error), and the full product makes the weight of a whole cloud hinge on
+//    how well its best few particles happen to line up (the book's ch. 6
+//    warns of this overconfidence of the independence assumption).
+//    Unlike 1 + sum pz^3, which saturates, the geometric mean still tells a
+//    look-alike that misses a few beams from the true place.
+//    Plus optional beam skipping (do_beamskip): once the
 //    filter has converged, a beam is only integrated if more than
 //    beam_skip_threshold of the particles see its end point within
 //    beam_skip_distance of an obstacle; if the fraction of skipped beams
