@@ -197,8 +197,9 @@ def draw(path, map_yaml, rec, k):
         for rank, (cx, cy, cyaw) in enumerate(cands):
             ax.arrow(cx, cy, 1.2 * math.cos(cyaw), 1.2 * math.sin(cyaw), width=0.12,
                      color=color, length_includes_head=True,
-                     label=('search candidates (global_localization)' if s_i == 0 else
-                            'search candidates (lost: re-search)') if rank == 0 else None)
+                     label=None if rank or s_i > 1 else
+                     'search candidates (global_localization)' if s_i == 0 else
+                     'later searches (lost, or the look-alike check before a claim)')
             ax.annotate(str(rank + 1), (cx, cy), xytext=(4, 4), textcoords='offset points',
                         color=color, fontsize=9, weight='bold')
     if rec['truth']:
