@@ -54,7 +54,7 @@ echo "== AMCL global localization study: seeded random starts, a wanderer, claim
 # The office world (tools/office_world.py), the default world and the arena, a kidnapping after
 # every start. The office run's picture goes to docs/: start 28, kidnapped into a row of
 # look-alike rooms (README).
-KIDNAPS=50 PICTURE_START=28 tools/global_loc_study.sh 50 office default arena
+KIDNAPS=50 PICTURE_START=27 tools/global_loc_study.sh 50 office default arena
 cp build/bench/global_loc/global_loc_office.png docs/global_loc_office.png
 
 echo "== Navigation core: costmap inflation/updates, global planners (A* 2000x2000, OMPL), DWA cycle"
