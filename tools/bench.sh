@@ -52,8 +52,8 @@ tools/amcl_sim_bench.sh
 
 echo "== AMCL global localization study: seeded random starts, a wanderer, claims vs the truth"
 # The office world (tools/office_world.py), the default world and the arena, a kidnapping after
-# every start. The office run's picture goes to docs/: start 28, kidnapped into a row of
-# look-alike rooms (README).
+# every start. The office run's picture goes to docs/: start 27, whose kidnapping the look-alike
+# check before a claim puts right (README).
 KIDNAPS=50 PICTURE_START=27 tools/global_loc_study.sh 50 office default arena
 cp build/bench/global_loc/global_loc_office.png docs/global_loc_office.png
 

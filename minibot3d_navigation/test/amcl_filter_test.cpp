@@ -286,6 +286,18 @@ OccupancyGrid MakeTwinRooms(bool third_room = false) {
   return g;
 }
 
+// Back and forth inside a room, U-turns on the move (a turn on the spot
+// shows the filter no new view): each lap 1 m ahead, then a half turn over
+// 0.5 m.
+std::vector<Pose2D> UTurnLaps(int laps) {
+  std::vector<Pose2D> path;
+  for (int lap = 0; lap < laps; ++lap) {
+    path.insert(path.end(), 10, Pose2D{0.1, 0.0, 0.0});
+    path.insert(path.end(), 10, Pose2D{0.05, 0.0, 18 * kDeg});
+  }
+  return path;
+}
+
 TEST(AmclConfidenceTest, SplitParticleSetClaimsLargeCovarianceAndTwoModes) {
   const OccupancyGrid grid = MakeTwinRooms();
   AmclOptions o = ShippedOptions();
@@ -459,18 +471,13 @@ TEST(AmclConfidenceTest, ChallengeAddsTheLookAlikeTheSearchMissedSoNoClaim) {
     filter.Update(sim.odom(), sim.Scan());
     ASSERT_EQ(filter.last_search().candidates.size(), 1u);
     bool claimed = false, challenged = false;
-    // Back and forth, U-turns on the move (a turn on the spot shows the
-    // filter no new view): ~2.5 m of new views.
-    for (int lap = 0; lap < 3; ++lap) {
-      std::vector<Pose2D> leg(10, Pose2D{0.1, 0.0, 0.0});
-      leg.insert(leg.end(), 10, Pose2D{0.05, 0.0, 18 * kDeg});
-      for (const Pose2D& u : leg) {
-        sim.Move(u);
-        ASSERT_FALSE(HasFatalFailure());
-        filter.Update(sim.odom(), sim.Scan());
-        claimed = claimed || filter.confidence().confident;
-        challenged = challenged || filter.last_search().challenge;
-      }
+    // ~2.5 m of new views.
+    for (const Pose2D& u : UTurnLaps(3)) {
+      sim.Move(u);
+      ASSERT_FALSE(HasFatalFailure());
+      filter.Update(sim.odom(), sim.Scan());
+      claimed = claimed || filter.confidence().confident;
+      challenged = challenged || filter.last_search().challenge;
     }
     if (challenges == 0) {
       EXPECT_TRUE(claimed) << "the unchallenged filter claims its one room";
@@ -511,19 +518,15 @@ TEST(AmclConfidenceTest, ChallengeFindsAPlaceThatExplainsTheViewBetterThanTheEst
               o.confidence_min_explained)
         << "the wrong room must pass the explained-beams test";
     bool false_claim = false, right_claim = false, challenged = false;
-    for (int lap = 0; lap < 6; ++lap) {
-      std::vector<Pose2D> leg(10, Pose2D{0.1, 0.0, 0.0});
-      leg.insert(leg.end(), 10, Pose2D{0.05, 0.0, 18 * kDeg});
-      for (const Pose2D& u : leg) {
-        sim.Move(u);
-        ASSERT_FALSE(HasFatalFailure());
-        filter.Update(sim.odom(), sim.Scan());
-        challenged = challenged || filter.last_search().challenge;
-        if (ClaimXY(filter) < kDemoThreshold) {
-          const double err = PosError(filter.estimate().mean, sim.truth());
-          false_claim = false_claim || err > 1.0;
-          right_claim = right_claim || err < 0.3;
-        }
+    for (const Pose2D& u : UTurnLaps(6)) {
+      sim.Move(u);
+      ASSERT_FALSE(HasFatalFailure());
+      filter.Update(sim.odom(), sim.Scan());
+      challenged = challenged || filter.last_search().challenge;
+      if (ClaimXY(filter) < kDemoThreshold) {
+        const double err = PosError(filter.estimate().mean, sim.truth());
+        false_claim = false_claim || err > 1.0;
+        right_claim = right_claim || err < 0.3;
       }
     }
     if (challenges == 0) {
