@@ -133,6 +133,12 @@ else
   echo "skipped: no CARMEN log at '${log}' (make bench BENCH_LOG=path/to/log.clf)"
 fi
 
+echo "== SLAM round building-sized loops of long corridors (synthetic logs with their truth,"
+echo "   tools/make_building_log.py; slam_offline defaults, seed 1: no loop closure, a fixed window, the default)"
+tools/building_slam_bench.sh build/bench/building
+cp build/bench/building/large.png docs/building_map.png
+echo "README: docs/building_map.png"
+
 echo "== SLAM in the simulator (relations from the true pose, Kümmerle et al. 2009; config/gmapping.yaml)"
 tools/slam_sim_bench.sh default minibot3d_sim/worlds/default.world maps/default_world.yaml -3 -1.5 0 \
   "-2.1,0.6 -2.4,3.0 -2.1,0.6 -0.3,2.0 0.45,0.6 2.5,-1.0 0.8,-2.15 -3,-1.5" 2

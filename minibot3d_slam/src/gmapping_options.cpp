@@ -86,6 +86,9 @@ void ValidateOptions(const GmappingOptions& o) {
   p.Check(o.loopClosure == 0 || o.loopClosure == 1, "loopClosure", o.loopClosure, "0 or 1");
   p.Check(o.loopSearchWindow > 0.0 && o.loopSearchWindow <= 50.0, "loopSearchWindow", o.loopSearchWindow,
           "in (0, 50] m");
+  p.Check(o.loopDriftRate >= 0.0 && o.loopDriftRate <= 1.0, "loopDriftRate", o.loopDriftRate, "in [0, 1] m per m");
+  p.Check(o.loopMaxSearchWindow >= o.loopSearchWindow && o.loopMaxSearchWindow <= 100.0, "loopMaxSearchWindow",
+          o.loopMaxSearchWindow, "in [loopSearchWindow, 100] m");
   p.Check(o.loopSearchAngle > 0.0 && o.loopSearchAngle <= M_PI, "loopSearchAngle", o.loopSearchAngle,
           "in (0, pi] rad");
   p.Check(o.loopMinScore > 0.0 && o.loopMinScore <= 1.0, "loopMinScore", o.loopMinScore, "in (0, 1]");
@@ -181,6 +184,8 @@ void SetOption(GmappingOptions* o, const std::string& name, const std::string& v
       {"occ_thresh", &GmappingOptions::occ_thresh, nullptr},
       {"loopClosure", nullptr, &GmappingOptions::loopClosure},
       {"loopSearchWindow", &GmappingOptions::loopSearchWindow, nullptr},
+      {"loopDriftRate", &GmappingOptions::loopDriftRate, nullptr},
+      {"loopMaxSearchWindow", &GmappingOptions::loopMaxSearchWindow, nullptr},
       {"loopSearchAngle", &GmappingOptions::loopSearchAngle, nullptr},
       {"loopMinScore", &GmappingOptions::loopMinScore, nullptr},
       {"loopSubmapScans", nullptr, &GmappingOptions::loopSubmapScans},

@@ -147,6 +147,10 @@ LoopCloser::RenderedSubmap* LoopCloser::Submap(int index, const std::vector<Pose
   return cache_.front().get();
 }
 
+double LoopCloser::SearchWindow(double path) const {
+  return std::min(options_.loopMaxSearchWindow, std::max(options_.loopSearchWindow, options_.loopDriftRate * path));
+}
+
 bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
   if (trajectory.size() != scans_.size()) {
     throw std::invalid_argument("LoopCloser::Detect: " + std::to_string(trajectory.size()) + " poses for " +
@@ -159,18 +163,26 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
   if (cur % kSearchEvery != 0) return false;
   const int per = options_.loopSubmapScans;
   const int finished = size() / per;  // submaps [k·per, (k+1)·per) with every node present
-  std::vector<std::pair<double, int>> candidates;  // (distance, submap)
+  struct Candidate {
+    double distance;  // from the estimate to the submap's nearest node
+    int submap;
+    double window;    // half-width of the search
+    bool operator<(const Candidate& o) const { return distance < o.distance; }
+  };
+  std::vector<Candidate> candidates;
   for (int k = 0; k < finished; ++k) {
     const int last = (k + 1) * per - 1;
     if (last >= cur || path_[cur] - path_[last] < options_.loopMinTravel) continue;
+    // The drift to expect is the path since the submap ended or, when a loop constraint has tied
+    // the trajectory to the map since, the path since that constraint.
+    const double window = SearchWindow(path_[cur] - std::max(path_[last], anchored_path_));
     double best = std::numeric_limits<double>::infinity();
     for (int i = k * per; i <= last; ++i) {
       best = std::min(best, std::hypot(trajectory[i].x - here.x, trajectory[i].y - here.y));
     }
-    if (best <= options_.loopSearchWindow) candidates.emplace_back(best, k);
+    if (best <= window) candidates.push_back({best, k, window});
   }
   std::sort(candidates.begin(), candidates.end());
-  if (candidates.size() > static_cast<std::size_t>(kMaxSearchesPerScan)) candidates.resize(kMaxSearchesPerScan);
 
   std::vector<Eigen::Vector2d> points;
   points.reserve(newest_points_.size());
@@ -187,13 +199,16 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
       prepared.match_sin.push_back(s.Sin(i));
     }
   }
-  for (const auto& cand : candidates) {
-    RenderedSubmap* submap = Submap(cand.second, trajectory);
+  for (std::size_t searched = 0; searched < candidates.size() && searched < kMaxSearchesPerScan; ++searched) {
+    const Candidate& cand = candidates[searched];
+    RenderedSubmap* submap = Submap(cand.submap, trajectory);
     if (submap == nullptr) continue;
     ++searches_;
     // The two best places at least kAmbiguitySeparation apart: a second one scoring nearly as well
     // (a corridor seen along its axis, twin rooms) makes the match ambiguous, and it is dropped.
-    const std::vector<CorrelativeMatch> found = submap->search->SearchAll(points, here, search_options_);
+    CorrelativeSearchOptions search = search_options_;
+    search.linear_search_window = cand.window;
+    const std::vector<CorrelativeMatch> found = submap->search->SearchAll(points, here, search);
     if (found.empty()) continue;
     if (found.size() > 1) {
       ++ambiguous_;
@@ -210,7 +225,7 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
         std::fabs(NormalizeAngle(refined.theta - match->pose.theta)) > 0.05) {
       continue;
     }
-    const int anchor = cand.second * per;
+    const int anchor = cand.submap * per;
     LoopConstraint c;
     c.from = anchor;
     c.to = cur;
@@ -219,23 +234,28 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
     c.correction = Compose(refined, Between(Pose2{}, here));
     if (std::hypot(refined.x - here.x, refined.y - here.y) <= kBigCorrection &&
         std::fabs(NormalizeAngle(refined.theta - here.theta)) <= kBigCorrection / 10.0) {
+      anchored_path_ = path_[cur];
       constraints_.push_back(c);
       ++pending_;
       continue;
     }
     // A constraint that says the estimate is far off enters the graph only once a constraint of
-    // another scan in another submap agrees with it (the rigid correction of the map one implies puts this scan
-    // within a third of kBigCorrection of where its own match puts it): a graph cannot
-    // check a lone loop edge — the chain of odometry edges bends to fit any one — so one
-    // look-alike place must not be able to move the trajectory by metres.
+    // another scan in another submap agrees with it (the rigid correction of the map one implies
+    // puts this scan within a third of kBigCorrection of where its own match puts it, plus the
+    // drift the front-end may have made between the two scans and between the two submaps:
+    // loopDriftRate per metre of path, a tenth of that in radians): a graph cannot check a lone
+    // loop edge — the chain of odometry edges bends to fit any one — so one look-alike place must
+    // not be able to move the trajectory by metres.
     bool confirmed = false;
     for (LoopConstraint& t : tentative_) {
       // Another scan, and another submap: scans matched against the same submap share its
       // errors (a submap slightly bent inside, a place it aliases), so they are not two opinions.
       if (t.to == cur || t.from == c.from) continue;
       const Pose2 predicted = Compose(t.correction, here);  // where the other one puts this scan
-      if (std::hypot(predicted.x - refined.x, predicted.y - refined.y) < kBigCorrection / 3.0 &&
-          std::fabs(NormalizeAngle(predicted.theta - refined.theta)) < kBigCorrection / 30.0) {
+      const double apart = std::fabs(path_[cur] - path_[t.to]) + std::fabs(path_[c.from] - path_[t.from]);
+      const double drift = options_.loopDriftRate * apart;
+      if (std::hypot(predicted.x - refined.x, predicted.y - refined.y) < kBigCorrection / 3.0 + drift &&
+          std::fabs(NormalizeAngle(predicted.theta - refined.theta)) < kBigCorrection / 30.0 + drift / 10.0) {
         if (!t.confirmed) {
           t.confirmed = true;
           constraints_.push_back(t);
@@ -245,6 +265,7 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
       }
     }
     if (confirmed) {
+      anchored_path_ = path_[cur];
       c.confirmed = true;
       constraints_.push_back(c);
       ++pending_;

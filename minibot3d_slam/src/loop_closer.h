@@ -12,10 +12,15 @@
 //
 // Detection, after each processed scan: the submaps that ended at least `loopMinTravel` metres of
 // path ago (older parts of the map — recent ones are the RBPF's own business) and have a node
-// within `loopSearchWindow` of the current estimate are candidates; the nearest is searched, every
-// kSearchEvery-th scan (the searches are most of the loop closer's cost). The current scan is searched in each with CorrelativeSearch (the
-// same branch-and-bound search amcl's global localization uses) in a window of ±loopSearchWindow
-// and ±loopSearchAngle around the current estimate; a match must reach `loopMinScore` (mean
+// within the search window of the current estimate are candidates — the window's half-width is
+// `loopSearchWindow`, or `loopDriftRate` × the path driven since the submap ended when that is
+// more (the front-end's drift grows with the path: round a building-sized loop of long corridors
+// the estimate comes back metres off), at most `loopMaxSearchWindow`; once a constraint has tied
+// the trajectory to the map, the path is counted from there (a large window left open after a
+// closure only lets a corridor's look-alike places in); the nearest is searched, every
+// kSearchEvery-th scan (the searches are most of the loop closer's cost). The current scan is
+// searched in each with CorrelativeSearch (the same branch-and-bound search amcl's global
+// localization uses) in that window and ±loopSearchAngle around the current estimate; a match must reach `loopMinScore` (mean
 // blurred occupancy at the endpoints) and be unambiguous (no other place kAmbiguitySeparation
 // away scoring kAmbiguityRatio of it: corridors seen along their axis). It is then refined on the submap's grid with the RBPF's own
 // scan matcher (hill climber + sub-cell refinement) and becomes a constraint between the submap's
@@ -70,7 +75,7 @@ struct LoopConstraint {
 
 class LoopCloser {
  public:
-  static constexpr int kMaxSearchesPerScan = 1;
+  static constexpr std::size_t kMaxSearchesPerScan = 1;
   static constexpr int kSearchEvery = 3;  // processed scans (Cartographer samples likewise)
   static constexpr double kAngularStepRange = 10.0;  // m (see the constructor)
   // A match is ambiguous, and dropped, when another place kAmbiguitySeparation away scores at
@@ -109,6 +114,8 @@ class LoopCloser {
   int outliers() const { return outliers_; }
   int ambiguous() const { return ambiguous_; }
   std::size_t ScanBytes() const;  // memory of the stored scans
+  // Half-width of the search in a submap that ended `path` metres of path ago.
+  double SearchWindow(double path) const;
 
  private:
   // Beam directions of one laser geometry, shared by the scans taken with it (NaN: a beam no
@@ -145,6 +152,7 @@ class LoopCloser {
   // The newest node's matching endpoints in the base frame (the search needs no older node's).
   std::vector<Eigen::Vector2f> newest_points_;
   std::vector<double> path_;  // path length at each node (best trajectory at the time it was added)
+  double anchored_path_ = 0.0;  // path length at the newest node a loop constraint in the graph ends at
   std::vector<LoopConstraint> constraints_;
   std::list<std::unique_ptr<RenderedSubmap>> cache_;  // most recently used first
   int pending_ = 0;           // constraints added since the last optimisation

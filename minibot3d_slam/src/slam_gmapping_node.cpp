@@ -110,6 +110,8 @@ class SlamGmappingNode {
     get_i("sampleProposal", &o.sampleProposal);
     get_i("loopClosure", &o.loopClosure);
     get_d("loopSearchWindow", &o.loopSearchWindow);
+    get_d("loopDriftRate", &o.loopDriftRate);
+    get_d("loopMaxSearchWindow", &o.loopMaxSearchWindow);
     get_d("loopSearchAngle", &o.loopSearchAngle);
     get_d("loopMinScore", &o.loopMinScore);
     get_i("loopSubmapScans", &o.loopSubmapScans);

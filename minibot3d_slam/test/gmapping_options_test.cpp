@@ -88,12 +88,16 @@ TEST(GmappingOptionsTest, LoopClosureOptionsAreValidatedAndSetByName) {
   SetOption(&o, "loopClosure", "0");
   SetOption(&o, "loopSearchWindow", "6.5");
   SetOption(&o, "loopSearchAngle", "0.5");
+  SetOption(&o, "loopDriftRate", "0.05");
+  SetOption(&o, "loopMaxSearchWindow", "12");
   SetOption(&o, "loopMinScore", "0.7");
   SetOption(&o, "loopSubmapScans", "30");
   SetOption(&o, "loopMinTravel", "20");
   EXPECT_EQ(o.loopClosure, 0);
   EXPECT_DOUBLE_EQ(o.loopSearchWindow, 6.5);
   EXPECT_DOUBLE_EQ(o.loopSearchAngle, 0.5);
+  EXPECT_DOUBLE_EQ(o.loopDriftRate, 0.05);
+  EXPECT_DOUBLE_EQ(o.loopMaxSearchWindow, 12.0);
   EXPECT_DOUBLE_EQ(o.loopMinScore, 0.7);
   EXPECT_EQ(o.loopSubmapScans, 30);
   EXPECT_DOUBLE_EQ(o.loopMinTravel, 20.0);
@@ -104,6 +108,8 @@ TEST(GmappingOptionsTest, LoopClosureOptionsAreValidatedAndSetByName) {
   o.loopMinScore = 1.5;
   o.loopSubmapScans = 1;
   o.loopMinTravel = -1.0;
+  o.loopDriftRate = -0.1;
+  o.loopMaxSearchWindow = 200.0;
   const std::string m = ValidationMessage(o);
   EXPECT_NE(m.find("loopClosure = 2 (must be 0 or 1)"), std::string::npos) << m;
   EXPECT_NE(m.find("loopSearchWindow = 0 (must be in (0, 50] m)"), std::string::npos) << m;
@@ -111,7 +117,15 @@ TEST(GmappingOptionsTest, LoopClosureOptionsAreValidatedAndSetByName) {
   EXPECT_NE(m.find("loopMinScore = 1.5 (must be in (0, 1])"), std::string::npos) << m;
   EXPECT_NE(m.find("loopSubmapScans = 1 (must be in [2, 1000])"), std::string::npos) << m;
   EXPECT_NE(m.find("loopMinTravel = -1 (must be >= 0 m)"), std::string::npos) << m;
+  EXPECT_NE(m.find("loopDriftRate = -0.1 (must be in [0, 1] m per m)"), std::string::npos) << m;
+  EXPECT_NE(m.find("loopMaxSearchWindow = 200 (must be in [loopSearchWindow, 100] m)"), std::string::npos) << m;
   EXPECT_THROW(SetOption(&o, "loopSubmapScans", "2.5"), std::invalid_argument);
+  GmappingOptions w;  // the largest window below the smallest
+  w.loopSearchWindow = 6.0;
+  w.loopMaxSearchWindow = 5.0;
+  EXPECT_NE(ValidationMessage(w).find("loopMaxSearchWindow = 5 (must be in [loopSearchWindow, 100] m)"),
+            std::string::npos)
+      << ValidationMessage(w);
 }
 
 TEST(GmappingOptionsTest, ClearMaxRangeIsOffByDefaultValidatedAndSetByName) {

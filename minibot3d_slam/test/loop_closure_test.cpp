@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <random>
 #include <vector>
 
 #include "loop_closer.h"
@@ -41,14 +42,42 @@ World CorridorRing() {
   return w;
 }
 
+// A 2 m wide corridor round a (size − 4) m square block, with a pillar on the outer wall and a stub
+// on the block every 5–9 m at random (fixed seed), so that places along it can be told apart.
+World BigCorridorRing(double size) {
+  World w;
+  w.AddBox(0.0, 0.0, size, size);
+  w.AddBox(2.0, 2.0, size - 2.0, size - 2.0);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> gap(5.0, 9.0), width(0.3, 0.9);
+  for (double t = gap(rng); t < size - 3.0; t += gap(rng)) {
+    const double a = width(rng), b = width(rng);
+    w.AddBox(t, 0.0, t + a, 0.35);                       // bottom: outer wall
+    w.AddBox(size - 0.35, t, size, t + b);               // right
+    w.AddBox(size - t - a, size - 0.35, size - t, size);  // top
+    w.AddBox(0.0, size - t - b, 0.35, size - t);          // left
+    w.AddBox(t + 2.0, 1.7, t + 2.0 + b, 2.0);            // the block's sides, shifted
+    w.AddBox(size - 2.0, t + 2.5, size - 1.7, t + 2.5 + a);
+  }
+  for (auto& s : w.walls) {  // off the cell boundaries
+    s.x0 += 0.0123;
+    s.x1 += 0.0123;
+    s.y0 += 0.0311;
+    s.y1 += 0.0311;
+  }
+  return w;
+}
+
 struct DriveResult {
   Pose2 end_truth, end_estimate;
   double worst_node_error = 0.0;
   int closures = 0;
 };
 
-DriveResult Drive(int loop_closure) {
-  const World world = CorridorRing();
+// Drives the centre line of `world`'s ring corridor (corners at 1 and size − 1) one and a quarter
+// times, the odometry's heading drifting by `bias` rad per metre.
+DriveResult Drive(int loop_closure, const World& world = CorridorRing(), double size = 14.0, double bias = 0.004,
+                  double drift_rate = GmappingOptions{}.loopDriftRate) {
   GmappingOptions o;
   o.particles = 1;
   o.srr = o.srt = o.str = o.stt = 0.0;
@@ -58,17 +87,18 @@ DriveResult Drive(int loop_closure) {
   o.maxUrange = 8.0;
   o.xmin = -2;
   o.ymin = -2;
-  o.xmax = 16;
-  o.ymax = 16;
+  o.xmax = size + 2;
+  o.ymax = size + 2;
   o.loopClosure = loop_closure;
   o.loopSearchWindow = 4.0;
   o.loopSearchAngle = 0.35;
   o.loopMinTravel = 10.0;
+  o.loopDriftRate = drift_rate;
   RbpfSlam slam(o);
 
   // The path: corridor centre line (1, 1) → (13, 1) → (13, 13) → (1, 13) → (1, 1) → (13, 1),
   // 0.1 m steps, turning on the spot at the corners.
-  const double kBias = 0.004;  // rad of odometry yaw error per metre (0.23°/m)
+  const double kBias = bias;  // rad of odometry yaw error per metre
   Pose2 truth{1.0, 1.0, 0.0}, odom = truth;
   std::vector<std::pair<double, Pose2>> truth_at_time;
   double t = 0.0;
@@ -79,7 +109,8 @@ DriveResult Drive(int loop_closure) {
     if (slam.AddScan(scan, odom)) truth_at_time.emplace_back(t, truth);
   };
   feed();
-  const Pose2 corners[] = {{13, 1, 0}, {13, 13, 0}, {1, 13, 0}, {1, 1, 0}, {13, 1, 0}};
+  const double f = size - 1.0;
+  const Pose2 corners[] = {{f, 1, 0}, {f, f, 0}, {1, f, 0}, {1, 1, 0}, {f, 1, 0}};
   for (const Pose2& c : corners) {
     const double heading = std::atan2(c.y - truth.y, c.x - truth.x);
     // Turn on the spot.
@@ -136,6 +167,29 @@ TEST(LoopClosureTest, DriftingOdometryOnALoopIsCorrectedByClosingIt) {
   EXPECT_LT(std::fabs(NormalizeAngle(closed.end_estimate.theta - closed.end_truth.theta)),
             2.0 * LoopCloser::kApplyTurn);
   EXPECT_GT(std::fabs(NormalizeAngle(open.end_estimate.theta - open.end_truth.theta)), 0.15);
+}
+
+// A building-sized loop: round an 80 m ring (312 m of corridor) the blind front-end comes back
+// further off than the fixed loopSearchWindow (4 m) reaches, so with loopDriftRate 0 the revisit
+// is not found where the loop closes; with the window growing with the path driven it is. (The
+// blind front-end keeps drifting after each closure, at a rate no real front-end has: with 0.0008
+// or 0.001 rad/m it outruns the window again after the first closure and ends 4.1 or 6.0 m off —
+// still less than the fixed window's 6.4 and 8.9 m.)
+TEST(LoopClosureTest, AWindowGrowingWithThePathFindsALoopThatDriftedBeyondTheFixedWindow) {
+  const double kSize = 80.0, kBias = 0.0006;  // rad/m: 0.19 rad off after a lap
+  const World world = BigCorridorRing(kSize);
+  const DriveResult fixed = Drive(1, world, kSize, kBias, 0.0);
+  const DriveResult growing = Drive(1, world, kSize, kBias);
+  std::printf("end error: fixed window %.3f m (%d closures), growing window %.3f m (%d closures); worst node %.3f / %.3f m\n",
+              EndError(fixed), fixed.closures, EndError(growing), growing.closures, fixed.worst_node_error,
+              growing.worst_node_error);
+  // Fixed: the estimate ends further off than the window reaches.
+  EXPECT_GT(EndError(fixed), GmappingOptions{}.loopSearchWindow);
+  EXPECT_GT(growing.closures, 0);
+  // Growing: within what the closer leaves to the front-end (kApplyShift) plus the blind
+  // front-end's drift over the scans since the last applied correction.
+  EXPECT_LT(EndError(growing), 0.5) << "growing window end error " << EndError(growing);
+  EXPECT_LT(growing.worst_node_error, 1.0) << "worst node " << growing.worst_node_error;
 }
 
 }  // namespace

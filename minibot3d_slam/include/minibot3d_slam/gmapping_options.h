@@ -60,6 +60,12 @@ struct GmappingOptions {
   // estimate, Ceres optimisation, the map rebuilt from the corrected trajectory.
   int loopClosure = 1;             // 1 on, 0 off (the plain RBPF)
   double loopSearchWindow = 4.0;   // m: half-width of the search square; also how close a submap must be
+  // The window grows with the path driven since the submap ended (the front-end's drift grows
+  // with it: round a building-sized loop the estimate comes back metres off): the half-width is
+  // max(loopSearchWindow, loopDriftRate · path), at most loopMaxSearchWindow. Two constraints
+  // confirming each other may likewise differ by loopDriftRate · the path between them.
+  double loopDriftRate = 0.03;     // m of window per m of path (0: a fixed loopSearchWindow)
+  double loopMaxSearchWindow = 20.0;  // m
   double loopSearchAngle = 0.35;   // rad: half-width of the heading window
   double loopMinScore = 0.6;       // correlative score (mean blurred occupancy at the endpoints) to accept
   int loopSubmapScans = 20;        // processed scans per submap
