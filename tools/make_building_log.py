@@ -161,7 +161,7 @@ def route(width, height, laps):
     return pts
 
 
-def drive(pts, rng):
+def drive(pts):
     """True poses every ODOM_DT: straight legs with a weave, turns on the spot."""
     x, y = pts[0]
     th = math.atan2(pts[1][1] - y, pts[1][0] - x)
@@ -254,7 +254,7 @@ def main():
 
     rng = random.Random(a.seed)
     building = Building(a.width, a.height, a.door_gap, rng)
-    poses = drive(route(a.width, a.height, a.laps), rng)
+    poses = drive(route(a.width, a.height, a.laps))
     odom = odometry(poses, a.yaw_bias, rng)
     nprng = np.random.default_rng(a.seed)
     fov = math.radians(a.fov)

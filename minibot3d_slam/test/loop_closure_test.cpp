@@ -19,6 +19,16 @@ namespace {
 
 using testing_world::World;
 
+// Moves every wall off the 5 cm cell boundaries, as real walls are.
+void ShiftOffCellBoundaries(World* w) {
+  for (auto& s : w->walls) {
+    s.x0 += 0.0123;
+    s.x1 += 0.0123;
+    s.y0 += 0.0311;
+    s.y1 += 0.0311;
+  }
+}
+
 // A 2 m wide corridor round a 10 m × 10 m block, with a few wall features (door recesses,
 // pillars) at irregular places so that positions along the corridor can be told apart.
 World CorridorRing() {
@@ -33,12 +43,7 @@ World CorridorRing() {
   w.AddBox(3.0, 12.0, 3.3, 12.5);
   w.AddBox(0.0, 8.0, 0.5, 8.4);     // left corridor
   w.AddBox(1.6, 4.0, 2.0, 5.5);
-  for (auto& s : w.walls) {  // off the cell boundaries
-    s.x0 += 0.0123;
-    s.x1 += 0.0123;
-    s.y0 += 0.0311;
-    s.y1 += 0.0311;
-  }
+  ShiftOffCellBoundaries(&w);
   return w;
 }
 
@@ -59,12 +64,7 @@ World BigCorridorRing(double size) {
     w.AddBox(t + 2.0, 1.7, t + 2.0 + b, 2.0);            // the block's sides, shifted
     w.AddBox(size - 2.0, t + 2.5, size - 1.7, t + 2.5 + a);
   }
-  for (auto& s : w.walls) {  // off the cell boundaries
-    s.x0 += 0.0123;
-    s.x1 += 0.0123;
-    s.y0 += 0.0311;
-    s.y1 += 0.0311;
-  }
+  ShiftOffCellBoundaries(&w);
   return w;
 }
 
