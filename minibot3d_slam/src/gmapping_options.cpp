@@ -89,6 +89,7 @@ void ValidateOptions(const GmappingOptions& o) {
   p.Check(o.loopDriftRate >= 0.0 && o.loopDriftRate <= 1.0, "loopDriftRate", o.loopDriftRate, "in [0, 1] m per m");
   p.Check(o.loopMaxSearchWindow >= o.loopSearchWindow && o.loopMaxSearchWindow <= 100.0, "loopMaxSearchWindow",
           o.loopMaxSearchWindow, "in [loopSearchWindow, 100] m");
+  p.Check(o.loopCorridors == 0 || o.loopCorridors == 1, "loopCorridors", o.loopCorridors, "0 or 1");
   p.Check(o.loopSearchAngle > 0.0 && o.loopSearchAngle <= M_PI, "loopSearchAngle", o.loopSearchAngle,
           "in (0, pi] rad");
   p.Check(o.loopMinScore > 0.0 && o.loopMinScore <= 1.0, "loopMinScore", o.loopMinScore, "in (0, 1]");
@@ -186,6 +187,7 @@ void SetOption(GmappingOptions* o, const std::string& name, const std::string& v
       {"loopSearchWindow", &GmappingOptions::loopSearchWindow, nullptr},
       {"loopDriftRate", &GmappingOptions::loopDriftRate, nullptr},
       {"loopMaxSearchWindow", &GmappingOptions::loopMaxSearchWindow, nullptr},
+      {"loopCorridors", nullptr, &GmappingOptions::loopCorridors},
       {"loopSearchAngle", &GmappingOptions::loopSearchAngle, nullptr},
       {"loopMinScore", &GmappingOptions::loopMinScore, nullptr},
       {"loopSubmapScans", nullptr, &GmappingOptions::loopSubmapScans},

@@ -27,7 +27,7 @@ LoopCloser::LoopCloser(const GmappingOptions& options, const ScanMatcher* matche
   // farthest endpoint, makes hundreds of angles for a long-range laser).
   search_options_.angular_step = std::acos(1.0 - options.delta * options.delta /
                                                      (2.0 * kAngularStepRange * kAngularStepRange));
-  search_options_.max_candidates = 2;
+  search_options_.max_candidates = kMaxCandidates;
   search_options_.min_relative_score = kAmbiguityRatio;
   search_options_.min_separation_linear = kAmbiguitySeparation;
   search_options_.min_separation_angular = M_PI;  // any heading at another place is another place
@@ -210,31 +210,65 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
     search.linear_search_window = cand.window;
     const std::vector<CorrelativeMatch> found = submap->search->SearchAll(points, here, search);
     if (found.empty()) continue;
-    if (found.size() > 1) {
+    const CorrelativeMatch& match = found.front();
+    // Several places: a corridor seen along its axis when they are all on one line at one heading.
+    Eigen::Vector2d axis(1.0, 0.0);
+    const bool along_axis = found.size() > 1;
+    if (along_axis && options_.loopCorridors == 0) {
       ++ambiguous_;
       continue;
     }
-    const std::optional<CorrelativeMatch> match = found.front();
+    if (along_axis) {
+      axis = Eigen::Vector2d(found[1].pose.x - match.pose.x, found[1].pose.y - match.pose.y).normalized();
+      bool line = true;
+      for (const CorrelativeMatch& other : found) {
+        const Eigen::Vector2d d(other.pose.x - match.pose.x, other.pose.y - match.pose.y);
+        line = line && std::fabs(axis.x() * d.y() - axis.y() * d.x()) <= kAxisOffLine &&
+               std::fabs(NormalizeAngle(other.pose.theta - match.pose.theta)) <= kAxisTurn;
+      }
+      if (!line) {
+        ++ambiguous_;
+        continue;
+      }
+    }
+    // The part of a displacement the match measures: all of it, or across the corridor.
+    const auto measured = [&](double dx, double dy) {
+      if (!along_axis) return std::hypot(dx, dy);
+      return std::fabs(axis.x() * dy - axis.y() * dx);
+    };
     // Polish the lattice pose on the submap's own grid (the RBPF's matcher: hill climber from the
     // lattice pose, then sub-cell refinement); a refinement that wanders off means the match was
     // not a clear one.
     Pose2 climbed;
-    matcher_->Optimize(submap->grid, prepared, match->pose, &climbed);
-    const Pose2 refined = matcher_->Refine(submap->grid, prepared, climbed);
-    if (std::hypot(refined.x - match->pose.x, refined.y - match->pose.y) > 3.0 * options_.delta ||
-        std::fabs(NormalizeAngle(refined.theta - match->pose.theta)) > 0.05) {
+    matcher_->Optimize(submap->grid, prepared, match.pose, &climbed);
+    Pose2 refined = matcher_->Refine(submap->grid, prepared, climbed);
+    if (measured(refined.x - match.pose.x, refined.y - match.pose.y) > 3.0 * options_.delta ||
+        std::fabs(NormalizeAngle(refined.theta - match.pose.theta)) > 0.05) {
       continue;
+    }
+    if (along_axis) {
+      // Along the corridor the match says nothing: keep the estimate's position there.
+      const double t = axis.x() * (here.x - refined.x) + axis.y() * (here.y - refined.y);
+      refined.x += t * axis.x();
+      refined.y += t * axis.y();
     }
     const int anchor = cand.submap * per;
     LoopConstraint c;
     c.from = anchor;
     c.to = cur;
     c.measurement = Between(refined, trajectory[anchor]);
-    c.score = match->score;
+    c.score = match.score;
     c.correction = Compose(refined, Between(Pose2{}, here));
-    if (std::hypot(refined.x - here.x, refined.y - here.y) <= kBigCorrection &&
-        std::fabs(NormalizeAngle(refined.theta - here.theta)) <= kBigCorrection / 10.0) {
-      anchored_path_ = path_[cur];
+    c.along_axis = along_axis;
+    c.axis = NormalizeAngle(std::atan2(axis.y(), axis.x()) - trajectory[anchor].theta);
+    const bool small = std::hypot(refined.x - here.x, refined.y - here.y) <= kBigCorrection &&
+                       std::fabs(NormalizeAngle(refined.theta - here.theta)) <= kBigCorrection / 10.0;
+    if (small) {
+      if (along_axis) {
+        ++along_axis_;
+      } else {
+        anchored_path_ = path_[cur];
+      }
       constraints_.push_back(c);
       ++pending_;
       continue;
@@ -245,7 +279,8 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
     // drift the front-end may have made between the two scans and between the two submaps:
     // loopDriftRate per metre of path, a tenth of that in radians): a graph cannot check a lone
     // loop edge — the chain of odometry edges bends to fit any one — so one look-alike place must
-    // not be able to move the trajectory by metres.
+    // not be able to move the trajectory by metres. Corridor constraints agree or not across
+    // their corridors only (where along it is none of their business).
     bool confirmed = false;
     for (LoopConstraint& t : tentative_) {
       // Another scan, and another submap: scans matched against the same submap share its
@@ -254,18 +289,34 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
       const Pose2 predicted = Compose(t.correction, here);  // where the other one puts this scan
       const double apart = std::fabs(path_[cur] - path_[t.to]) + std::fabs(path_[c.from] - path_[t.from]);
       const double drift = options_.loopDriftRate * apart;
-      if (std::hypot(predicted.x - refined.x, predicted.y - refined.y) < kBigCorrection / 3.0 + drift &&
+      const double dx = predicted.x - refined.x, dy = predicted.y - refined.y;
+      double off = (c.along_axis || t.along_axis) ? 0.0 : std::hypot(dx, dy);
+      for (const LoopConstraint* k : {&c, &t}) {
+        if (!k->along_axis) continue;
+        const double a = k->axis + trajectory[k->from].theta;  // the corridor's direction in the map
+        off = std::max(off, std::fabs(std::cos(a) * dy - std::sin(a) * dx));
+      }
+      if (off < kBigCorrection / 3.0 + drift &&
           std::fabs(NormalizeAngle(predicted.theta - refined.theta)) < kBigCorrection / 30.0 + drift / 10.0) {
         if (!t.confirmed) {
           t.confirmed = true;
           constraints_.push_back(t);
           ++pending_;
+          if (t.along_axis) {
+            ++along_axis_;
+          } else {
+            anchored_path_ = std::max(anchored_path_, path_[t.to]);
+          }
         }
         confirmed = true;
       }
     }
     if (confirmed) {
-      anchored_path_ = path_[cur];
+      if (along_axis) {
+        ++along_axis_;
+      } else {
+        anchored_path_ = path_[cur];
+      }
       c.confirmed = true;
       constraints_.push_back(c);
       ++pending_;
@@ -304,6 +355,10 @@ std::vector<Pose2> LoopCloser::Optimize(const std::vector<Pose2>& trajectory) {
     e.measurement = c.measurement;
     e.sigma_xy = kLoopSigmaXy;
     e.sigma_theta = kLoopSigmaTheta;
+    if (c.along_axis) {
+      e.axis = c.axis;
+      e.sigma_along = kAlongSigma;
+    }
     e.robust = true;
     edges.push_back(e);
   }
@@ -315,6 +370,12 @@ std::vector<Pose2> LoopCloser::Optimize(const std::vector<Pose2>& trajectory) {
   }
   outliers_ += static_cast<int>(constraints_.size() - kept.size());
   constraints_ = std::move(kept);
+  // The trajectory is tied to the map where a kept constraint says so (one dropped as an outlier
+  // tied nothing).
+  anchored_path_ = 0.0;
+  for (const LoopConstraint& c : constraints_) {
+    if (!c.along_axis) anchored_path_ = std::max(anchored_path_, path_[c.to]);
+  }
   pending_ = 0;
   big_pending_ = false;
   last_optimized_ = size();

@@ -20,11 +20,22 @@
 // closure only lets a corridor's look-alike places in); the nearest is searched, every
 // kSearchEvery-th scan (the searches are most of the loop closer's cost). The current scan is
 // searched in each with CorrelativeSearch (the same branch-and-bound search amcl's global
-// localization uses) in that window and ±loopSearchAngle around the current estimate; a match must reach `loopMinScore` (mean
-// blurred occupancy at the endpoints) and be unambiguous (no other place kAmbiguitySeparation
-// away scoring kAmbiguityRatio of it: corridors seen along their axis). It is then refined on the submap's grid with the RBPF's own
-// scan matcher (hill climber + sub-cell refinement) and becomes a constraint between the submap's
-// first node and the current node.
+// localization uses) in that window and ±loopSearchAngle around the current estimate; a match must
+// reach `loopMinScore` (mean blurred occupancy at the endpoints) and be unambiguous (no other place
+// kAmbiguitySeparation away scoring kAmbiguityRatio of it). It is then refined on the submap's grid
+// with the RBPF's own scan matcher (hill climber + sub-cell refinement) and becomes a constraint
+// between the submap's first node and the current node.
+//
+// Corridors: a scan between two doors of a long corridor matches equally well anywhere along it.
+// Such a match is ambiguous, but when every look-alike place lies on one line through the best at
+// the same heading it still says where across the corridor the robot is and which way it faces —
+// exactly what keeps a corridor driven twice from coming out as two corridors side by side or
+// bent. It becomes a corridor constraint: the pose graph edge is weak (kAlongSigma) along the
+// line and as tight as any other across it and in heading (the information-matrix view of a
+// degenerate match, e.g. Censi, "An accurate closed-form estimate of ICP's covariance", ICRA
+// 2007). A large one waits for a second opinion like any other (below), compared across the
+// corridor only; corridor constraints do not reset the search window's drift count, which is about
+// the drift along the corridor too. `loopCorridors` 0 drops them all as ambiguous.
 //
 // Back-end: when new constraints exist and either kOptimizeEvery nodes passed since the last
 // optimisation or two new constraints agree that the current estimate is off by more than
@@ -71,6 +82,11 @@ struct LoopConstraint {
   // scans after the same drift imply about the same one.
   Pose2 correction;
   bool confirmed = false;
+  // A match in a corridor seen along its axis fixes the pose across the corridor and the heading,
+  // not where along it: `along_axis` then, with `axis` the corridor's direction in the frame of
+  // `from`.
+  bool along_axis = false;
+  double axis = 0.0;
 };
 
 class LoopCloser {
@@ -81,6 +97,12 @@ class LoopCloser {
   // A match is ambiguous, and dropped, when another place kAmbiguitySeparation away scores at
   // least kAmbiguityRatio of it.
   static constexpr double kAmbiguitySeparation = 0.5, kAmbiguityRatio = 0.95;
+  // An ambiguous match is still a corridor constraint (along_axis) when the look-alike places
+  // (up to kMaxCandidates) lie on one line through the best, within kAxisOffLine of it, at its
+  // heading within kAxisTurn; the constraint's standard deviation along the line is kAlongSigma.
+  static constexpr int kMaxCandidates = 3;
+  static constexpr double kAxisOffLine = 0.1, kAxisTurn = 0.02;  // m, rad
+  static constexpr double kAlongSigma = 10.0;                     // m
   static constexpr int kOptimizeEvery = 10;        // nodes
   static constexpr int kTentativeNodes = 30;       // how long a large correction waits for a second
   static constexpr double kBigCorrection = 0.3;    // m (or 10× that in rad)
@@ -113,6 +135,7 @@ class LoopCloser {
   int searches() const { return searches_; }
   int outliers() const { return outliers_; }
   int ambiguous() const { return ambiguous_; }
+  int along_axis() const { return along_axis_; }  // corridor constraints made (along_axis)
   std::size_t ScanBytes() const;  // memory of the stored scans
   // Half-width of the search in a submap that ended `path` metres of path ago.
   double SearchWindow(double path) const;
@@ -152,14 +175,16 @@ class LoopCloser {
   // The newest node's matching endpoints in the base frame (the search needs no older node's).
   std::vector<Eigen::Vector2f> newest_points_;
   std::vector<double> path_;  // path length at each node (best trajectory at the time it was added)
-  double anchored_path_ = 0.0;  // path length at the newest node a loop constraint in the graph ends at
+  // Path length at the newest node a loop constraint in the graph ends at (not a corridor one: it
+  // leaves the drift along the corridor open).
+  double anchored_path_ = 0.0;
   std::vector<LoopConstraint> constraints_;
   std::list<std::unique_ptr<RenderedSubmap>> cache_;  // most recently used first
   int pending_ = 0;           // constraints added since the last optimisation
   bool big_pending_ = false;  // two of them agree on a large correction of the estimate
   std::vector<LoopConstraint> tentative_;  // large corrections waiting for a second opinion
   int last_optimized_ = 0;    // node count at the last optimisation
-  int optimizations_ = 0, searches_ = 0, outliers_ = 0, ambiguous_ = 0;
+  int optimizations_ = 0, searches_ = 0, outliers_ = 0, ambiguous_ = 0, along_axis_ = 0;
 };
 
 }  // namespace minibot3d_slam

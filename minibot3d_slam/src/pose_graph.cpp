@@ -21,8 +21,15 @@ T WrapAngle(const T& a) {
 }
 
 struct EdgeCost {
-  EdgeCost(const Pose2& z, double sigma_xy, double sigma_theta)
-      : zx(z.x), zy(z.y), zt(z.theta), inv_xy(1.0 / sigma_xy), inv_t(1.0 / sigma_theta) {}
+  explicit EdgeCost(const PoseGraphEdge& e)
+      : zx(e.measurement.x),
+        zy(e.measurement.y),
+        zt(e.measurement.theta),
+        ca(std::cos(e.axis)),
+        sa(std::sin(e.axis)),
+        inv_along(1.0 / (e.sigma_along > 0.0 ? e.sigma_along : e.sigma_xy)),
+        inv_xy(1.0 / e.sigma_xy),
+        inv_t(1.0 / e.sigma_theta) {}
 
   template <typename T>
   bool operator()(const T* const a, const T* const b, T* r) const {
@@ -30,17 +37,19 @@ struct EdgeCost {
     using std::sin;
     const T c = cos(a[2]), s = sin(a[2]);
     const T dx = b[0] - a[0], dy = b[1] - a[1];
-    r[0] = (c * dx + s * dy - T(zx)) * T(inv_xy);
-    r[1] = (-s * dx + c * dy - T(zy)) * T(inv_xy);
+    const T ex = c * dx + s * dy - T(zx), ey = -s * dx + c * dy - T(zy);
+    // Along the edge's axis and across it (for an isotropic edge the split changes nothing).
+    r[0] = (T(ca) * ex + T(sa) * ey) * T(inv_along);
+    r[1] = (-T(sa) * ex + T(ca) * ey) * T(inv_xy);
     r[2] = WrapAngle(b[2] - a[2] - T(zt)) * T(inv_t);
     return true;
   }
 
-  double zx, zy, zt, inv_xy, inv_t;
+  double zx, zy, zt, ca, sa, inv_along, inv_xy, inv_t;
 };
 
 double SquaredResidual(const Pose2& a, const Pose2& b, const PoseGraphEdge& e) {
-  const EdgeCost cost(e.measurement, e.sigma_xy, e.sigma_theta);
+  const EdgeCost cost(e);
   const double pa[3] = {a.x, a.y, a.theta}, pb[3] = {b.x, b.y, b.theta};
   double r[3];
   cost(pa, pb, r);
@@ -65,6 +74,11 @@ PoseGraphResult OptimizePoseGraph(const std::vector<Pose2>& initial, const std::
                                   std::to_string(e.sigma_xy) + ", sigma_theta " + std::to_string(e.sigma_theta) +
                                   " (must be > 0)");
     }
+    if (!std::isfinite(e.axis) || std::isnan(e.sigma_along)) {
+      throw std::invalid_argument("OptimizePoseGraph: edge " + std::to_string(k) + " has axis " +
+                                  std::to_string(e.axis) + ", sigma_along " + std::to_string(e.sigma_along) +
+                                  " (axis must be finite, sigma_along a number)");
+    }
   }
   PoseGraphResult result;
   result.edge_inlier.assign(edges.size(), true);
@@ -80,7 +94,7 @@ PoseGraphResult OptimizePoseGraph(const std::vector<Pose2>& initial, const std::
       if (!result.edge_inlier[k]) continue;
       const PoseGraphEdge& e = edges[k];
       auto* cost = new ceres::AutoDiffCostFunction<EdgeCost, 3, 3, 3>(
-          new EdgeCost(e.measurement, e.sigma_xy, e.sigma_theta));
+          new EdgeCost(e));
       ceres::LossFunction* loss = e.robust ? new ceres::HuberLoss(options.huber_scale) : nullptr;
       problem.AddResidualBlock(cost, loss, &params[3 * e.from], &params[3 * e.to]);
     }

@@ -6,6 +6,9 @@
 // Nodes are poses (x, y, θ) in one frame; an edge (i, j, z) says "node j seen from node i is z",
 // with standard deviations (σ_xy, σ_θ). Its whitened residual is
 //   r = [R(θ_i)ᵀ (t_j − t_i) − z_t] / σ_xy,   [wrap(θ_j − θ_i − z_θ)] / σ_θ.
+// An edge may be weak along one direction (a scan matched in a corridor fixes where across the
+// corridor and which way the robot is, not how far along it): then the translation residual's
+// component along `axis` (an angle in node i's frame) is divided by `sigma_along` instead.
 // Edges flagged `robust` (loop closures) go through a Huber loss of scale `huber_scale` (in σ): a
 // wrong loop closure then pulls on the graph with a bounded force instead of a quadratic one, and
 // after the solve, robust edges whose residual exceeds `outlier_chi2` (squared whitened norm) are
@@ -24,6 +27,9 @@ struct PoseGraphEdge {
   int from = 0, to = 0;
   Pose2 measurement;  // pose of `to` in the frame of `from`
   double sigma_xy = 0.05, sigma_theta = 0.02;
+  // The direction (angle in the frame of `from`) whose translation has standard deviation
+  // sigma_along rather than sigma_xy; sigma_along <= 0 means sigma_xy (an isotropic edge).
+  double axis = 0.0, sigma_along = 0.0;
   bool robust = false;
 };
 
@@ -43,7 +49,7 @@ struct PoseGraphResult {
 };
 
 // Optimises `initial` (node poses) under `edges`. Throws std::invalid_argument for an edge naming
-// a node out of range, a non-positive sigma or an empty graph.
+// a node out of range, a non-positive sigma_xy or sigma_theta, a non-finite axis or an empty graph.
 PoseGraphResult OptimizePoseGraph(const std::vector<Pose2>& initial,
                                   const std::vector<PoseGraphEdge>& edges,
                                   const PoseGraphOptions& options = PoseGraphOptions());

@@ -112,6 +112,7 @@ class SlamGmappingNode {
     get_d("loopSearchWindow", &o.loopSearchWindow);
     get_d("loopDriftRate", &o.loopDriftRate);
     get_d("loopMaxSearchWindow", &o.loopMaxSearchWindow);
+    get_i("loopCorridors", &o.loopCorridors);
     get_d("loopSearchAngle", &o.loopSearchAngle);
     get_d("loopMinScore", &o.loopMinScore);
     get_i("loopSubmapScans", &o.loopSubmapScans);

@@ -90,6 +90,8 @@ TEST(GmappingOptionsTest, LoopClosureOptionsAreValidatedAndSetByName) {
   SetOption(&o, "loopSearchAngle", "0.5");
   SetOption(&o, "loopDriftRate", "0.05");
   SetOption(&o, "loopMaxSearchWindow", "12");
+  EXPECT_EQ(o.loopCorridors, 1);
+  SetOption(&o, "loopCorridors", "0");
   SetOption(&o, "loopMinScore", "0.7");
   SetOption(&o, "loopSubmapScans", "30");
   SetOption(&o, "loopMinTravel", "20");
@@ -98,6 +100,7 @@ TEST(GmappingOptionsTest, LoopClosureOptionsAreValidatedAndSetByName) {
   EXPECT_DOUBLE_EQ(o.loopSearchAngle, 0.5);
   EXPECT_DOUBLE_EQ(o.loopDriftRate, 0.05);
   EXPECT_DOUBLE_EQ(o.loopMaxSearchWindow, 12.0);
+  EXPECT_EQ(o.loopCorridors, 0);
   EXPECT_DOUBLE_EQ(o.loopMinScore, 0.7);
   EXPECT_EQ(o.loopSubmapScans, 30);
   EXPECT_DOUBLE_EQ(o.loopMinTravel, 20.0);
@@ -110,6 +113,7 @@ TEST(GmappingOptionsTest, LoopClosureOptionsAreValidatedAndSetByName) {
   o.loopMinTravel = -1.0;
   o.loopDriftRate = -0.1;
   o.loopMaxSearchWindow = 200.0;
+  o.loopCorridors = 3;
   const std::string m = ValidationMessage(o);
   EXPECT_NE(m.find("loopClosure = 2 (must be 0 or 1)"), std::string::npos) << m;
   EXPECT_NE(m.find("loopSearchWindow = 0 (must be in (0, 50] m)"), std::string::npos) << m;
@@ -119,6 +123,7 @@ TEST(GmappingOptionsTest, LoopClosureOptionsAreValidatedAndSetByName) {
   EXPECT_NE(m.find("loopMinTravel = -1 (must be >= 0 m)"), std::string::npos) << m;
   EXPECT_NE(m.find("loopDriftRate = -0.1 (must be in [0, 1] m per m)"), std::string::npos) << m;
   EXPECT_NE(m.find("loopMaxSearchWindow = 200 (must be in [loopSearchWindow, 100] m)"), std::string::npos) << m;
+  EXPECT_NE(m.find("loopCorridors = 3 (must be 0 or 1)"), std::string::npos) << m;
   EXPECT_THROW(SetOption(&o, "loopSubmapScans", "2.5"), std::invalid_argument);
   GmappingOptions w;  // the largest window below the smallest
   w.loopSearchWindow = 6.0;

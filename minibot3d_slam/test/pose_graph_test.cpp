@@ -96,12 +96,39 @@ TEST(PoseGraphTest, AFalseLoopEdgeIsDroppedAndDoesNotBendTheGraph) {
   }
 }
 
+TEST(PoseGraphTest, AnEdgeWeakAlongItsAxisFixesOnlyTheOtherDirections) {
+  // Node 1 is held by a loose edge from node 0 at (1, 0). A second edge, weak along the direction
+  // 45° in node 0's frame and tight across it, says (3, 1): across the axis its word wins (the
+  // optimum lies on the line through (3, 1) along 45°), along it the loose edge's does. The
+  // closed form: minimise |p − (1, 0)|²/1² + (n·(p − (3, 1)))²/0.01² + (u·(p − (3, 1)))²/100²,
+  // u = (1, 1)/√2, n = (−1, 1)/√2. Across: n·p ≈ n·(3, 1) = −√2; along: u·p ≈ u·(1, 0) = 1/√2
+  // (the weak term moves it by ~1e-4), so p ≈ (u·p) u + (n·p) n = (1.5, −0.5).
+  const std::vector<Pose2> initial = {Pose2{}, Pose2{0.5, 0.5, 0.1}};
+  PoseGraphEdge weak = Edge(0, 1, 3.0, 1.0, 0.0, 0.01, 0.01);
+  weak.axis = M_PI / 4;
+  weak.sigma_along = 100.0;
+  const std::vector<PoseGraphEdge> edges = {Edge(0, 1, 1.0, 0.0, 0.0, 1.0, 1.0), weak};
+  const PoseGraphResult r = OptimizePoseGraph(initial, edges);
+  EXPECT_NEAR(r.poses[1].x, 1.5, 1e-3);
+  EXPECT_NEAR(r.poses[1].y, -0.5, 1e-3);
+  EXPECT_NEAR(r.poses[1].theta, 0.0, 1e-6);
+  // The same edge, isotropic (sigma_along 0 means sigma_xy), puts node 1 at (3, 1).
+  PoseGraphEdge tight = weak;
+  tight.sigma_along = 0.0;
+  const PoseGraphResult t = OptimizePoseGraph(initial, {edges[0], tight});
+  EXPECT_NEAR(t.poses[1].x, 3.0, 1e-3);
+  EXPECT_NEAR(t.poses[1].y, 1.0, 1e-3);
+}
+
 TEST(PoseGraphTest, BadGraphsAreRejected) {
   EXPECT_THROW(OptimizePoseGraph({}, {}), std::invalid_argument);
   const std::vector<Pose2> two = {Pose2{}, Pose2{1, 0, 0}};
   EXPECT_THROW(OptimizePoseGraph(two, {Edge(0, 2, 1, 0, 0)}), std::invalid_argument);
   EXPECT_THROW(OptimizePoseGraph(two, {Edge(0, 1, 1, 0, 0, 0.0, 0.1)}), std::invalid_argument);
   EXPECT_THROW(OptimizePoseGraph(two, {Edge(1, 1, 1, 0, 0)}), std::invalid_argument);
+  PoseGraphEdge bad_axis = Edge(0, 1, 1, 0, 0);
+  bad_axis.axis = std::nan("");
+  EXPECT_THROW(OptimizePoseGraph(two, {bad_axis}), std::invalid_argument);
 }
 
 }  // namespace

@@ -66,6 +66,10 @@ struct GmappingOptions {
   // confirming each other may likewise differ by loopDriftRate · the path between them.
   double loopDriftRate = 0.03;     // m of window per m of path (0: a fixed loopSearchWindow)
   double loopMaxSearchWindow = 20.0;  // m
+  // 1: a match in a corridor seen along its axis (look-alike places on one line) still constrains
+  // the pose across the corridor and the heading, with a weak constraint along it; 0: such
+  // matches are dropped as ambiguous.
+  int loopCorridors = 1;
   double loopSearchAngle = 0.35;   // rad: half-width of the heading window
   double loopMinScore = 0.6;       // correlative score (mean blurred occupancy at the endpoints) to accept
   int loopSubmapScans = 20;        // processed scans per submap
