@@ -134,7 +134,8 @@ else
 fi
 
 echo "== SLAM round building-sized loops of long corridors (synthetic logs with their truth,"
-echo "   tools/make_building_log.py; slam_offline defaults, seed 1: no loop closure, a fixed window, the default)"
+echo "   tools/make_building_log.py; slam_offline defaults, seeds 1-3: no loop closure, a fixed window,"
+echo "   corridor constraints on, the default)"
 tools/building_slam_bench.sh build/bench/building
 cp build/bench/building/large.png docs/building_map.png
 echo "README: docs/building_map.png"

@@ -27,7 +27,9 @@ LoopCloser::LoopCloser(const GmappingOptions& options, const ScanMatcher* matche
   // farthest endpoint, makes hundreds of angles for a long-range laser).
   search_options_.angular_step = std::acos(1.0 - options.delta * options.delta /
                                                      (2.0 * kAngularStepRange * kAngularStepRange));
-  search_options_.max_candidates = kMaxCandidates;
+  // Two candidates tell an ambiguous match from a clear one; telling a corridor from other
+  // look-alikes takes a third (which also slows the search down).
+  search_options_.max_candidates = options.loopCorridors != 0 ? kMaxCandidates : 2;
   search_options_.min_relative_score = kAmbiguityRatio;
   search_options_.min_separation_linear = kAmbiguitySeparation;
   search_options_.min_separation_angular = M_PI;  // any heading at another place is another place
@@ -261,8 +263,46 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
     c.correction = Compose(refined, Between(Pose2{}, here));
     c.along_axis = along_axis;
     c.axis = NormalizeAngle(std::atan2(axis.y(), axis.x()) - trajectory[anchor].theta);
-    const bool small = std::hypot(refined.x - here.x, refined.y - here.y) <= kBigCorrection &&
-                       std::fabs(NormalizeAngle(refined.theta - here.theta)) <= kBigCorrection / 10.0;
+    // Whether an earlier match t agrees with this one, and which of the two can vouch for the
+    // other: the rigid correction of the map t implies puts this scan within a third of
+    // kBigCorrection of where its own match puts it, plus the drift the front-end may have made
+    // between the two scans and between the two submaps (loopDriftRate per metre of path, a tenth
+    // of that in radians). A corridor constraint measures only across its corridor (and the
+    // heading): compared with a full one, only that component counts, and it vouches for no
+    // other constraint — a large correction always has a full match behind it (two corridor
+    // constraints agreeing across parallel corridors would leave the claim along them unchecked,
+    // and on the synthetic buildings they pulled trajectories metres wrong).
+    struct Agreement {
+      bool agree = false, vouches_for_t = false, t_vouches = false;
+    };
+    const auto agreement = [&](const LoopConstraint& t) {
+      Agreement r;
+      const auto corridor = [&](const LoopConstraint& k) { return k.axis + trajectory[k.from].theta; };
+      r.vouches_for_t = !c.along_axis;
+      r.t_vouches = !t.along_axis;
+      if (!r.vouches_for_t && !r.t_vouches) return r;
+      const Pose2 predicted = Compose(t.correction, here);  // where t puts this scan
+      const double apart = std::fabs(path_[cur] - path_[t.to]) + std::fabs(path_[c.from] - path_[t.from]);
+      const double drift = options_.loopDriftRate * apart;
+      const double dx = predicted.x - refined.x, dy = predicted.y - refined.y;
+      double off = std::hypot(dx, dy);
+      if (c.along_axis || t.along_axis) {
+        const double a = corridor(c.along_axis ? c : t);
+        off = std::fabs(std::cos(a) * dy - std::sin(a) * dx);
+      }
+      r.agree = off < kBigCorrection / 3.0 + drift &&
+                std::fabs(NormalizeAngle(predicted.theta - refined.theta)) < kBigCorrection / 30.0 + drift / 10.0;
+      return r;
+    };
+    bool small = std::hypot(refined.x - here.x, refined.y - here.y) <= kBigCorrection &&
+                 std::fabs(NormalizeAngle(refined.theta - here.theta)) <= kBigCorrection / 10.0;
+    // A correction just under kBigCorrection that repeats a large one still waiting for
+    // confirmation, from the same submap, is that same claim, not a small one: it waits too.
+    for (const LoopConstraint& t : tentative_) {
+      if (!small || t.confirmed || t.from != c.from || t.to == cur) continue;
+      const Agreement a = agreement(t);
+      if (a.agree && a.vouches_for_t) small = false;
+    }
     if (small) {
       if (along_axis) {
         ++along_axis_;
@@ -274,42 +314,28 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
       continue;
     }
     // A constraint that says the estimate is far off enters the graph only once a constraint of
-    // another scan in another submap agrees with it (the rigid correction of the map one implies
-    // puts this scan within a third of kBigCorrection of where its own match puts it, plus the
-    // drift the front-end may have made between the two scans and between the two submaps:
-    // loopDriftRate per metre of path, a tenth of that in radians): a graph cannot check a lone
-    // loop edge — the chain of odometry edges bends to fit any one — so one look-alike place must
-    // not be able to move the trajectory by metres. Corridor constraints agree or not across
-    // their corridors only (where along it is none of their business).
+    // another scan in another submap that can vouch for it agrees with it: a graph cannot check a
+    // lone loop edge — the chain of odometry edges bends to fit any one — so one look-alike place
+    // must not be able to move the trajectory by metres.
     bool confirmed = false;
     for (LoopConstraint& t : tentative_) {
       // Another scan, and another submap: scans matched against the same submap share its
       // errors (a submap slightly bent inside, a place it aliases), so they are not two opinions.
       if (t.to == cur || t.from == c.from) continue;
-      const Pose2 predicted = Compose(t.correction, here);  // where the other one puts this scan
-      const double apart = std::fabs(path_[cur] - path_[t.to]) + std::fabs(path_[c.from] - path_[t.from]);
-      const double drift = options_.loopDriftRate * apart;
-      const double dx = predicted.x - refined.x, dy = predicted.y - refined.y;
-      double off = (c.along_axis || t.along_axis) ? 0.0 : std::hypot(dx, dy);
-      for (const LoopConstraint* k : {&c, &t}) {
-        if (!k->along_axis) continue;
-        const double a = k->axis + trajectory[k->from].theta;  // the corridor's direction in the map
-        off = std::max(off, std::fabs(std::cos(a) * dy - std::sin(a) * dx));
-      }
-      if (off < kBigCorrection / 3.0 + drift &&
-          std::fabs(NormalizeAngle(predicted.theta - refined.theta)) < kBigCorrection / 30.0 + drift / 10.0) {
-        if (!t.confirmed) {
-          t.confirmed = true;
-          constraints_.push_back(t);
-          ++pending_;
-          if (t.along_axis) {
-            ++along_axis_;
-          } else {
-            anchored_path_ = std::max(anchored_path_, path_[t.to]);
-          }
+      const Agreement a = agreement(t);
+      if (!a.agree) continue;
+      if (a.vouches_for_t && !t.confirmed) {
+        t.confirmed = true;
+        constraints_.push_back(t);
+        ++pending_;
+        big_pending_ = true;
+        if (t.along_axis) {
+          ++along_axis_;
+        } else {
+          anchored_path_ = std::max(anchored_path_, path_[t.to]);
         }
-        confirmed = true;
       }
+      confirmed = confirmed || a.t_vouches;
     }
     if (confirmed) {
       if (along_axis) {

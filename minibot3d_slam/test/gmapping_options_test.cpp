@@ -90,8 +90,8 @@ TEST(GmappingOptionsTest, LoopClosureOptionsAreValidatedAndSetByName) {
   SetOption(&o, "loopSearchAngle", "0.5");
   SetOption(&o, "loopDriftRate", "0.05");
   SetOption(&o, "loopMaxSearchWindow", "12");
-  EXPECT_EQ(o.loopCorridors, 1);
-  SetOption(&o, "loopCorridors", "0");
+  EXPECT_EQ(o.loopCorridors, 0);
+  SetOption(&o, "loopCorridors", "1");
   SetOption(&o, "loopMinScore", "0.7");
   SetOption(&o, "loopSubmapScans", "30");
   SetOption(&o, "loopMinTravel", "20");
@@ -100,7 +100,7 @@ TEST(GmappingOptionsTest, LoopClosureOptionsAreValidatedAndSetByName) {
   EXPECT_DOUBLE_EQ(o.loopSearchAngle, 0.5);
   EXPECT_DOUBLE_EQ(o.loopDriftRate, 0.05);
   EXPECT_DOUBLE_EQ(o.loopMaxSearchWindow, 12.0);
-  EXPECT_EQ(o.loopCorridors, 0);
+  EXPECT_EQ(o.loopCorridors, 1);
   EXPECT_DOUBLE_EQ(o.loopMinScore, 0.7);
   EXPECT_EQ(o.loopSubmapScans, 30);
   EXPECT_DOUBLE_EQ(o.loopMinTravel, 20.0);

@@ -79,7 +79,7 @@ struct DriveResult {
 // Drives the centre line of `world`'s ring corridor (corners at 1 and size − 1) one and a quarter
 // times, the odometry's heading drifting by `bias` rad per metre.
 DriveResult Drive(int loop_closure, const World& world = CorridorRing(), double size = 14.0, double bias = 0.004,
-                  double drift_rate = GmappingOptions{}.loopDriftRate, int corridors = 1) {
+                  double drift_rate = GmappingOptions{}.loopDriftRate, int corridors = GmappingOptions{}.loopCorridors) {
   GmappingOptions o;
   o.particles = 1;
   o.srr = o.srt = o.str = o.stt = 0.0;
@@ -209,7 +209,7 @@ TEST(LoopClosureTest, CorridorConstraintsHoldTheSecondPassOnTheFirst) {
   world.AddBox(2.0, 2.0, kSize - 2.0, kSize - 2.0);
   ShiftOffCellBoundaries(&world);
   const DriveResult without = Drive(1, world, kSize, kBias, GmappingOptions{}.loopDriftRate, 0);
-  const DriveResult with = Drive(1, world, kSize, kBias);
+  const DriveResult with = Drive(1, world, kSize, kBias, GmappingOptions{}.loopDriftRate, 1);
   std::printf("end error: without corridor constraints %.3f m (%d closures), with %.3f m (%d closures); worst node "
               "%.3f / %.3f m, across %.3f / %.3f m, heading %.3f / %.3f rad\n",
               EndError(without), without.closures, EndError(with), with.closures, without.worst_node_error,
