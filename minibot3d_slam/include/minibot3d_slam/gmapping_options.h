@@ -70,7 +70,7 @@ struct GmappingOptions {
   // the pose across the corridor and the heading, with a weak constraint along it; 0: such
   // matches are dropped as ambiguous. Off by default: it holds bare corridors driven twice
   // together (loop_closure_test), but on the synthetic buildings of make bench it made the
-  // any-span error no better over three seeds, and on the Intel log worse.
+  // any-span error worse on average over three seeds (README, building-sized loops).
   int loopCorridors = 0;
   double loopSearchAngle = 0.35;   // rad: half-width of the heading window
   double loopMinScore = 0.6;       // correlative score (mean blurred occupancy at the endpoints) to accept
