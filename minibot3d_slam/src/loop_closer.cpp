@@ -304,11 +304,7 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
       if (a.agree && a.vouches_for_t) small = false;
     }
     if (small) {
-      if (along_axis) {
-        ++along_axis_;
-      } else {
-        anchored_path_ = path_[cur];
-      }
+      if (!along_axis) anchored_path_ = path_[cur];
       constraints_.push_back(c);
       ++pending_;
       continue;
@@ -329,20 +325,12 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
         constraints_.push_back(t);
         ++pending_;
         big_pending_ = true;
-        if (t.along_axis) {
-          ++along_axis_;
-        } else {
-          anchored_path_ = std::max(anchored_path_, path_[t.to]);
-        }
+        if (!t.along_axis) anchored_path_ = std::max(anchored_path_, path_[t.to]);
       }
       confirmed = confirmed || a.t_vouches;
     }
     if (confirmed) {
-      if (along_axis) {
-        ++along_axis_;
-      } else {
-        anchored_path_ = path_[cur];
-      }
+      if (!along_axis) anchored_path_ = path_[cur];
       c.confirmed = true;
       constraints_.push_back(c);
       ++pending_;

@@ -138,7 +138,6 @@ class LoopCloser {
   int searches() const { return searches_; }
   int outliers() const { return outliers_; }
   int ambiguous() const { return ambiguous_; }
-  int along_axis() const { return along_axis_; }  // corridor constraints made (along_axis)
   std::size_t ScanBytes() const;  // memory of the stored scans
   // Half-width of the search in a submap that ended `path` metres of path ago.
   double SearchWindow(double path) const;
@@ -187,7 +186,7 @@ class LoopCloser {
   bool big_pending_ = false;  // two of them agree on a large correction of the estimate
   std::vector<LoopConstraint> tentative_;  // large corrections waiting for a second opinion
   int last_optimized_ = 0;    // node count at the last optimisation
-  int optimizations_ = 0, searches_ = 0, outliers_ = 0, ambiguous_ = 0, along_axis_ = 0;
+  int optimizations_ = 0, searches_ = 0, outliers_ = 0, ambiguous_ = 0;
 };
 
 }  // namespace minibot3d_slam
