@@ -128,12 +128,13 @@ class Recorder(object):
 
 
 def wait_for(lockstep, predicate, sim_timeout, what):
-    if not lockstep.wait_for(predicate, sim_timeout):
+    """Until predicate() (on messages that do not wake the script), checked every 0.05 s of sim
+    time; RuntimeError naming `what` after `sim_timeout` s."""
+    if not lockstep.wait_for(predicate, sim_timeout, poll=0.05):
         raise RuntimeError('timed out waiting for ' + what)
 
 
-def explore(args, lockstep):
-    rec = Recorder()
+def explore(args, lockstep, rec):
     wait_for(lockstep, lambda: rec.truth is not None, 60, '/ground_truth/odom')
     t0_sim, t0_wall = rospy.Time.now(), time.time()
     finished, proc = lockstep.run(
@@ -241,7 +242,7 @@ def sample_goals(map_yaml, spawn, count=4, clearance=0.4, seed=1):
     return goals
 
 
-def navigate(args, lockstep):
+def navigate(args, lockstep, rec, cmd_pub):
     spawn = tuple(float(v) for v in args.spawn.split(','))
     if args.goals.strip():
         goals = [tuple(float(v) for v in g.split(',')) for g in args.goals.split()]
@@ -249,8 +250,6 @@ def navigate(args, lockstep):
         goals = sample_goals(os.path.join(args.out, 'demo_map.yaml'), spawn)
         print('demo: goals sampled from the saved map: %s' % ' '.join(
             '%.2f,%.2f' % g[:2] for g in goals), flush=True)
-    rec = Recorder()
-    cmd_pub = rospy.Publisher('/cmd_vel', Twist, queue_size=1)
     wait_for(lockstep, lambda: rec.truth is not None, 60, '/ground_truth/odom')
     wait_for(lockstep, lambda: rec.amcl is not None, 120, 'amcl_pose')
     loc_error = localize(lockstep, rec, cmd_pub, spawn)
@@ -298,9 +297,16 @@ def main():
     parser.add_argument('--goals', default='')
     args = parser.parse_args(rospy.myargv()[1:])
     rospy.init_node('demo_' + args.phase)
+    # Subscribers first: the simulator's first messages reach those the master knows of when the
+    # participant joins; one made later would see the first pose at a sim time that depends on
+    # how fast this process started.
+    rec = Recorder()
+    cmd_pub = rospy.Publisher('/cmd_vel', Twist, queue_size=1) if args.phase == 'navigate' else None
     lockstep = Participant(wake_on_participants=True)
     try:
-        return explore(args, lockstep) if args.phase == 'explore' else navigate(args, lockstep)
+        if args.phase == 'explore':
+            return explore(args, lockstep, rec)
+        return navigate(args, lockstep, rec, cmd_pub)
     except RuntimeError as e:
         print('demo: %s' % e, file=sys.stderr, flush=True)
         return 1

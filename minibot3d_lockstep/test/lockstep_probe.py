@@ -10,6 +10,9 @@
   lockstep_probe.py latch_sub            waits for /probe_latched (a wake topic); prints the sim
                                          time of the tick at which it first had it, and the
                                          message ("seen T DATA")
+  lockstep_probe.py poll                 waits, with poll=0.1 and no wake topic, until
+                                         /ground_truth/odom has a stamp 1 s past its first tick;
+                                         prints that target and the tick time ("polled T0 T")
   lockstep_probe.py route OUT.json       two move_base goals across the default world; writes the
                                          goal results, times and the whole true trajectory
 Prints "holding" (flushed) when it starts working, so a test can kill it then."""
@@ -65,6 +68,21 @@ def latch_sub():
     lockstep.close()
 
 
+def poll():
+    stamps = []
+    rospy.Subscriber('/ground_truth/odom', Odometry,
+                     lambda m: stamps.append(m.header.stamp.to_sec()), queue_size=1000)
+    lockstep = Participant()  # after the subscriber: the first messages reach it
+    if not lockstep.wait_for(lambda: stamps, 30.0, poll=0.1):
+        print('no /ground_truth/odom', flush=True)
+        return 1
+    target = rospy.get_rostime().to_sec() + 1.0
+    if lockstep.wait_for(lambda: stamps[-1] >= target - 1e-9, 30.0, poll=0.1):
+        print('polled %.3f %.3f' % (target, rospy.get_rostime().to_sec()), flush=True)
+    lockstep.close()
+    return 0
+
+
 def route(out):
     path = []
     rospy.Subscriber('/ground_truth/odom', Odometry, lambda m: path.append(
@@ -107,6 +125,8 @@ def main():
     if mode == 'latch_sub':
         latch_sub()
         return 0
+    if mode == 'poll':
+        return poll()
     return route(sys.argv[2])
 
 

@@ -158,6 +158,22 @@ def test_a_latched_message_from_a_new_publisher_arrives_in_the_tick_it_was_sent(
         stack.close()
 
 
+def test_a_wait_with_poll_sees_a_non_wake_topic_within_one_poll(tmp_path):
+    """A predicate on a topic that does not wake the script (ground truth) is checked every
+    `poll` s of sim time, not only at the wait's 30 s deadline."""
+    stack = sim_stack(tmp_path, '/probe_poll', 10.0)
+    try:
+        probe = stack.probe('poll')
+        polled = read_line(probe, 'polled', 90)
+        assert polled, stack.launch_log()[-3000:]
+        target, seen = (float(v) for v in polled.split()[1:])
+        assert target - 1e-6 <= seen <= target + 0.15, (
+            'ground truth stamped %.3f seen at %.3f' % (target, seen))
+        assert probe.wait(30) == 0
+    finally:
+        stack.close()
+
+
 def test_a_killed_participant_is_dropped_and_the_loop_goes_on(tmp_path):
     stack = sim_stack(tmp_path, '/probe_hold', 30.0)
     try:

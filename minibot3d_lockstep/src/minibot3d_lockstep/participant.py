@@ -20,7 +20,14 @@ in rospy.sleep, rospy.Rate, ``wait_for_result`` or ``wait_for_server`` while par
 time would not move and the simulator would drop the script after ``~lockstep_timeout``.
 Predicates are checked at ticks, once every message other participants sent by then has arrived
 and its callbacks have run. ``wake_topics`` are the topics whose messages wake the script early;
-otherwise it is woken at its ``timeout`` or ``sleep`` deadline, or its ``add_periodic`` jobs.
+otherwise it is woken at its ``timeout`` or ``sleep`` deadline, or its ``add_periodic`` jobs. A
+predicate on a topic that is not a wake topic (a pose that streams at 50 Hz) is checked every
+``poll`` s of sim time when ``wait_for`` is given one, else only at the deadline.
+
+Create the subscribers a script waits on before the ``Participant``: it joins in its constructor,
+and the simulator's first messages reach only the subscribers the master knew of by then (the
+simulator waits for their connections). One made after joining misses them, and a wait for its
+first message then depends on how fast the process started.
 
 With ``/use_lockstep`` false (or unset) the same calls fall back to ordinary rospy waiting on sim
 time, so a script written this way runs both ways.
@@ -276,8 +283,12 @@ class Participant(object):
         """Run fn(now) every `period` s of sim time while the script waits (wait_for/sleep/spin)."""
         self._jobs.append([float(period), None, fn])
 
-    def wait_for(self, predicate, timeout=None):
-        """Wait until predicate() is true (True) or `timeout` s of sim time pass (False)."""
+    def wait_for(self, predicate, timeout=None, poll=None):
+        """Wait until predicate() is true (True) or `timeout` s of sim time pass (False). Under
+        lock-step the predicate is checked when the script is woken (a wake topic, a job, the
+        deadline) and, with `poll` (s of sim time), at least that often."""
+        if poll is not None and not poll > 0:
+            raise ValueError('wait_for: poll must be > 0 s of sim time, got %r' % (poll,))
         if self.enabled and self._current is None and not rospy.is_shutdown():
             # Not at a tick yet (just joined): sim time is only defined once one arrives.
             if self._next_tick(None) is None:
@@ -297,7 +308,11 @@ class Participant(object):
         if self._current is not None and predicate():
             return True
         while not rospy.is_shutdown():
-            tick = self._next_tick(deadline)
+            wake = deadline
+            if poll is not None:
+                at = self._current.stamp + rospy.Duration(poll)
+                wake = at if wake is None or at < wake else wake
+            tick = self._next_tick(wake)
             if tick is None:
                 return False
             self._run_jobs(tick.stamp)
