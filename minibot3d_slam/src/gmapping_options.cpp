@@ -97,6 +97,7 @@ void ValidateOptions(const GmappingOptions& o) {
           "in [2, 1000]");
   p.Check(o.loopMinTravel >= 0.0 && Finite(o.loopMinTravel), "loopMinTravel", o.loopMinTravel, ">= 0 m");
   p.Check(o.occ_thresh >= 0.0 && o.occ_thresh <= 1.0, "occ_thresh", o.occ_thresh, "in [0, 1]");
+  p.Check(o.threads >= 0 && o.threads <= 256, "threads", o.threads, "in [0, 256] (0: one per CPU core)");
   p.ThrowIfAny();
 }
 
@@ -192,6 +193,7 @@ void SetOption(GmappingOptions* o, const std::string& name, const std::string& v
       {"loopMinScore", &GmappingOptions::loopMinScore, nullptr},
       {"loopSubmapScans", nullptr, &GmappingOptions::loopSubmapScans},
       {"loopMinTravel", &GmappingOptions::loopMinTravel, nullptr},
+      {"threads", nullptr, &GmappingOptions::threads},
   };
   if (name == "seed") {
     o->seed = static_cast<unsigned>(ParseInteger(name, value, 0, std::numeric_limits<unsigned>::max()));

@@ -45,6 +45,7 @@
 #include "grid.h"
 #include "loop_closer.h"
 #include "motion_model.h"
+#include "parallel_for.h"
 #include "resampling.h"
 #include "scan_matcher.h"
 
@@ -100,7 +101,8 @@ class RbpfSlam::Impl {
       : options_((ValidateOptions(options), options)),
         matcher_(options),
         motion_(options),
-        rng_(options.seed) {
+        rng_(options.seed),
+        threads_(ResolveThreads(options.threads)) {
     if (options_.loopClosure != 0) loop_ = std::make_unique<LoopCloser>(options_, &matcher_);
   }
 
@@ -116,6 +118,7 @@ class RbpfSlam::Impl {
   ScanMatcher matcher_;
   MotionModel motion_;
   std::mt19937_64 rng_;
+  int threads_;  // for the per-particle matching (options_.threads resolved)
   std::vector<Particle> particles_;
   bool initialized_ = false;
   Pose2 last_odom_;            // odometry at the last scan given
@@ -183,25 +186,43 @@ bool RbpfSlam::Impl::AddScan(const LaserScan& scan, const Pose2& odom) {
 
 void RbpfSlam::Impl::Process(const LaserScan& scan) {
   const PreparedScan prepared = matcher_.Prepare(scan);
-  for (Particle& p : particles_) {
+  // Each particle's match reads only its own map and writes only its own slot, so the particles
+  // are matched on `threads` threads; the proposal's random draws follow in particle order, so
+  // the result does not depend on the thread count.
+  struct Match {
+    bool trusted = false;
+    Pose2 pose;             // the refined match (trusted), else the odometry prediction
+    double log_likelihood = 0.0;
+    ProposalFit fit;        // sampleProposal = 1 and trusted
+  };
+  std::vector<Match> matches(particles_.size());
+  ParallelFor(particles_.size(), threads_, [&](std::size_t i) {
+    const Particle& p = particles_[i];
+    Match& m = matches[i];
     Pose2 mode;
     const double score = matcher_.Optimize(p.grid, prepared, p.pose, &mode);
-    double log_likelihood;
     if (score <= options_.minimumScore) {
       // The match is not trusted: keep the odometry prediction.
-      log_likelihood = matcher_.LogLikelihood(p.grid, prepared, p.pose);
-    } else if (options_.sampleProposal != 0) {
-      if (options_.subcellMatch != 0) mode = matcher_.Refine(p.grid, prepared, mode);
-      const ProposalFit fit = matcher_.SampleAround(p.grid, prepared, mode);
-      p.pose = SampleGaussian(fit.mean, fit.covariance, &rng_);
-      log_likelihood = fit.log_weight;
-    } else {
-      if (options_.subcellMatch != 0) mode = matcher_.Refine(p.grid, prepared, mode);
-      p.pose = mode;
-      log_likelihood = matcher_.LogLikelihood(p.grid, prepared, p.pose);
+      m.pose = p.pose;
+      m.log_likelihood = matcher_.LogLikelihood(p.grid, prepared, p.pose);
+      return;
     }
-    p.weight += log_likelihood;
-    p.weight_sum += log_likelihood;
+    m.trusted = true;
+    m.pose = options_.subcellMatch != 0 ? matcher_.Refine(p.grid, prepared, mode) : mode;
+    if (options_.sampleProposal != 0) {
+      m.fit = matcher_.SampleAround(p.grid, prepared, m.pose);
+      m.log_likelihood = m.fit.log_weight;
+    } else {
+      m.log_likelihood = matcher_.LogLikelihood(p.grid, prepared, m.pose);
+    }
+  });
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    Particle& p = particles_[i];
+    const Match& m = matches[i];
+    p.pose = m.trusted && options_.sampleProposal != 0 ? SampleGaussian(m.fit.mean, m.fit.covariance, &rng_)
+                                                       : m.pose;
+    p.weight += m.log_likelihood;
+    p.weight_sum += m.log_likelihood;
   }
   // Integrate the scan before resampling: copies of a particle then share the freshly written
   // tiles instead of each writing (and owning) an identical copy.

@@ -117,6 +117,7 @@ class SlamGmappingNode {
     get_d("loopMinScore", &o.loopMinScore);
     get_i("loopSubmapScans", &o.loopSubmapScans);
     get_d("loopMinTravel", &o.loopMinTravel);
+    get_i("threads", &o.threads);
     int seed = 0;
     get_i("seed", &seed);
     o.seed = static_cast<unsigned>(seed);

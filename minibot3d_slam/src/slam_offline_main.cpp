@@ -37,6 +37,7 @@
 #include "minibot3d_slam/log_reader.h"
 #include "minibot3d_slam/map_files.h"
 #include "minibot3d_slam/rbpf_slam.h"
+#include "parallel_for.h"
 
 namespace {
 
@@ -292,8 +293,8 @@ int main(int argc, char** argv) {
   slam.FinishLoops();
   // Pass 2, the trajectory: processed readings take the best particle's poses; the others are
   // first moved from the last processed one by odometry, then (unless --odometry-between) matched
-  // against the final map — independent matches against a map no longer changing, so on two
-  // threads, a batch of readings at a time.
+  // against the final map — independent matches against a map no longer changing, so on the
+  // `threads` option's threads, a batch of readings at a time.
   const std::vector<minibot3d_slam::StampedPose> best = slam.BestTrajectory();
   const std::string traj_path = args.out + "/trajectory.txt";
   const std::string traj_tmp = traj_path + ".tmp";
@@ -303,22 +304,16 @@ int main(int argc, char** argv) {
     return 1;
   }
   constexpr std::size_t kBatch = 256;
-  constexpr int kThreads = 2;
+  const int threads = minibot3d_slam::ResolveThreads(args.options.threads);
   std::vector<minibot3d_slam::LogScan> batch;  // readings of this batch
   std::vector<Pose2> poses;
   std::vector<std::size_t> to_localize;  // indices into batch
   batch.reserve(kBatch);
   auto flush = [&]() {
-    std::vector<std::thread> workers;
-    for (int t = 0; t < kThreads; ++t) {
-      workers.emplace_back([&, t]() {
-        for (std::size_t j = static_cast<std::size_t>(t); j < to_localize.size(); j += kThreads) {
-          const std::size_t i = to_localize[j];
-          poses[i] = slam.Localize(batch[i].scan, poses[i]);
-        }
-      });
-    }
-    for (std::thread& w : workers) w.join();
+    minibot3d_slam::ParallelFor(to_localize.size(), threads, [&](std::size_t j) {
+      const std::size_t i = to_localize[j];
+      poses[i] = slam.Localize(batch[i].scan, poses[i]);
+    });
     for (std::size_t i = 0; i < batch.size(); ++i) {
       std::fprintf(out, "%.6f %.6f %.6f %.6f\n", batch[i].timestamp, poses[i].x, poses[i].y, poses[i].theta);
     }

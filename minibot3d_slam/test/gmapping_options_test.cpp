@@ -133,6 +133,18 @@ TEST(GmappingOptionsTest, LoopClosureOptionsAreValidatedAndSetByName) {
       << ValidationMessage(w);
 }
 
+TEST(GmappingOptionsTest, ThreadsDefaultToOnePerCoreAndAreValidated) {
+  GmappingOptions o;
+  EXPECT_EQ(o.threads, 0);
+  SetOption(&o, "threads", "2");
+  EXPECT_EQ(o.threads, 2);
+  EXPECT_NO_THROW(ValidateOptions(o));
+  o.threads = -1;
+  EXPECT_NE(ValidationMessage(o).find("threads = -1 (must be in [0, 256] (0: one per CPU core))"), std::string::npos)
+      << ValidationMessage(o);
+  EXPECT_THROW(SetOption(&o, "threads", "two"), std::invalid_argument);
+}
+
 TEST(GmappingOptionsTest, ClearMaxRangeIsOffByDefaultValidatedAndSetByName) {
   GmappingOptions o;
   EXPECT_EQ(o.clearMaxRange, 0);  // gmapping's behaviour unless asked

@@ -9,6 +9,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "parallel_for.h"
 #include "resampling.h"
 #include "synthetic_world.h"
 
@@ -81,13 +82,9 @@ std::vector<Pose2> Tour() {
   return truth;
 }
 
-// The tour with odometry that drifts by decimetres; the filter must stay close to the truth with
-// every combination of the matcher's refinement and the paper's sampled proposal.
-void CheckNoisyOdometryTour(int subcell_match, int sample_proposal) {
-  const World world = Office();
-  const std::vector<Pose2> truth = Tour();
-  // Odometry with a systematic rotation bias (3 %) and a scale error (2 %) plus noise, so that it
-  // drifts by decimetres over the tour.
+// Odometry along `truth` with a systematic rotation bias (3 %) and a scale error (2 %) plus noise,
+// so that it drifts by decimetres over the tour.
+std::vector<Pose2> NoisyOdometry(const std::vector<Pose2>& truth) {
   std::mt19937 rng(7);
   std::normal_distribution<double> noise(0.0, 1.0);
   std::vector<Pose2> odom{truth[0]};
@@ -98,6 +95,10 @@ void CheckNoisyOdometryTour(int subcell_match, int sample_proposal) {
     u.theta = u.theta * 1.03 + 0.002 * noise(rng) + 0.0015 * std::fabs(u.x) / 0.1;
     odom.push_back(Compose(odom.back(), u));
   }
+  return odom;
+}
+
+GmappingOptions TourOptions(int subcell_match, int sample_proposal) {
   GmappingOptions o;
   o.particles = 15;
   o.linearUpdate = 0.3;
@@ -105,10 +106,24 @@ void CheckNoisyOdometryTour(int subcell_match, int sample_proposal) {
   o.seed = 5;
   o.subcellMatch = subcell_match;
   o.sampleProposal = sample_proposal;
-  RbpfSlam slam(o);
+  return o;
+}
+
+void DriveTour(const World& world, const std::vector<Pose2>& truth, const std::vector<Pose2>& odom,
+               RbpfSlam* slam) {
   for (std::size_t i = 0; i < truth.size(); ++i) {
-    slam.AddScan(world.Scan(truth[i], 181, M_PI, 30.0, 0.1 * static_cast<double>(i)), odom[i]);
+    slam->AddScan(world.Scan(truth[i], 181, M_PI, 30.0, 0.1 * static_cast<double>(i)), odom[i]);
   }
+}
+
+// The tour with odometry that drifts by decimetres; the filter must stay close to the truth with
+// every combination of the matcher's refinement and the paper's sampled proposal.
+void CheckNoisyOdometryTour(int subcell_match, int sample_proposal) {
+  const World world = Office();
+  const std::vector<Pose2> truth = Tour();
+  const std::vector<Pose2> odom = NoisyOdometry(truth);
+  RbpfSlam slam(TourOptions(subcell_match, sample_proposal));
+  DriveTour(world, truth, odom, &slam);
   EXPECT_GT(slam.processed_scans(), 60);
   // The map frame starts at the first odometry pose, which is the first true pose here.
   const std::vector<StampedPose> traj = slam.BestTrajectory();
@@ -166,6 +181,49 @@ TEST(RbpfSlamTest, NoisyOdometryTourWithoutSubcellRefinement) { CheckNoisyOdomet
 TEST(RbpfSlamTest, NoisyOdometryTourWithTheSampledProposal) {
   CheckNoisyOdometryTour(1, 1);
   CheckNoisyOdometryTour(0, 1);
+}
+
+// The particles are matched on `threads` threads; the proposal's random draws are made afterwards
+// in particle order, so one thread and three give the same trajectory, bit for bit.
+TEST(RbpfSlamTest, TheResultDoesNotDependOnTheThreadCount) {
+  const World world = Office();
+  std::vector<Pose2> truth = Tour();
+  truth.resize(truth.size() / 3);  // two thirds of a lap
+  const std::vector<Pose2> odom = NoisyOdometry(truth);
+  for (int sample_proposal : {0, 1}) {
+    std::vector<std::vector<StampedPose>> runs;
+    for (int threads : {1, 3}) {
+      GmappingOptions o = TourOptions(1, sample_proposal);
+      o.threads = threads;
+      RbpfSlam slam(o);
+      DriveTour(world, truth, odom, &slam);
+      runs.push_back(slam.BestTrajectory());
+    }
+    ASSERT_EQ(runs[0].size(), runs[1].size());
+    ASSERT_GT(runs[0].size(), 20u);
+    for (std::size_t i = 0; i < runs[0].size(); ++i) {
+      EXPECT_EQ(runs[0][i].pose.x, runs[1][i].pose.x) << "sampleProposal " << sample_proposal << ", node " << i;
+      EXPECT_EQ(runs[0][i].pose.y, runs[1][i].pose.y) << "sampleProposal " << sample_proposal << ", node " << i;
+      EXPECT_EQ(runs[0][i].pose.theta, runs[1][i].pose.theta) << "sampleProposal " << sample_proposal;
+    }
+  }
+}
+
+TEST(ParallelForTest, EveryIndexRunsOnceAndAJobsExceptionReachesTheCaller) {
+  for (int threads : {1, 2, 5}) {
+    std::vector<int> runs(1000, 0);
+    ParallelFor(runs.size(), threads, [&](std::size_t i) { ++runs[i]; });
+    EXPECT_EQ(std::count(runs.begin(), runs.end(), 1), 1000) << threads << " threads";
+    EXPECT_THROW(ParallelFor(runs.size(), threads,
+                             [](std::size_t i) {
+                               if (i == 17) throw std::runtime_error("job 17 failed");
+                             }),
+                 std::runtime_error)
+        << threads << " threads";
+  }
+  ParallelFor(0, 2, [](std::size_t) { FAIL() << "no job expected"; });
+  EXPECT_EQ(ResolveThreads(3), 3);
+  EXPECT_GE(ResolveThreads(0), 1);
 }
 
 LaserScan WallScan(double time, int beams = 91) {

@@ -78,6 +78,10 @@ struct GmappingOptions {
   double loopMinTravel = 10.0;     // m of path since a submap ended before the scan is matched against it
   // Random seed of the particle filter (for reproducible runs).
   unsigned seed = 0;
+  // Threads matching the particles' scans (and slam_offline's second pass); 0: one per CPU core.
+  // The result is the same for any count: each particle is matched on its own, and the random
+  // draws are made afterwards in particle order. Not a gmapping parameter.
+  int threads = 0;
 };
 
 // Throws std::invalid_argument naming each offending parameter and its value.
