@@ -19,6 +19,7 @@
 #include <cstdlib>
 #include <initializer_list>
 #include <limits>
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -178,6 +179,19 @@ class Problems {
   explicit Problems(std::string owner) : owner_(std::move(owner)) {}
   void Add(const std::string& problem) { list_.push_back(problem); }
   void Require(bool ok, const std::string& problem) { if (!ok) Add(problem); }
+  // The usual checks of a number, each naming it and its value; NaN and ±inf fail all of them.
+  void Positive(const std::string& name, double v) {
+    Require(std::isfinite(v) && v > 0.0, name + "=" + Num(v) + " must be > 0");
+  }
+  void NonNegative(const std::string& name, double v) {
+    Require(std::isfinite(v) && v >= 0.0, name + "=" + Num(v) + " must be >= 0");
+  }
+  void InUnitInterval(const std::string& name, double v) {
+    Require(std::isfinite(v) && v >= 0.0 && v <= 1.0, name + "=" + Num(v) + " must be in [0, 1]");
+  }
+  void Finite(const std::string& name, double v) {
+    Require(std::isfinite(v), name + "=" + Num(v) + " must be finite");
+  }
   void ThrowIfAny() const {
     if (list_.empty()) return;
     std::string msg = "invalid " + owner_ + " parameters: ";

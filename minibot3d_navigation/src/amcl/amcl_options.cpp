@@ -92,23 +92,6 @@ void ValidateAmclOptions(const AmclOptions& o) {
   auto require = [&problems](bool ok, const std::string& what) {
     problems.Require(ok, what);
   };
-  // Each double check also rejects NaN / inf: a comparison with NaN is false.
-  auto positive = [&](const char* name, double v) {
-    require(std::isfinite(v) && v > 0.0,
-            std::string(name) + "=" + Num(v) + " must be > 0");
-  };
-  auto non_negative = [&](const char* name, double v) {
-    require(std::isfinite(v) && v >= 0.0,
-            std::string(name) + "=" + Num(v) + " must be >= 0");
-  };
-  auto unit_interval = [&](const char* name, double v) {
-    require(std::isfinite(v) && v >= 0.0 && v <= 1.0,
-            std::string(name) + "=" + Num(v) + " must be in [0, 1]");
-  };
-  auto finite = [&](const char* name, double v) {
-    require(std::isfinite(v),
-            std::string(name) + "=" + Num(v) + " must be finite");
-  };
 
   require(o.min_particles >= 1,
           "min_particles=" + std::to_string(o.min_particles) + " must be >= 1");
@@ -117,15 +100,15 @@ void ValidateAmclOptions(const AmclOptions& o) {
   require(o.min_particles <= o.max_particles,
           "min_particles=" + std::to_string(o.min_particles) +
               " > max_particles=" + std::to_string(o.max_particles));
-  positive("kld_err", o.kld_err);
-  positive("kld_z", o.kld_z);
-  non_negative("update_min_d", o.update_min_d);
-  non_negative("update_min_a", o.update_min_a);
+  problems.Positive("kld_err", o.kld_err);
+  problems.Positive("kld_z", o.kld_z);
+  problems.NonNegative("update_min_d", o.update_min_d);
+  problems.NonNegative("update_min_a", o.update_min_a);
   require(o.resample_interval >= 1, "resample_interval=" +
                                         std::to_string(o.resample_interval) +
                                         " must be >= 1");
-  unit_interval("recovery_alpha_slow", o.recovery_alpha_slow);
-  unit_interval("recovery_alpha_fast", o.recovery_alpha_fast);
+  problems.InUnitInterval("recovery_alpha_slow", o.recovery_alpha_slow);
+  problems.InUnitInterval("recovery_alpha_fast", o.recovery_alpha_fast);
   // Augmented MCL injects when the short-term average falls below the
   // long-term one; with alpha_slow >= alpha_fast that test is inverted.
   if (o.recovery_alpha_slow > 0.0 && o.recovery_alpha_fast > 0.0) {
@@ -139,11 +122,11 @@ void ValidateAmclOptions(const AmclOptions& o) {
               odom == "omni-corrected",
           "odom_model_type='" + odom +
               "' is not one of diff, diff-corrected, omni, omni-corrected");
-  non_negative("odom_alpha1", o.odom_alpha1);
-  non_negative("odom_alpha2", o.odom_alpha2);
-  non_negative("odom_alpha3", o.odom_alpha3);
-  non_negative("odom_alpha4", o.odom_alpha4);
-  non_negative("odom_alpha5", o.odom_alpha5);
+  problems.NonNegative("odom_alpha1", o.odom_alpha1);
+  problems.NonNegative("odom_alpha2", o.odom_alpha2);
+  problems.NonNegative("odom_alpha3", o.odom_alpha3);
+  problems.NonNegative("odom_alpha4", o.odom_alpha4);
+  problems.NonNegative("odom_alpha5", o.odom_alpha5);
 
   const bool beam = o.laser_model_type == "beam";
   require(beam || o.laser_model_type == "likelihood_field" ||
@@ -153,10 +136,10 @@ void ValidateAmclOptions(const AmclOptions& o) {
   require(o.laser_max_beams >= 1, "laser_max_beams=" +
                                       std::to_string(o.laser_max_beams) +
                                       " must be >= 1");
-  non_negative("laser_z_hit", o.laser_z_hit);
-  non_negative("laser_z_short", o.laser_z_short);
-  non_negative("laser_z_max", o.laser_z_max);
-  non_negative("laser_z_rand", o.laser_z_rand);
+  problems.NonNegative("laser_z_hit", o.laser_z_hit);
+  problems.NonNegative("laser_z_short", o.laser_z_short);
+  problems.NonNegative("laser_z_max", o.laser_z_max);
+  problems.NonNegative("laser_z_rand", o.laser_z_rand);
   // The likelihood-field models only use z_hit and z_rand; the beam model all
   // four.  A zero mixture makes every particle weight zero.
   const double z_sum = beam ? o.laser_z_hit + o.laser_z_short + o.laser_z_max +
@@ -167,35 +150,35 @@ void ValidateAmclOptions(const AmclOptions& o) {
                              "laser_z_rand="
                            : "laser_z_hit+laser_z_rand=") +
               Num(z_sum) + " must be > 0");
-  positive("laser_sigma_hit", o.laser_sigma_hit);
-  positive("laser_lambda_short", o.laser_lambda_short);
-  positive("laser_likelihood_max_dist", o.laser_likelihood_max_dist);
-  finite("laser_min_range", o.laser_min_range);
-  finite("laser_max_range", o.laser_max_range);
+  problems.Positive("laser_sigma_hit", o.laser_sigma_hit);
+  problems.Positive("laser_lambda_short", o.laser_lambda_short);
+  problems.Positive("laser_likelihood_max_dist", o.laser_likelihood_max_dist);
+  problems.Finite("laser_min_range", o.laser_min_range);
+  problems.Finite("laser_max_range", o.laser_max_range);
   if (o.laser_min_range > 0.0 && o.laser_max_range > 0.0) {
     require(o.laser_min_range < o.laser_max_range,
             "laser_min_range=" + Num(o.laser_min_range) +
                 " must be < laser_max_range=" + Num(o.laser_max_range));
   }
-  non_negative("beam_skip_distance", o.beam_skip_distance);
-  unit_interval("beam_skip_threshold", o.beam_skip_threshold);
-  unit_interval("beam_skip_error_threshold", o.beam_skip_error_threshold);
-  non_negative("laser_independent_beams", o.laser_independent_beams);
+  problems.NonNegative("beam_skip_distance", o.beam_skip_distance);
+  problems.InUnitInterval("beam_skip_threshold", o.beam_skip_threshold);
+  problems.InUnitInterval("beam_skip_error_threshold", o.beam_skip_error_threshold);
+  problems.NonNegative("laser_independent_beams", o.laser_independent_beams);
   require(o.laser_independent_beams == 0.0 ||
               o.laser_model_type == "likelihood_field_prob",
           "laser_independent_beams=" + Num(o.laser_independent_beams) +
               " applies only to laser_model_type likelihood_field_prob (it is '" +
               o.laser_model_type + "'); set it to 0");
 
-  finite("initial_pose_x", o.initial_pose_x);
-  finite("initial_pose_y", o.initial_pose_y);
-  finite("initial_pose_a", o.initial_pose_a);
-  non_negative("initial_cov_xx", o.initial_cov_xx);
-  non_negative("initial_cov_yy", o.initial_cov_yy);
-  non_negative("initial_cov_aa", o.initial_cov_aa);
+  problems.Finite("initial_pose_x", o.initial_pose_x);
+  problems.Finite("initial_pose_y", o.initial_pose_y);
+  problems.Finite("initial_pose_a", o.initial_pose_a);
+  problems.NonNegative("initial_cov_xx", o.initial_cov_xx);
+  problems.NonNegative("initial_cov_yy", o.initial_cov_yy);
+  problems.NonNegative("initial_cov_aa", o.initial_cov_aa);
 
-  finite("confidence_hit_dist", o.confidence_hit_dist);
-  unit_interval("confidence_min_explained", o.confidence_min_explained);
+  problems.Finite("confidence_hit_dist", o.confidence_hit_dist);
+  problems.InUnitInterval("confidence_min_explained", o.confidence_min_explained);
   require(std::isfinite(o.confidence_mode_weight) &&
               o.confidence_mode_weight >= 0.0 && o.confidence_mode_weight < 0.5,
           "confidence_mode_weight=" + Num(o.confidence_mode_weight) +
@@ -203,7 +186,7 @@ void ValidateAmclOptions(const AmclOptions& o) {
   require(o.confidence_min_updates >= 0,
           "confidence_min_updates=" + std::to_string(o.confidence_min_updates) +
               " must be >= 0");
-  unit_interval("confidence_challenge_min_relative_score",
+  problems.InUnitInterval("confidence_challenge_min_relative_score",
                 o.confidence_challenge_min_relative_score);
   require(o.confidence_challenges >= 0,
           "confidence_challenges=" + std::to_string(o.confidence_challenges) +
@@ -222,12 +205,12 @@ void ValidateAmclOptions(const AmclOptions& o) {
               o.hypothesis_refuted_ratio < 1.0,
           "hypothesis_refuted_ratio=" + Num(o.hypothesis_refuted_ratio) +
               " must be in (0, 1)");
-  positive("global_search_budget", o.global_search_budget);
+  problems.Positive("global_search_budget", o.global_search_budget);
   require(o.global_search_max_candidates >= 1,
           "global_search_max_candidates=" +
               std::to_string(o.global_search_max_candidates) + " must be >= 1");
-  unit_interval("global_search_min_score", o.global_search_min_score);
-  unit_interval("global_search_min_relative_score",
+  problems.InUnitInterval("global_search_min_score", o.global_search_min_score);
+  problems.InUnitInterval("global_search_min_relative_score",
                 o.global_search_min_relative_score);
   require(o.global_search_angular_step >= 0.0 &&
               o.global_search_angular_step <= 0.1,

@@ -82,24 +82,15 @@ Footprint EffectiveFootprint(const CostmapOptions& o) {
 
 void ValidateCostmapOptions(const CostmapOptions& o) {
   options::Problems p("costmap");
-  auto non_negative = [&p](const char* name, double v) {
-    p.Require(Finite(v) && v >= 0.0, std::string(name) + "=" + Num(v) + " must be >= 0");
-  };
-  auto positive = [&p](const char* name, double v) {
-    p.Require(Finite(v) && v > 0.0, std::string(name) + "=" + Num(v) + " must be > 0");
-  };
-  auto finite = [&p](const char* name, double v) {
-    p.Require(Finite(v), std::string(name) + "=" + Num(v) + " must be finite");
-  };
 
   p.Require(!options::Trim(o.global_frame).empty(), "global_frame must not be empty");
   p.Require(!options::Trim(o.robot_base_frame).empty(), "robot_base_frame must not be empty");
-  non_negative("update_frequency", o.update_frequency);
-  non_negative("publish_frequency", o.publish_frequency);
-  non_negative("transform_tolerance", o.transform_tolerance);
-  positive("resolution", o.resolution);
-  finite("origin_x", o.origin_x);
-  finite("origin_y", o.origin_y);
+  p.NonNegative("update_frequency", o.update_frequency);
+  p.NonNegative("publish_frequency", o.publish_frequency);
+  p.NonNegative("transform_tolerance", o.transform_tolerance);
+  p.Positive("resolution", o.resolution);
+  p.Finite("origin_x", o.origin_x);
+  p.Finite("origin_y", o.origin_y);
   // A rolling window, or a fixed costmap with no map to take its size from,
   // is sized by width x height.
   if (o.rolling_window || !o.static_map) {
@@ -136,11 +127,11 @@ void ValidateCostmapOptions(const CostmapOptions& o) {
               "robot_radius=" + Num(o.robot_radius) +
                   " must be > 0 when no footprint is given (set footprint or robot_radius)");
   }
-  non_negative("footprint_padding", o.footprint_padding);
-  non_negative("obstacle_range", o.obstacle_range);
-  non_negative("raytrace_range", o.raytrace_range);
-  non_negative("inflation_radius", o.inflation_radius);
-  non_negative("cost_scaling_factor", o.cost_scaling_factor);
+  p.NonNegative("footprint_padding", o.footprint_padding);
+  p.NonNegative("obstacle_range", o.obstacle_range);
+  p.NonNegative("raytrace_range", o.raytrace_range);
+  p.NonNegative("inflation_radius", o.inflation_radius);
+  p.NonNegative("cost_scaling_factor", o.cost_scaling_factor);
   p.ThrowIfAny();
 }
 

@@ -167,25 +167,16 @@ void ValidateDwaOptions(const DwaOptions& o) {
   auto require = [&problems](bool ok, const std::string& what) {
     problems.Require(ok, what);
   };
-  // Comparisons with NaN are false, so each check also rejects NaN.
-  auto positive = [&](const char* name, double v) {
-    require(std::isfinite(v) && v > 0.0,
-            std::string(name) + "=" + Num(v) + " must be > 0");
-  };
-  auto non_negative = [&](const char* name, double v) {
-    require(std::isfinite(v) && v >= 0.0,
-            std::string(name) + "=" + Num(v) + " must be >= 0");
-  };
 
   require(!o.holonomic_robot,
           "holonomic_robot=true is not supported: minibot3d is a skid-steer "
           "(non-holonomic) base that cannot move sideways; set "
           "holonomic_robot: false");
 
-  positive("acc_lim_x", o.acc_lim_x);
-  non_negative("acc_lim_y", o.acc_lim_y);
-  positive("acc_lim_theta", o.acc_lim_theta);
-  positive("max_vel_x", o.max_vel_x);
+  problems.Positive("acc_lim_x", o.acc_lim_x);
+  problems.NonNegative("acc_lim_y", o.acc_lim_y);
+  problems.Positive("acc_lim_theta", o.acc_lim_theta);
+  problems.Positive("max_vel_x", o.max_vel_x);
   require(std::isfinite(o.min_vel_x),
           "min_vel_x=" + Num(o.min_vel_x) + " must be finite");
   if (std::isfinite(o.min_vel_x) && std::isfinite(o.max_vel_x)) {
@@ -193,13 +184,13 @@ void ValidateDwaOptions(const DwaOptions& o) {
                                             " > max_vel_x=" +
                                             Num(o.max_vel_x));
   }
-  positive("max_vel_theta", o.max_vel_theta);
+  problems.Positive("max_vel_theta", o.max_vel_theta);
   require(std::isfinite(o.min_vel_theta) && o.min_vel_theta < 0.0,
           "min_vel_theta=" + Num(o.min_vel_theta) +
               " must be < 0 (it is the most negative rotational velocity, "
               "as in TrajectoryPlannerROS; for DWAPlannerROS's smallest "
               "|rotation| use min_in_place_vel_theta)");
-  non_negative("min_in_place_vel_theta", o.min_in_place_vel_theta);
+  problems.NonNegative("min_in_place_vel_theta", o.min_in_place_vel_theta);
   if (std::isfinite(o.min_in_place_vel_theta) &&
       std::isfinite(o.max_vel_theta) && o.max_vel_theta > 0.0) {
     require(o.min_in_place_vel_theta <= o.max_vel_theta,
@@ -221,13 +212,13 @@ void ValidateDwaOptions(const DwaOptions& o) {
                 Num(o.max_vel_x));
   }
 
-  positive("yaw_goal_tolerance", o.yaw_goal_tolerance);
-  positive("xy_goal_tolerance", o.xy_goal_tolerance);
-  non_negative("trans_stopped_vel", o.trans_stopped_vel);
-  non_negative("rot_stopped_vel", o.rot_stopped_vel);
+  problems.Positive("yaw_goal_tolerance", o.yaw_goal_tolerance);
+  problems.Positive("xy_goal_tolerance", o.xy_goal_tolerance);
+  problems.NonNegative("trans_stopped_vel", o.trans_stopped_vel);
+  problems.NonNegative("rot_stopped_vel", o.rot_stopped_vel);
 
-  positive("sim_time", o.sim_time);
-  positive("sim_granularity", o.sim_granularity);
+  problems.Positive("sim_time", o.sim_time);
+  problems.Positive("sim_granularity", o.sim_granularity);
   require(std::isfinite(o.angular_sim_granularity) &&
               o.angular_sim_granularity != 0.0,
           "angular_sim_granularity=" + Num(o.angular_sim_granularity) +
@@ -237,18 +228,18 @@ void ValidateDwaOptions(const DwaOptions& o) {
   require(o.vtheta_samples >= 1, "vtheta_samples=" +
                                      std::to_string(o.vtheta_samples) +
                                      " must be >= 1");
-  positive("controller_frequency", o.controller_frequency);
+  problems.Positive("controller_frequency", o.controller_frequency);
 
-  non_negative("path_distance_bias", o.path_distance_bias);
-  non_negative("goal_distance_bias", o.goal_distance_bias);
-  non_negative("occdist_scale", o.occdist_scale);
-  non_negative("heading_lookahead", o.heading_lookahead);
-  non_negative("oscillation_reset_dist", o.oscillation_reset_dist);
-  non_negative("escape_reset_dist", o.escape_reset_dist);
-  non_negative("escape_reset_theta", o.escape_reset_theta);
-  positive("rotate_to_path_angle", o.rotate_to_path_angle);
-  non_negative("max_centripetal_acc", o.max_centripetal_acc);
-  positive("full_margin_vel", o.full_margin_vel);
+  problems.NonNegative("path_distance_bias", o.path_distance_bias);
+  problems.NonNegative("goal_distance_bias", o.goal_distance_bias);
+  problems.NonNegative("occdist_scale", o.occdist_scale);
+  problems.NonNegative("heading_lookahead", o.heading_lookahead);
+  problems.NonNegative("oscillation_reset_dist", o.oscillation_reset_dist);
+  problems.NonNegative("escape_reset_dist", o.escape_reset_dist);
+  problems.NonNegative("escape_reset_theta", o.escape_reset_theta);
+  problems.Positive("rotate_to_path_angle", o.rotate_to_path_angle);
+  problems.NonNegative("max_centripetal_acc", o.max_centripetal_acc);
+  problems.Positive("full_margin_vel", o.full_margin_vel);
 
   // A rollout shorter than one control period would leave the robot
   // unchecked for the rest of the period.
