@@ -8,12 +8,15 @@
 # over any span (the map's global consistency: a bent corridor or a loop left open shows there);
 # the lines give the mean ± standard deviation over the seeds.
 #
-#   tools/building_slam_bench.sh [OUT_DIR]     (default build/bench/building; run from the repo root)
+#   tools/building_slam_bench.sh [OUT_DIR]     (default build/bench/building in the repo)
 # Writes OUT_DIR/NAME_{open,fixed,corridors,default}_sSEED/ and, for the large building with
 # seed 1, the maps with the fixed window and the default one, one above the other, in
 # OUT_DIR/large.png.
 set -euo pipefail
-out="${1:-build/bench/building}"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+out="$(realpath -m "${1:-$root/build/bench/building}")"
+cd "$root"
+source tools/ros_env.sh  # plot_map.py imports the workspace's Python modules
 bin=devel/lib/minibot3d_slam
 mkdir -p "$out"
 # name | make_building_log.py arguments
