@@ -7,8 +7,8 @@ connections made after the import)::
 
     from minibot3d_lockstep import Participant, action_server_ready
     rospy.init_node('my_client')
+    client = actionlib.SimpleActionClient('move_base', MoveBaseAction)  # subscribers first
     lockstep = Participant(wake_topics=['move_base/result'])
-    client = actionlib.SimpleActionClient('move_base', MoveBaseAction)
     lockstep.wait_for(lambda: action_server_ready(client), timeout=30.0)
     client.send_goal(goal)
     lockstep.wait_for(lambda: client.get_state() in DONE_STATES, timeout=120.0)
