@@ -316,8 +316,16 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
     bool confirmed = false;
     for (LoopConstraint& t : tentative_) {
       // Another scan, and another submap: scans matched against the same submap share its
-      // errors (a submap slightly bent inside, a place it aliases), so they are not two opinions.
-      if (t.to == cur || t.from == c.from) continue;
+      // errors (a submap slightly bent inside, a place it aliases), so they are not two opinions —
+      // except on the way back from a long stretch nothing has anchored (the window has grown
+      // past loopSearchWindow with the drift), when two scans kSameSubmapApart of path apart saw
+      // different stretches of it: the first corridor of a return may be the only submap the
+      // robot passes before it leaves the old track again.
+      if (t.to == cur) continue;
+      if (t.from == c.from && !(path_[cur] - path_[t.to] >= kSameSubmapApart &&
+                                cand.window > options_.loopSearchWindow)) {
+        continue;
+      }
       const Agreement a = agreement(t);
       if (!a.agree) continue;
       if (a.vouches_for_t && !t.confirmed) {

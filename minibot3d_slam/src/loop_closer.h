@@ -41,10 +41,15 @@
 // optimisation or two new constraints agree that the current estimate is off by more than
 // kBigCorrection (a large loop just closed), the graph is optimised. A constraint claiming such a
 // large correction waits (kTentativeNodes) for a constraint of another scan against another
-// submap to agree before it
-// enters the graph at all: the odometry chain bends to fit any single loop edge, so the graph
-// cannot reject a lone false one, and one look-alike place must not move a trajectory by metres (pose_graph.h: loop edges
-// under a Huber loss, outliers dropped and the graph re-solved). A correction just under
+// submap to agree before it enters the graph at all — or, on the way back from a long stretch
+// nothing anchored (the search window grown past loopSearchWindow), of a scan at least
+// kSameSubmapApart further along against the same submap: on a synthetic 200 m × 80 m building
+// the first return to the start corridor was seen twice, 9 m apart, against one submap only,
+// both matches right, and the loop stayed open 11 m wide. Right after an anchor one submap stays
+// one opinion (with a 30 m laser two wrong matches 12 m apart against one submap agreed there).
+// Why wait at all: the odometry chain bends to fit any single loop edge, so the graph cannot
+// reject a lone false one, and one look-alike place must not move a trajectory by metres
+// (pose_graph.h: loop edges under a Huber loss, outliers dropped and the graph re-solved). A correction just under
 // kBigCorrection that repeats such a waiting claim from the same submap waits with it: otherwise
 // the claim slips in by the next scan that matches a little nearer (on the Intel log, seed 3, a
 // 0.31 m claim entered as a 0.295 m one and raised the relations error from 0.0186 to 0.0274 m). The corrected trajectory comes
@@ -109,6 +114,9 @@ class LoopCloser {
   static constexpr int kOptimizeEvery = 10;        // nodes
   static constexpr int kTentativeNodes = 30;       // how long a large correction waits for a second
   static constexpr double kBigCorrection = 0.3;    // m (or 10× that in rad)
+  // Two matches against one submap confirm each other only this far apart in path, and only
+  // with the search window grown past loopSearchWindow (see Detect).
+  static constexpr double kSameSubmapApart = 6.0;  // m
   // An optimisation is applied to the filter only when it moves the newest node by this much.
   static constexpr double kApplyShift = 0.25, kApplyTurn = 0.035;  // m, rad
   // (On the Intel log a pair of constraints against one submap agreed on a wrong 0.37 m

@@ -77,9 +77,11 @@ struct DriveResult {
 };
 
 // Drives the centre line of `world`'s ring corridor (corners at 1 and size − 1) one and a quarter
-// times, the odometry's heading drifting by `bias` rad per metre.
+// times (the last leg, along the start corridor again, cut to `last_leg` metres when given), the
+// odometry's heading drifting by `bias` rad per metre; submaps of `submap_scans` processed scans.
 DriveResult Drive(int loop_closure, const World& world = CorridorRing(), double size = 14.0, double bias = 0.004,
-                  double drift_rate = GmappingOptions{}.loopDriftRate, int corridors = GmappingOptions{}.loopCorridors) {
+                  double drift_rate = GmappingOptions{}.loopDriftRate, int corridors = GmappingOptions{}.loopCorridors,
+                  double last_leg = -1.0, int submap_scans = GmappingOptions{}.loopSubmapScans) {
   GmappingOptions o;
   o.particles = 1;
   o.srr = o.srt = o.str = o.stt = 0.0;
@@ -97,6 +99,7 @@ DriveResult Drive(int loop_closure, const World& world = CorridorRing(), double 
   o.loopMinTravel = 10.0;
   o.loopDriftRate = drift_rate;
   o.loopCorridors = corridors;
+  o.loopSubmapScans = submap_scans;
   RbpfSlam slam(o);
 
   // The path: corridor centre line (1, 1) → (13, 1) → (13, 13) → (1, 13) → (1, 1) → (13, 1),
@@ -113,7 +116,8 @@ DriveResult Drive(int loop_closure, const World& world = CorridorRing(), double 
   };
   feed();
   const double f = size - 1.0;
-  const Pose2 corners[] = {{f, 1, 0}, {f, f, 0}, {1, f, 0}, {1, 1, 0}, {f, 1, 0}};
+  const Pose2 corners[] = {{f, 1, 0}, {f, f, 0}, {1, f, 0}, {1, 1, 0},
+                           {last_leg >= 0.0 ? std::min(f, 1.0 + last_leg) : f, 1, 0}};
   for (const Pose2& c : corners) {
     const double heading = std::atan2(c.y - truth.y, c.x - truth.x);
     // Turn on the spot.
@@ -196,6 +200,24 @@ TEST(LoopClosureTest, AWindowGrowingWithThePathFindsALoopThatDriftedBeyondTheFix
   // front-end's drift over the scans since the last applied correction.
   EXPECT_LT(EndError(growing), 0.5) << "growing window end error " << EndError(growing);
   EXPECT_LT(growing.worst_node_error, 1.0) << "worst node " << growing.worst_node_error;
+}
+
+// After a lap of the 80 m ring the robot comes back to the start, metres off, and drives 15 m on
+// along the start corridor. With 30 m submaps (loopSubmapScans 60) every match of the return is
+// against the first submap, so no other submap can confirm the large correction they claim, and
+// without more the loop stays open. With the search window grown by the unanchored lap, two of
+// them kSameSubmapApart of path apart confirm each other and it closes.
+TEST(LoopClosureTest, AReturnMatchedAgainstOneSubmapOnlyStillClosesTheLoop) {
+  const double kSize = 80.0, kBias = 0.0006;
+  const World world = BigCorridorRing(kSize);
+  const double rate = GmappingOptions{}.loopDriftRate;
+  const DriveResult open = Drive(0, world, kSize, kBias, rate, 0, 15.0, 60);
+  const DriveResult closed = Drive(1, world, kSize, kBias, rate, 0, 15.0, 60);
+  std::printf("end error: open %.3f m, closed %.3f m (%d closures); worst node %.3f m\n", EndError(open),
+              EndError(closed), closed.closures, closed.worst_node_error);
+  EXPECT_GT(EndError(open), GmappingOptions{}.loopSearchWindow);
+  EXPECT_GT(closed.closures, 0);
+  EXPECT_LT(EndError(closed), 0.5) << "closed loop end error " << EndError(closed);
 }
 
 // Bare corridors: a 30 m ring with nothing on its walls, so that every match away from the corners
