@@ -49,13 +49,14 @@
 // one opinion (with a 30 m laser two wrong matches 12 m apart against one submap agreed there).
 // Why wait at all: the odometry chain bends to fit any single loop edge, so the graph cannot
 // reject a lone false one, and one look-alike place must not move a trajectory by metres
-// (pose_graph.h: loop edges under a Huber loss, outliers dropped and the graph re-solved). A correction just under
-// kBigCorrection that repeats such a waiting claim from the same submap waits with it: otherwise
-// the claim slips in by the next scan that matches a little nearer (on the Intel log, seed 3, a
-// 0.31 m claim entered as a 0.295 m one and raised the relations error from 0.0186 to 0.0274 m). The corrected trajectory comes
-// back to the RBPF, which applies it only when it moves the newest node by kApplyShift / kApplyTurn
-// or more: below that the filter is at least as precise as the constraints (on the Intel log,
-// applying every optimisation made the relations error worse: 0.050 against 0.038 m).
+// (pose_graph.h: loop edges under a Huber loss, outliers dropped and the graph re-solved). A
+// correction just under kBigCorrection that repeats such a waiting claim from the same submap
+// waits with it: otherwise the claim slips in by the next scan that matches a little nearer (on
+// the Intel log, seed 3, a 0.31 m claim entered as a 0.295 m one and raised the relations error
+// from 0.0186 to 0.0274 m). The corrected trajectory comes back to the RBPF, which applies it
+// only when it moves the newest node by kApplyShift / kApplyTurn or more: below that the filter is
+// at least as precise as the constraints (on the Intel log, applying every optimisation made the
+// relations error worse: 0.050 against 0.038 m).
 //
 // What the RBPF does with a correction (rbpf_slam.cpp): every particle is reset onto the corrected
 // best trajectory and its rebuilt map, with weights reset. Why not move every particle by the same
