@@ -85,8 +85,9 @@ rm -rf build/bench/mapless
 OUT=build/bench/mapless TIMEOUT=150 tools/mapless_smoke.sh $(seq 0 49) > build/bench/mapless.txt 2>&1 || true
 /usr/bin/python3 tools/mapless_bench.py build/bench/mapless --picture docs/mapless_hardest.png || true
 
-echo "== SLAM on a CARMEN log (slam_offline, gmapping defaults, 30 particles, loop closure on, every"
-echo "   reading matched against the final map): 5 seeds, scored against the log's relations"
+echo "== SLAM on a CARMEN log (slam_offline, gmapping defaults, 30 particles, loop closure on, the"
+echo "   readings between processed scans placed by odometry between the processed poses and matched"
+echo "   against the final map): 5 seeds, scored against the log's relations"
 echo "   (Kuemmerle et al. 2009) when LOG.relations is beside it; load average before each run"
 if [ -n "$log" ] && [ -f "$log" ]; then
   relations="${log%.clf}.relations"

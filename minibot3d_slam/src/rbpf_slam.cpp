@@ -53,6 +53,9 @@ namespace minibot3d_slam {
 
 namespace {
 
+// Localize: passes of the sub-cell refinement for the position (each moves at most a cell).
+constexpr int kLocalizeRefinePasses = 5;
+
 // A node of the trajectory tree.
 struct TrajectoryNode {
   StampedPose stamped;
@@ -396,8 +399,18 @@ Pose2 RbpfSlam::Localize(const LaserScan& scan, const Pose2& guess) const {
   Pose2 mode;
   const double score = impl_->matcher_.Optimize(grid, prepared, guess, &mode);
   if (score <= impl_->options_.minimumScore) return guess;
-  if (impl_->options_.subcellMatch != 0) mode = impl_->matcher_.Refine(grid, prepared, mode);
-  return mode;
+  if (impl_->options_.subcellMatch == 0) return mode;  // the climber's pose as is
+  mode = impl_->matcher_.Refine(grid, prepared, mode);
+  // The position: from the guess's, at the climb's heading, by the refinement alone — a few
+  // passes, each bounded to a cell (Refine returns its input when a pass would go further, i.e.
+  // when the problem is degenerate there).
+  Pose2 pose{guess.x, guess.y, mode.theta};
+  for (int pass = 0; pass < kLocalizeRefinePasses; ++pass) {
+    const Pose2 next = impl_->matcher_.Refine(grid, prepared, pose);
+    if (std::hypot(next.x - pose.x, next.y - pose.y) < 1e-6 && std::fabs(next.theta - pose.theta) < 1e-7) break;
+    pose = next;
+  }
+  return pose;
 }
 void RbpfSlam::FinishLoops() { impl_->FinishLoops(); }
 std::size_t RbpfSlam::MapMemoryBytes() const {

@@ -6,18 +6,23 @@
 //                [--param NAME=VALUE ...] [--odometry-between] [--quiet]
 //
 // DIR/trajectory.txt has one line "timestamp x y theta" for every laser reading fed to the filter:
-// the final best particle's pose at processed readings, and for the readings in between, the pose
-// at the previous processed reading composed with the odometry increment since it. Timestamps are
-// the log's ipc_timestamp. SIGINT stops the run early; what was processed is still written.
+// the final best particle's pose at processed readings; for the readings in between, the pose at
+// the previous processed reading composed with the odometry increment since it, with the gap
+// between where that odometry puts the next processed reading and where the filter put it
+// spread over them by how far the odometry had moved (none after the last processed reading),
+// then (unless --odometry-between) matched against the final map (RbpfSlam::Localize). Timestamps
+// are the log's ipc_timestamp. SIGINT stops the run early; what was processed is still written.
 //
 // The log is streamed (log_reader.h), twice: the filter's pass keeps one bit per reading
-// (processed or not), and the trajectory's pass reads the log again, so memory does not grow with
-// the log's length beyond that bit and the filter's own per-processed-scan state.
+// (processed or not) and the odometry of each processed one, and the trajectory's pass reads the
+// log again, so memory does not grow with the log's length beyond that bit and the filter's own
+// per-processed-scan state.
 #include <sys/resource.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -62,8 +67,8 @@ constexpr char kUsage[] =
     "  --out DIR           output folder for map.pgm, map.yaml, trajectory.txt (default: .)\n"
     "  --particles N       number of particles (gmapping's 'particles', default 30)\n"
     "  --param NAME=VALUE  any gmapping option by its gmapping name (e.g. linearUpdate=0.5)\n"
-    "  --odometry-between  readings between processed scans take the processed pose moved by\n"
-    "                      odometry (gmapping's output) instead of being matched against the\n"
+    "  --odometry-between  readings between processed scans take the odometry between the\n"
+    "                      processed poses around them instead of being matched against the\n"
     "                      final map\n"
     "  --quiet             no progress on stderr\n";
 
@@ -224,6 +229,26 @@ void ShowWarnings(const minibot3d_slam::LogReader& reader, bool quiet, std::size
   }
 }
 
+// The pose of a reading between two processed ones: the first processed pose moved by the odometry
+// increment since it, plus the share of the gap at the second (where the filter put it, against
+// where that odometry puts it) proportional to how far the odometry had moved (translation + rotation;
+// a reading at the second's odometry gets all of it). Without a second (after the last processed
+// reading) the odometry alone. Spread linearly in that measure: odometry errors grow with the
+// motion (the motion model's assumption too), and a reading's own match corrects what is left.
+Pose2 InterpolatedPose(const Pose2& pose0, const Pose2& odom0, const Pose2& odom, const Pose2* pose1, const Pose2* odom1) {
+  const Pose2 u = minibot3d_slam::Between(odom, odom0);
+  if (pose1 == nullptr) return minibot3d_slam::Compose(pose0, u);
+  const Pose2 u1 = minibot3d_slam::Between(*odom1, odom0);
+  const Pose2 v = minibot3d_slam::Between(*pose1, pose0);
+  const double total = std::hypot(u1.x, u1.y) + std::fabs(u1.theta);
+  // (Two processed readings at one odometry pose — temporalUpdate, standing still — leave nothing
+  // to spread by: the readings between keep the first's pose.)
+  const double f = total > 1e-9 ? std::min(1.0, (std::hypot(u.x, u.y) + std::fabs(u.theta)) / total) : 0.0;
+  const Pose2 rel{u.x + f * (v.x - u1.x), u.y + f * (v.y - u1.y),
+                  minibot3d_slam::NormalizeAngle(u.theta + f * minibot3d_slam::NormalizeAngle(v.theta - u1.theta))};
+  return minibot3d_slam::Compose(pose0, rel);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -255,6 +280,7 @@ int main(int argc, char** argv) {
   std::signal(SIGINT, OnSigint);
   minibot3d_slam::RbpfSlam slam(args.options);
   std::vector<bool> processed_flags;
+  std::vector<Pose2> processed_odom;  // the odometry at each processed reading
   std::size_t fed = 0;
   int processed = 0;
   std::size_t peak_map_bytes = 0;  // map cells of all particles, sampled every 10 processed scans
@@ -267,6 +293,7 @@ int main(int argc, char** argv) {
       last_time = s.timestamp;
       const bool used = slam.AddScan(s.scan, s.odom);
       processed_flags.push_back(used);
+      if (used) processed_odom.push_back(s.odom);
       ++fed;
       if (used && ++processed % 10 == 0) peak_map_bytes = std::max(peak_map_bytes, slam.MapMemoryBytes());
       if (!args.quiet && wall() - last_report >= 1.0) {
@@ -292,10 +319,15 @@ int main(int argc, char** argv) {
 
   slam.FinishLoops();
   // Pass 2, the trajectory: processed readings take the best particle's poses; the others are
-  // first moved from the last processed one by odometry, then (unless --odometry-between) matched
-  // against the final map — independent matches against a map no longer changing, so on the
-  // `threads` option's threads, a batch of readings at a time.
+  // first placed by odometry between the processed ones around them, then (unless
+  // --odometry-between) matched against the final map — independent matches against a map no
+  // longer changing, so on the `threads` option's threads, a batch of readings at a time.
   const std::vector<minibot3d_slam::StampedPose> best = slam.BestTrajectory();
+  if (best.size() != processed_odom.size()) {
+    std::cerr << "slam_offline: " << best.size() << " trajectory poses for " << processed_odom.size()
+              << " processed readings\n";
+    return 1;
+  }
   const std::string traj_path = args.out + "/trajectory.txt";
   const std::string traj_tmp = traj_path + ".tmp";
   std::FILE* out = std::fopen(traj_tmp.c_str(), "w");
@@ -340,7 +372,11 @@ int main(int argc, char** argv) {
       } else if (args.localize) {
         to_localize.push_back(batch.size() - 1);
       }
-      poses.push_back(minibot3d_slam::Compose(anchor_pose, minibot3d_slam::Between(r.odom, anchor_odom)));
+      const bool next = k < best.size();
+      poses.push_back(processed_flags[i] ? anchor_pose
+                                         : InterpolatedPose(anchor_pose, anchor_odom, r.odom,
+                                                            next ? &best[k].pose : nullptr,
+                                                            next ? &processed_odom[k] : nullptr));
       if (batch.size() == kBatch) {
         std::size_t bytes = 0;
         for (const auto& b : batch) {

@@ -323,6 +323,54 @@ TEST(RbpfSlamTest, PoseBetweenProcessedScansFollowsOdometry) {
   EXPECT_LE(slam.Entropy(), std::log(4.0) + 1e-9);
 }
 
+// Localize (readings between processed scans): down a bare corridor the heading and the position
+// across it come from the map, the position along it stays the guess's (nothing there measures it);
+// in a room every component comes from the map.
+TEST(RbpfSlamTest, LocalizeTakesFromTheMapWhatTheMapMeasures) {
+  GmappingOptions o;
+  o.particles = 1;
+  o.linearUpdate = 0.2;
+  o.loopClosure = 0;
+  // A corridor 2 m wide and 100 m long, its walls off the cell boundaries, its ends out of reach.
+  World corridor;
+  corridor.walls.push_back({-50.0, -0.987, 50.0, -0.987});
+  corridor.walls.push_back({-50.0, 1.013, 50.0, 1.013});
+  // Range noise of about a centimetre (fixed, so the test is repeatable).
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  const auto noisy = [&](LaserScan scan) {
+    for (double& r : scan.ranges) {
+      if (std::isfinite(r)) r += noise(rng);
+    }
+    return scan;
+  };
+  RbpfSlam slam(o);
+  for (int i = 0; i <= 40; ++i) {
+    const Pose2 pose{0.1 * i, 0.0, 0.0};
+    slam.AddScan(noisy(corridor.Scan(pose, 181, M_PI, 8.0, 0.1 * i)), pose);
+  }
+  const Pose2 truth{2.5, 0.1, 0.02};
+  const LaserScan scan = noisy(corridor.Scan(truth, 181, M_PI, 8.0));
+  const Pose2 guess{2.5 + 0.15, 0.1 + 0.03, 0.02 + 0.04};
+  const Pose2 found = slam.Localize(scan, guess);
+  EXPECT_NEAR(found.x, guess.x, 0.02);  // along: the guess's (the climb alone wandered 0.12 m)
+  EXPECT_NEAR(found.y, truth.y, 0.01);
+  EXPECT_NEAR(NormalizeAngle(found.theta - truth.theta), 0.0, 0.005);
+
+  const World office = Office();
+  RbpfSlam room(o);
+  for (int i = 0; i <= 20; ++i) {
+    const Pose2 pose{-3.0 + 0.1 * i, -1.5, 0.0};
+    room.AddScan(office.Scan(pose, 181, M_PI, 30.0, 0.1 * i), pose);
+  }
+  const Pose2 at{-2.0, -1.5, 0.0};
+  const Pose2 off{-2.0 + 0.03, -1.5 - 0.02, 0.04};
+  const Pose2 matched = room.Localize(office.Scan(at, 181, M_PI, 30.0), off);
+  EXPECT_NEAR(matched.x, at.x, 0.01);
+  EXPECT_NEAR(matched.y, at.y, 0.01);
+  EXPECT_NEAR(NormalizeAngle(matched.theta - at.theta), 0.0, 0.005);
+}
+
 TEST(RbpfSlamTest, BadReadingsAndOddScansAreHandled) {
   GmappingOptions o;
   o.particles = 5;

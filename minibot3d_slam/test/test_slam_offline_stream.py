@@ -1,8 +1,8 @@
 """slam_offline on small CARMEN logs written here: the log is streamed twice (the filter's pass and
 the trajectory's), so every reading gets exactly one trajectory line, in log order, whichever pass
 it was processed in; a garbled line is reported with the file and its line and skipped; what the
-run holds for the log (`log_mb`) does not grow with the log; a log without laser messages is an
-error naming the file.
+run holds for the log (`log_mb`) does not grow with the log; the readings between processed ones
+share out the odometry's error; a log without laser messages is an error naming the file.
 
 The robot drives up and down a 10 m x 6 m room with a pillar (ray-cast 180-beam FLASER readings)."""
 import math
@@ -51,16 +51,30 @@ def poses(n):
     return out
 
 
-def write_log(path, n, garble=None):
-    """n FLASER lines (line numbers from 2 after a comment); garble: 1-based reading to spoil."""
+def odometry(truth, scale):
+    """The truth's increments with the distance scaled by `scale`, integrated from its first pose."""
+    out = [truth[0]]
+    for (x0, y0, t0), (x1, y1, t1) in zip(truth, truth[1:]):
+        c, s = math.cos(t0), math.sin(t0)
+        dx, dy = scale * (c * (x1 - x0) + s * (y1 - y0)), scale * (-s * (x1 - x0) + c * (y1 - y0))
+        ox, oy, ot = out[-1]
+        out.append((ox + math.cos(ot) * dx - math.sin(ot) * dy, oy + math.sin(ot) * dx + math.cos(ot) * dy,
+                    ot + (t1 - t0)))
+    return out
+
+
+def write_log(path, n, garble=None, odom_scale=1.0):
+    """n FLASER lines (line numbers from 2 after a comment); garble: 1-based reading to spoil;
+    odom_scale: the odometry's distance scale (1: exact)."""
     lines = ['# synthetic room']
-    for i, (x, y, th) in enumerate(poses(n), 1):
+    truth = poses(n)
+    for i, ((x, y, th), odom) in enumerate(zip(truth, odometry(truth, odom_scale)), 1):
         ranges = [cast(x, y, th - math.pi / 2 + k * math.pi / 180) for k in range(180)]
         fields = ['FLASER', '180'] + ['%.3f' % r for r in ranges]
         if garble == i:
             fields[50] = '1.2.3'
         stamp = '%.6f' % (1000.0 + 0.2 * i)
-        fields += ['%.6f' % v for v in (x, y, th, x, y, th)] + [stamp, 'nohost', '%.6f' % (0.2 * i)]
+        fields += ['%.6f' % v for v in (x, y, th) + tuple(odom)] + [stamp, 'nohost', '%.6f' % (0.2 * i)]
         lines.append(' '.join(fields))
     with open(path, 'w') as f:
         f.write('\n'.join(lines) + '\n')
@@ -108,6 +122,25 @@ def test_every_reading_gets_one_pose_in_log_order(tmp_path):
     r2 = run(log, tmp_path / 'out2', '--odometry-between', '--quiet')
     assert r2.returncode == 0, r2.stderr
     assert [p[0] for p in trajectory(tmp_path / 'out2')] == [p[0] for p in traj]
+
+
+def test_readings_between_processed_ones_share_the_odometry_error_out(tmp_path):
+    # Odometry 10 % long: between two processed readings (every 0.5 m) it runs 5 cm ahead. The
+    # readings in between take their share of that gap instead of all of it landing at the next
+    # processed one, so every step of the trajectory is about the true one (measured: 2.2 mm off
+    # on average, 22 mm at worst, by a turn in place; with the gap left to the processed readings,
+    # 14 mm and 65 mm).
+    log = tmp_path / 'room.clf'
+    write_log(log, 300, odom_scale=1.1)
+    r = run(log, tmp_path / 'out', '--odometry-between', '--quiet')
+    assert r.returncode == 0, r.stderr
+    traj = trajectory(tmp_path / 'out')
+    truth = poses(300)
+    errors = []
+    for a, b, ta, tb in zip(traj, traj[1:], truth, truth[1:]):
+        errors.append(abs(math.hypot(b[1] - a[1], b[2] - a[2]) - math.hypot(tb[0] - ta[0], tb[1] - ta[1])))
+    assert max(errors) < 0.035, max(errors)
+    assert sum(errors) / len(errors) < 0.005, sum(errors) / len(errors)
 
 
 def test_what_is_held_for_the_log_does_not_grow_with_it(tmp_path):

@@ -34,11 +34,17 @@ class RbpfSlam {
   GridMap Map() const;
   // The best particle's poses at every processed scan, oldest first.
   std::vector<StampedPose> BestTrajectory() const;
-  // The pose of `scan` matched against the best particle's current map, starting from `guess`
-  // (the same hill climber and sub-cell refinement as the filter; the map is not changed). Returns
-  // `guess` when the match scores at or below minimumScore or nothing was mapped yet. For the
-  // poses of readings the filter did not process: their odometry-interpolated poses carry the
-  // odometry's rotation error (on the Intel log 1.9° mean against 0.3° at processed scans).
+  // The pose of `scan` against the best particle's current map, starting from `guess` (the map is
+  // not changed): the heading the filter's hill climber and sub-cell refinement find, and the
+  // position the sub-cell refinement (point-to-line) alone finds from the guess's position at that
+  // heading (each refinement pass moves it at most a cell, so the guess's position must be about
+  // that good: slam_offline places its readings between two processed poses). With subcellMatch
+  // 0, the climber's pose as is. Returns `guess` when the climb scores at or below minimumScore or
+  // nothing was mapped yet. For the poses of readings the filter did not process: odometry alone
+  // carries its rotation error (on the Intel log 1.9° mean against 0.3° at processed scans). Why
+  // the position does not come from the climb: point-to-point, it wanders along a bare corridor
+  // (±0.2 m from one reading to the next on a synthetic building), while point-to-line puts no
+  // pull along a wall and keeps the guess's position there.
   Pose2 Localize(const LaserScan& scan, const Pose2& guess) const;
   // Entropy of the normalised particle weights (gmapping's ~entropy).
   double Entropy() const;
