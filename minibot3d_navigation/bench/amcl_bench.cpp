@@ -57,7 +57,7 @@ OccupancyGrid BenchRoom(double width_m = 10.0, double height_m = 8.0,
 
 // A 360-beam scan (the filter keeps laser_max_beams of it) ray-cast in the
 // map from `robot`.
-LaserScan BenchScan(const MapModel& map, const Pose2D& robot) {
+LaserScan BenchScan(const MapModel& map, const Pose2& robot) {
   LaserScan scan;
   scan.range_min = 0.15;
   scan.range_max = 12.0;
@@ -88,8 +88,8 @@ void BM_FilterUpdate(benchmark::State& state, const std::string& model) {
   auto map =
       std::make_shared<MapModel>(BenchRoom(), o.laser_likelihood_max_dist);
   AmclFilter filter(o, map);
-  const Pose2D a{3.0, 2.0, 0.4};
-  const Pose2D b = Compose(a, {0.25, 0.0, 0.0});
+  const Pose2 a{3.0, 2.0, 0.4};
+  const Pose2 b = Compose(a, {0.25, 0.0, 0.0});
   const LaserScan scan_a = BenchScan(*map, a), scan_b = BenchScan(*map, b);
   filter.Update(a, scan_a);
   bool at_a = true;
@@ -122,7 +122,7 @@ void BM_SensorModel(benchmark::State& state, const std::string& model) {
   auto map =
       std::make_shared<MapModel>(BenchRoom(), o.laser_likelihood_max_dist);
   auto sensor = CreateSensorModel(o, map);
-  const Pose2D truth{3.0, 2.0, 0.4};
+  const Pose2 truth{3.0, 2.0, 0.4};
   PreparedScan scan;
   std::string error;
   if (!PrepareScan(BenchScan(*map, truth), o, &scan, &error)) {
@@ -174,7 +174,7 @@ void BM_GlobalSearchOffice(benchmark::State& state) {
   namespace tw = minibot3d_slam::testing_world;
   std::vector<minibot3d_slam::Pose2> rooms;
   const tw::World world = tw::OfficeBuilding(54.0, 59.0, 1, &rooms);
-  const OccupancyGrid grid = FromSlamMap(tw::Rasterize(world, 0.0, 0.0, 54.0, 59.0));
+  const OccupancyGrid grid = tw::Rasterize(world, 0.0, 0.0, 54.0, 59.0);
   AmclOptions o;
   o.laser_max_range = 12.0;
   o.global_search_budget = 100.0;
@@ -190,7 +190,7 @@ void BM_GlobalSearchOffice(benchmark::State& state) {
     scan.range_max = s.range_max;
     scan.angles = s.angles;
     scan.ranges.assign(s.ranges.begin(), s.ranges.end());
-    scan.laser_pose = {s.sensor_in_base.x, s.sensor_in_base.y, s.sensor_in_base.theta};
+    scan.sensor_in_base = {s.sensor_in_base.x, s.sensor_in_base.y, s.sensor_in_base.yaw};
     state.ResumeTiming();
     const std::vector<SearchCandidate> c = search.Search(scan);
     ++runs;
@@ -204,7 +204,7 @@ BENCHMARK(BM_GlobalSearchOffice)->Iterations(5)->Unit(benchmark::kMillisecond);
 // A 360-beam, 12 m scan cast on `grid` from `pose` (cells >= 65 % occupied stop
 // a beam; quarter-cell steps), as the simulator's lidar would see the world
 // the map was rendered from.
-LaserScan CastScan(const OccupancyGrid& grid, const Pose2D& pose) {
+LaserScan CastScan(const OccupancyGrid& grid, const Pose2& pose) {
   LaserScan scan;
   scan.range_min = 0.15;
   scan.range_max = 12.0;
@@ -241,7 +241,7 @@ void BM_GlobalSearchShippedOffice(benchmark::State& state) {
   const std::string path = env != nullptr ? env : MINIBOT3D_OFFICE_MAP;
   OccupancyGrid grid;
   try {
-    grid = FromSlamMap(minibot3d_map_io::LoadMap(path));
+    grid = minibot3d_map_io::LoadMap(path);
   } catch (const std::exception& e) {
     state.SkipWithError(("cannot load the office map (OFFICE_MAP): " + std::string(e.what())).c_str());
     return;
@@ -273,7 +273,7 @@ void BM_GlobalSearchShippedOffice(benchmark::State& state) {
   for (auto _ : state) {
     state.PauseTiming();
     const auto& cell = cells[std::uniform_int_distribution<size_t>(0, cells.size() - 1)(rng)];
-    const Pose2D truth{grid.origin_x + (cell.first + 0.5) * grid.resolution,
+    const Pose2 truth{grid.origin_x + (cell.first + 0.5) * grid.resolution,
                        grid.origin_y + (cell.second + 0.5) * grid.resolution,
                        std::uniform_real_distribution<double>(-M_PI, M_PI)(rng)};
     const LaserScan scan = CastScan(grid, truth);

@@ -103,7 +103,7 @@ BENCHMARK(BM_InflateFull)->Arg(55)->Arg(100)->Unit(benchmark::kMillisecond);
 void BM_GlobalFullRebuild(benchmark::State& state) {
   LayeredCostmap costmap = BuildLayeredCostmap(BenchOptions());
   costmap.SetStaticMap(OfficeMap());
-  const Pose2D robot{12.5, 12.5, 0.0};
+  const Pose2 robot{12.5, 12.5, 0.0};
   costmap.UpdateMap(robot);
   for (auto _ : state) {
     costmap.ResetLayers();
@@ -128,15 +128,15 @@ void BM_RollingUpdate(benchmark::State& state) {
   StaticLayer world(BenchOptions());
   world.SetMap(OfficeMap());
   // A path through three rooms (doors at 2.0..3.0 m of each 5 m wall).
-  std::vector<Pose2D> poses;
+  std::vector<Pose2> poses;
   for (double x = 12.0; x < 26.0; x += 0.05) poses.push_back({x, 12.0 + 0.5, 0.0});
-  amcl::LaserScan scan_template;
+  LaserScan scan_template;
   scan_template.range_min = 0.05;
   scan_template.range_max = 10.0;
-  scan_template.angles = amcl::MakeBeamAngles(-kPi, 2 * kPi / 720, 720);
-  std::vector<amcl::LaserScan> scans;
-  for (const Pose2D& p : poses) {
-    amcl::LaserScan scan = scan_template;
+  scan_template.angles = MakeBeamAngles(-kPi, 2 * kPi / 720, 720);
+  std::vector<LaserScan> scans;
+  for (const Pose2& p : poses) {
+    LaserScan scan = scan_template;
     for (double a : scan.angles) {
       scan.ranges.push_back(static_cast<float>(CastRay(world.map(), p.x, p.y, p.yaw + a, 10.0)));
     }
@@ -152,7 +152,7 @@ void BM_RollingUpdate(benchmark::State& state) {
   LayeredCostmap costmap = BuildLayeredCostmap(o);
   size_t k = 0;
   for (auto _ : state) {
-    const Pose2D& p = poses[k];
+    const Pose2& p = poses[k];
     costmap.obstacle_layer()->AddObservation(
         ObservationFromScan(scans[k], p, o.obstacle_range, o.raytrace_range, o.inf_is_valid));
     costmap.UpdateMap(p);

@@ -106,11 +106,11 @@ void BM_ComputeVelocity(benchmark::State& state) {
   DwaPlanner planner(o, kFootprint);
   const Costmap2D map = BenchCostmap();
   const Path plan = BenchPlan();
-  const Pose2D pose{3.0, 3.0, 0.1};
-  Twist2D vel;
+  const Pose2 pose{3.0, 3.0, 0.1};
+  Twist2 vel;
   vel.vx = 0.4;
-  vel.vtheta = 0.1;
-  Twist2D cmd;
+  vel.wz = 0.1;
+  Twist2 cmd;
   for (auto _ : state) {
     cmd = planner.ComputeVelocity(pose, vel, plan, map);
     benchmark::DoNotOptimize(cmd);
@@ -118,7 +118,7 @@ void BM_ComputeVelocity(benchmark::State& state) {
   state.counters["trajectories"] = planner.last_stats().evaluated;
   state.counters["pruned"] = planner.last_stats().pruned;
   state.counters["cmd_vx"] = cmd.vx;
-  state.counters["cmd_vth"] = cmd.vtheta;
+  state.counters["cmd_vth"] = cmd.wz;
 }
 BENCHMARK(BM_ComputeVelocity)
     ->ArgNames({"sim_time_ds", "unpruned"})

@@ -201,29 +201,29 @@ const Costmap2D& ApartmentMap() {
 }
 
 // Room to room across the lower corridor: 75.9 m, ~131k cells expanded.
-const Pose2D kOfficeStart{20.0, 5.0, 0.0};
-const Pose2D kOfficeGoal{75.0, 30.0, 1.57};
+const Pose2 kOfficeStart{20.0, 5.0, 0.0};
+const Pose2 kOfficeGoal{75.0, 30.0, 1.57};
 // Corner room to a room two corridors up: 113 m with detours through doors,
 // ~780k cells expanded (a harder query).
-const Pose2D kOfficeFarStart{3.0, 5.0, 0.0};
-const Pose2D kOfficeFarGoal{60.0, 40.0, 0.0};
-const Pose2D kEmptyStart{5.0, 5.0, 0.0};
-const Pose2D kEmptyGoal{65.0, 50.0, 0.0};      // 75 m diagonal
-const Pose2D kApartmentStart{0.8, 2.5, 0.0};   // living room
-const Pose2D kApartmentGoal{8.2, 6.8, 1.57};   // bathroom
+const Pose2 kOfficeFarStart{3.0, 5.0, 0.0};
+const Pose2 kOfficeFarGoal{60.0, 40.0, 0.0};
+const Pose2 kEmptyStart{5.0, 5.0, 0.0};
+const Pose2 kEmptyGoal{65.0, 50.0, 0.0};      // 75 m diagonal
+const Pose2 kApartmentStart{0.8, 2.5, 0.0};   // living room
+const Pose2 kApartmentGoal{8.2, 6.8, 1.57};   // bathroom
 
 // Mean cell cost under the path's poses: how close to obstacles it runs.
 double MeanCost(const Costmap2D& map, const Path& path) {
   double sum = 0.0;
-  for (const Pose2D& p : path) {
+  for (const Pose2& p : path) {
     int mx = 0, my = 0;
     if (map.WorldToMap(p.x, p.y, &mx, &my)) sum += map.cost(mx, my);
   }
   return path.empty() ? 0.0 : sum / path.size();
 }
 
-void RunAStar(benchmark::State& state, const Costmap2D& map, const Pose2D& start,
-              const Pose2D& goal, bool smooth) {
+void RunAStar(benchmark::State& state, const Costmap2D& map, const Pose2& start,
+              const Pose2& goal, bool smooth) {
   GlobalPlannerOptions o;
   o.smooth_path = smooth;
   AStarPlanner planner(o);

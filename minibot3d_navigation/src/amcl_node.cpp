@@ -195,7 +195,7 @@ class AmclNode {
 
   // Laser pose in the base frame, cached per frame id.  Handles lasers mounted
   // upside down (z axis pointing down): the bearings are then mirrored.
-  bool LaserPose(const std::string& frame, amcl::Pose2D* pose, bool* flipped) {
+  bool LaserPose(const std::string& frame, amcl::Pose2* pose, bool* flipped) {
     auto it = laser_poses_.find(frame);
     if (it == laser_poses_.end()) {
       geometry_msgs::TransformStamped t;
@@ -227,7 +227,7 @@ class AmclNode {
     if (msg->header.stamp < global_request_stamp_) return;
     amcl::LaserScan scan;
     bool flipped = false;
-    if (!LaserPose(msg->header.frame_id, &scan.laser_pose, &flipped)) return;
+    if (!LaserPose(msg->header.frame_id, &scan.sensor_in_base, &flipped)) return;
     geometry_msgs::TransformStamped odom_base;
     try {
       odom_base = tf_buffer_.lookupTransform(odom_frame_, base_frame_, msg->header.stamp);
@@ -238,8 +238,8 @@ class AmclNode {
     }
     tf2::Transform ob;
     tf2::fromMsg(odom_base.transform, ob);
-    const amcl::Pose2D odom_pose = PoseFromTf(ob);
-    scan.ranges = msg->ranges;
+    const amcl::Pose2 odom_pose = PoseFromTf(ob);
+    scan.ranges.assign(msg->ranges.begin(), msg->ranges.end());
     scan.angles = amcl::MakeBeamAngles(msg->angle_min, msg->angle_increment,
                                        static_cast<int>(msg->ranges.size()));
     if (flipped) {
@@ -376,7 +376,7 @@ class AmclNode {
     cloud_pub_.publish(a);
   }
 
-  static geometry_msgs::Pose PoseMsg(const amcl::Pose2D& p) {
+  static geometry_msgs::Pose PoseMsg(const amcl::Pose2& p) {
     geometry_msgs::Pose m;
     m.position.x = p.x;
     m.position.y = p.y;
@@ -409,7 +409,7 @@ class AmclNode {
         return;
       }
     }
-    const amcl::Pose2D mean = PoseFromTf(pose);
+    const amcl::Pose2 mean = PoseFromTf(pose);
     Eigen::Matrix3d cov;
     const int idx[3] = {0, 1, 5};
     for (int i = 0; i < 3; ++i)
@@ -466,7 +466,7 @@ class AmclNode {
   }
 
   struct LaserMount {
-    amcl::Pose2D pose;
+    amcl::Pose2 pose;
     bool flipped = false;
   };
 

@@ -148,15 +148,15 @@ void CostmapRos::OnScan(const sensor_msgs::LaserScan::ConstPtr& scan, Source* so
                       options_.global_frame.c_str(), frame.c_str(), e.what());
     return;
   }
-  amcl::LaserScan s;
-  s.ranges = scan->ranges;
-  s.angles = amcl::MakeBeamAngles(scan->angle_min, scan->angle_increment,
+  nav::LaserScan s;
+  s.ranges.assign(scan->ranges.begin(), scan->ranges.end());
+  s.angles = nav::MakeBeamAngles(scan->angle_min, scan->angle_increment,
                                   static_cast<int>(scan->ranges.size()));
   s.range_min = scan->range_min;
   s.range_max = scan->range_max;
   tf2::Transform tt;
   tf2::fromMsg(t.transform, tt);
-  const nav::Pose2D sensor = ros_util::PoseFromTf(tt);
+  const nav::Pose2 sensor = ros_util::PoseFromTf(tt);
   try {
     nav::Observation obs = nav::ObservationFromScan(
         s, sensor, source->marking ? source->obstacle_range : 0.0,
@@ -168,7 +168,7 @@ void CostmapRos::OnScan(const sensor_msgs::LaserScan::ConstPtr& scan, Source* so
   }
 }
 
-bool CostmapRos::RobotPose(nav::Pose2D* pose, std::string* why, bool* clocks_disagree) const {
+bool CostmapRos::RobotPose(nav::Pose2* pose, std::string* why, bool* clocks_disagree) const {
   if (clocks_disagree != nullptr) *clocks_disagree = false;
   const std::string& global = options_.global_frame;
   const std::string& base = options_.robot_base_frame;
@@ -190,7 +190,7 @@ bool CostmapRos::RobotPose(nav::Pose2D* pose, std::string* why, bool* clocks_dis
   }
 }
 
-void CostmapRos::Update(const ros::Time& now, const nav::Pose2D& robot, bool force) {
+void CostmapRos::Update(const ros::Time& now, const nav::Pose2& robot, bool force) {
   if (!ready()) return;
   if (force || now >= next_update_ || options_.update_frequency <= 0.0) {
     layered_->UpdateMap(robot);
@@ -240,7 +240,7 @@ void CostmapRos::Reset() {
   next_update_ = ros::Time(0);
 }
 
-void CostmapRos::ClearExceptAround(const nav::Pose2D& robot, double reset_distance) {
+void CostmapRos::ClearExceptAround(const nav::Pose2& robot, double reset_distance) {
   layered_->ClearExceptAround(robot, reset_distance);
 }
 

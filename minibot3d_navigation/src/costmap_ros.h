@@ -42,13 +42,13 @@ class CostmapRos {
   // (throttled warnings are the caller's business). *clocks_disagree, if
   // given, says the node and tf run on different clocks (wall vs sim time:
   // transform_age.h), which no tf publisher can fix.
-  bool RobotPose(nav::Pose2D* pose, std::string* why, bool* clocks_disagree = nullptr) const;
+  bool RobotPose(nav::Pose2* pose, std::string* why, bool* clocks_disagree = nullptr) const;
   // Updates the costmap at `robot` if update_frequency says so (or force),
   // and publishes at publish_frequency.
-  void Update(const ros::Time& now, const nav::Pose2D& robot, bool force = false);
+  void Update(const ros::Time& now, const nav::Pose2& robot, bool force = false);
   // Forgets obstacles (clear_costmaps service).
   void Reset();
-  void ClearExceptAround(const nav::Pose2D& robot, double reset_distance);
+  void ClearExceptAround(const nav::Pose2& robot, double reset_distance);
 
   bool ready() const { return !options_.static_map || have_map_; }
   const std::string& name() const { return name_; }

@@ -117,7 +117,7 @@ class ExploreNode {
     ++map_count_;
   }
 
-  bool RobotPose(nav::Pose2D* pose) {
+  bool RobotPose(nav::Pose2* pose) {
     try {
       const auto t = tf_.lookupTransform(global_frame_, base_frame_, ros::Time(0));
       tf2::Transform tt;
@@ -139,8 +139,8 @@ class ExploreNode {
     to_judge_.push_back({goal_, map_count_});
   }
 
-  void Judge(const nav::Point2D& viewpoint, const amcl::OccupancyGrid& grid) {
-    std::vector<nav::Point2D> in_sight;
+  void Judge(const nav::Point2& viewpoint, const nav::OccupancyGrid& grid) {
+    std::vector<nav::Point2> in_sight;
     try {
       in_sight = search_->InSight(grid, viewpoint);
     } catch (const std::invalid_argument& e) {
@@ -151,7 +151,7 @@ class ExploreNode {
              "and are not chased again", viewpoint.x, viewpoint.y, in_sight.size());
   }
 
-  void GoalFailed(const amcl::OccupancyGrid& grid, const std::string& why) {
+  void GoalFailed(const nav::OccupancyGrid& grid, const std::string& why) {
     const int attempts = memory_->Failed(goal_, grid);
     if (attempts >= o_.max_goal_attempts) {
       ROS_WARN("explore: goal (%.2f, %.2f) %s; given up after %d attempts near it", goal_.x,
@@ -169,10 +169,10 @@ class ExploreNode {
       ROS_INFO_THROTTLE(10.0, "explore: waiting for %s", !map_ ? "a map" : "move_base");
       return;
     }
-    nav::Pose2D robot;
+    nav::Pose2 robot;
     if (!RobotPose(&robot)) return;
     const ros::Time now = ros::Time::now();
-    const amcl::OccupancyGrid grid = ros_util::GridFromMsg(*map_);
+    const nav::OccupancyGrid grid = ros_util::GridFromMsg(*map_);
 
     if (have_goal_) {
       const auto state = client_.getState();
@@ -207,7 +207,7 @@ class ExploreNode {
         ++it;
       }
     }
-    for (const nav::Point2D& p : memory_->Refresh(grid)) {
+    for (const nav::Point2& p : memory_->Refresh(grid)) {
       ROS_INFO("explore: the map changed round unreachable goal (%.2f, %.2f); it may be retried",
                p.x, p.y);
     }
@@ -251,7 +251,7 @@ class ExploreNode {
     SendGoal(best, robot, now);
   }
 
-  void SendGoal(const nav::Frontier& f, const nav::Pose2D& robot, const ros::Time& now) {
+  void SendGoal(const nav::Frontier& f, const nav::Pose2& robot, const ros::Time& now) {
     move_base_msgs::MoveBaseGoal g;
     g.target_pose.header.frame_id = global_frame_;
     g.target_pose.header.stamp = now;
@@ -306,10 +306,10 @@ class ExploreNode {
   nav_msgs::OccupancyGrid::ConstPtr map_;
   int map_count_ = 0, empty_at_map_ = 0;
   bool have_goal_ = false;
-  std::vector<std::pair<nav::Point2D, int>> to_judge_;  // reached viewpoints, map count then
-  nav::Point2D goal_;
+  std::vector<std::pair<nav::Point2, int>> to_judge_;  // reached viewpoints, map count then
+  nav::Point2 goal_;
   double best_distance_ = 0.0;
-  nav::Pose2D progress_pose_;
+  nav::Pose2 progress_pose_;
   ros::Time last_progress_, start_time_, empty_since_;
   int goals_sent_ = 0;
 };

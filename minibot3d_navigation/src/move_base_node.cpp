@@ -195,7 +195,7 @@ class MoveBaseNode {
   }
 
   void ClearAround(double reset_distance) {
-    nav::Pose2D p;
+    nav::Pose2 p;
     std::string why;
     for (CostmapRos* c : {&global_costmap_, &local_costmap_}) {
       if (c->RobotPose(&p, &why)) c->ClearExceptAround(p, reset_distance);
@@ -205,12 +205,12 @@ class MoveBaseNode {
   void OnOdom(const nav_msgs::Odometry::ConstPtr& odom) {
     velocity_.vx = odom->twist.twist.linear.x;
     velocity_.vy = odom->twist.twist.linear.y;
-    velocity_.vtheta = odom->twist.twist.angular.z;
+    velocity_.wz = odom->twist.twist.angular.z;
   }
 
   // Goal pose -> global frame, once, at reception.  Empty string on success,
   // else the reason to reject it.
-  std::string ToGlobal(const geometry_msgs::PoseStamped& in, nav::Pose2D* out) {
+  std::string ToGlobal(const geometry_msgs::PoseStamped& in, nav::Pose2* out) {
     const auto& q = in.pose.orientation;
     const double n = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
     if (!std::isfinite(n) || n < 1e-6 || !std::isfinite(in.pose.position.x) ||
@@ -247,7 +247,7 @@ class MoveBaseNode {
 
   void OnGoal() {
     const auto goal = server_->acceptNewGoal();
-    nav::Pose2D g;
+    nav::Pose2 g;
     const std::string error = ToGlobal(goal->target_pose, &g);
     if (!error.empty()) {
       ROS_ERROR("move_base: rejecting goal: %s", error.c_str());
@@ -293,7 +293,7 @@ class MoveBaseNode {
     nav_msgs::Path msg;
     msg.header.frame_id = frame;
     msg.header.stamp = stamp;
-    for (const nav::Pose2D& p : path) {
+    for (const nav::Pose2& p : path) {
       geometry_msgs::PoseStamped ps;
       ps.header = msg.header;
       ps.pose.position.x = p.x;
@@ -359,13 +359,13 @@ class MoveBaseNode {
     state.global_costmap = &global_costmap_.costmap();
     state.local_costmap = &local_costmap_.costmap();
     // The global frame's pose in the local one: local = global_to_local (+) global.
-    const nav::Pose2D global_to_local =
-        nav::Compose(state.local_pose, nav::Between(state.global_pose, nav::Pose2D()));
+    const nav::Pose2 global_to_local =
+        nav::Compose(state.local_pose, nav::Between(state.global_pose, nav::Pose2()));
     const nav::CycleResult r = executive_->Step(state, global_to_local);
 
     geometry_msgs::Twist cmd;
     cmd.linear.x = r.cmd.vx;
-    cmd.angular.z = r.cmd.vtheta;
+    cmd.angular.z = r.cmd.wz;
     cmd_pub_.publish(cmd);
     if (r.new_plan) {
       plan_pub_.publish(ToPath(executive_->plan(), global_costmap_.options().global_frame, now));
@@ -413,7 +413,7 @@ class MoveBaseNode {
       ROS_ERROR("move_base: make_plan: no map yet");
       return false;
     }
-    nav::Pose2D start, goal;
+    nav::Pose2 start, goal;
     std::string error;
     if (req.start.header.frame_id.empty()) {
       if (!global_costmap_.RobotPose(&start, &error)) {
@@ -465,7 +465,7 @@ class MoveBaseNode {
       simple_client_pub_;
   ros::Subscriber odom_sub_, simple_goal_sub_;
   ros::ServiceServer make_plan_srv_, clear_srv_;
-  nav::Twist2D velocity_;
+  nav::Twist2 velocity_;
   std::string last_message_;
 };
 

@@ -1,5 +1,5 @@
 // Conversions shared by the navigation nodes (amcl, move_base): parameter
-// values to the text the ROS-free option tables parse, tf <-> Pose2D, and
+// values to the text the ROS-free option tables parse, tf <-> Pose2, and
 // OccupancyGrid messages to the core's grid.  Node-side only (includes ROS).
 #ifndef MINIBOT3D_NAVIGATION_SRC_ROS_UTIL_H_
 #define MINIBOT3D_NAVIGATION_SRC_ROS_UTIL_H_
@@ -112,11 +112,11 @@ inline std::vector<std::string> UnknownParams(
   return out;
 }
 
-inline amcl::Pose2D PoseFromTf(const tf2::Transform& t) {
+inline amcl::Pose2 PoseFromTf(const tf2::Transform& t) {
   return {t.getOrigin().x(), t.getOrigin().y(), tf2::getYaw(t.getRotation())};
 }
 
-inline tf2::Transform TfFromPose(const amcl::Pose2D& p) {
+inline tf2::Transform TfFromPose(const amcl::Pose2& p) {
   tf2::Quaternion q;
   q.setRPY(0, 0, p.yaw);
   return tf2::Transform(q, tf2::Vector3(p.x, p.y, 0.0));
@@ -127,7 +127,7 @@ inline amcl::OccupancyGrid GridFromMsg(const nav_msgs::OccupancyGrid& m) {
   g.resolution = m.info.resolution;
   g.origin_x = m.info.origin.position.x;
   g.origin_y = m.info.origin.position.y;
-  g.origin_yaw = tf2::getYaw(m.info.origin.orientation);
+  g.origin_theta = tf2::getYaw(m.info.origin.orientation);
   g.width = static_cast<int>(m.info.width);
   g.height = static_cast<int>(m.info.height);
   g.data.assign(m.data.begin(), m.data.end());

@@ -29,45 +29,45 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // mounted like minibot3d's (0.02 m ahead, upside down -> yaw pi).
 class RobotSim {
  public:
-  RobotSim(const OccupancyGrid& grid, const Pose2D& truth, uint64_t seed)
+  RobotSim(const OccupancyGrid& grid, const Pose2& truth, uint64_t seed)
       : grid_(grid), map_(grid, 2.0), truth_(truth), rng_(seed) {}
 
   // Moves by the robot-frame increment u; fails the test if the robot would
   // leave free space (keeps the scripted paths honest).
-  void Move(const Pose2D& u) {
+  void Move(const Pose2& u) {
     truth_ = Compose(truth_, u);
     int i, j;
     ASSERT_TRUE(map_.WorldToCell(truth_.x, truth_.y, &i, &j));
     ASSERT_TRUE(map_.IsFree(i, j)) << truth_.x << ", " << truth_.y;
     ASSERT_GT(map_.Distance(i, j), 0.15) << "path too close to an obstacle";
     std::normal_distribution<double> n(0.0, 1.0);
-    const Pose2D noisy{u.x * (1 + 0.02 * n(rng_)), u.y + 0.005 * n(rng_),
+    const Pose2 noisy{u.x * (1 + 0.02 * n(rng_)), u.y + 0.005 * n(rng_),
                        u.yaw + 0.5 * kDeg * n(rng_)};
     odom_ = Compose(odom_, noisy);
   }
   // Teleports the robot without odometry (kidnapping).
-  void Kidnap(const Pose2D& p) { truth_ = p; }
+  void Kidnap(const Pose2& p) { truth_ = p; }
 
   LaserScan Scan() {
     return testing::SimulateScan(grid_, truth_, kLaserPose, 360, 12.0, 0.01,
                                  &rng_);
   }
-  const Pose2D& truth() const { return truth_; }
-  const Pose2D& odom() const { return odom_; }
+  const Pose2& truth() const { return truth_; }
+  const Pose2& odom() const { return odom_; }
 
-  static constexpr Pose2D kLaserPose{0.02, 0.0, kPi};
+  static constexpr Pose2 kLaserPose{0.02, 0.0, kPi};
 
  private:
   OccupancyGrid grid_;
   MapModel map_;
-  Pose2D truth_;
-  Pose2D odom_{10.0, -5.0, 1.0};  // odometry frame unrelated to the map
+  Pose2 truth_;
+  Pose2 odom_{10.0, -5.0, 1.0};  // odometry frame unrelated to the map
   std::mt19937_64 rng_;
 };
 
 // A loop through the room (robot-frame increments), ~0.1 m / 5 deg steps.
-std::vector<Pose2D> LoopPath() {
-  std::vector<Pose2D> path;
+std::vector<Pose2> LoopPath() {
+  std::vector<Pose2> path;
   auto straight = [&](int n) {
     for (int k = 0; k < n; ++k) path.push_back({0.1, 0.0, 0.0});
   };
@@ -84,16 +84,16 @@ std::vector<Pose2D> LoopPath() {
   return path;
 }
 
-double YawError(const Pose2D& a, const Pose2D& b) {
+double YawError(const Pose2& a, const Pose2& b) {
   return std::fabs(AngleDiff(a.yaw, b.yaw));
 }
-double PosError(const Pose2D& a, const Pose2D& b) {
+double PosError(const Pose2& a, const Pose2& b) {
   return std::hypot(a.x - b.x, a.y - b.y);
 }
 
 // Runs the path, feeding every step to the filter.
-void Drive(const std::vector<Pose2D>& path, RobotSim* sim, AmclFilter* filter) {
-  for (const Pose2D& u : path) {
+void Drive(const std::vector<Pose2>& path, RobotSim* sim, AmclFilter* filter) {
+  for (const Pose2& u : path) {
     sim->Move(u);
     if (::testing::Test::HasFatalFailure()) return;
     const UpdateResult r = filter->Update(sim->odom(), sim->Scan());
@@ -102,7 +102,7 @@ void Drive(const std::vector<Pose2D>& path, RobotSim* sim, AmclFilter* filter) {
   }
 }
 
-const Pose2D kStartTruth{2.0, 1.5, 0.3};
+const Pose2 kStartTruth{2.0, 1.5, 0.3};
 
 TEST(AmclFilterTest, ConvergesFromWrongishGaussianGuess) {
   const OccupancyGrid grid = testing::MakeAsymmetricRoom();
@@ -162,11 +162,11 @@ TEST(AmclFilterTest, GlobalLocalizationConvergesInDistinctiveRoom) {
 // Back and forth: 12 x 0.1 m forward, then a tight U-turn to the left (180
 // deg over 0.3 m), so each leg runs ~0.2 m beside the last: new views for the
 // filter's evidence, which a shuttle along one line would not give.
-std::vector<Pose2D> ShuttlePath(int steps) {
-  std::vector<Pose2D> path;
+std::vector<Pose2> ShuttlePath(int steps) {
+  std::vector<Pose2> path;
   for (int k = 0; k < steps; ++k) {
-    path.push_back(k % 18 < 12 ? Pose2D{0.1, 0.0, 0.0}
-                               : Pose2D{0.05, 0.0, 30 * kDeg});
+    path.push_back(k % 18 < 12 ? Pose2{0.1, 0.0, 0.0}
+                               : Pose2{0.05, 0.0, 30 * kDeg});
   }
   return path;
 }
@@ -189,13 +189,13 @@ TEST(AmclFilterTest, AugmentedMclRecoversFromKidnapping) {
   filter.RequestNoMotionUpdate();
   filter.Update(sim.odom(), sim.Scan());
   ASSERT_LT(PosError(filter.estimate().mean, sim.truth()), 0.1);
-  const Pose2D lost_estimate = filter.estimate().mean;
+  const Pose2 lost_estimate = filter.estimate().mean;
 
   // Carry the robot 4.5 m away and turn it round: odometry sees nothing.
   sim.Kidnap({6.0, 4.0, 3.0});
   double max_injection = 0.0;
   bool injected_far = false;
-  for (const Pose2D& u : ShuttlePath(102)) {  // ends with a forward leg
+  for (const Pose2& u : ShuttlePath(102)) {  // ends with a forward leg
     sim.Move(u);
     ASSERT_FALSE(HasFatalFailure());
     filter.Update(sim.odom(), sim.Scan());
@@ -289,11 +289,11 @@ OccupancyGrid MakeTwinRooms(bool third_room = false) {
 // Back and forth inside a room, U-turns on the move (a turn on the spot
 // shows the filter no new view): each lap 1 m ahead, then a half turn over
 // 0.5 m.
-std::vector<Pose2D> UTurnLaps(int laps) {
-  std::vector<Pose2D> path;
+std::vector<Pose2> UTurnLaps(int laps) {
+  std::vector<Pose2> path;
   for (int lap = 0; lap < laps; ++lap) {
-    path.insert(path.end(), 10, Pose2D{0.1, 0.0, 0.0});
-    path.insert(path.end(), 10, Pose2D{0.05, 0.0, 18 * kDeg});
+    path.insert(path.end(), 10, Pose2{0.1, 0.0, 0.0});
+    path.insert(path.end(), 10, Pose2{0.05, 0.0, 18 * kDeg});
   }
   return path;
 }
@@ -303,7 +303,7 @@ TEST(AmclConfidenceTest, SplitParticleSetClaimsLargeCovarianceAndTwoModes) {
   AmclOptions o = ShippedOptions();
   AmclFilter filter(o, grid, AmclFilter::Initialization::kGlobal);
   ASSERT_NE(filter.global_search(), nullptr) << filter.global_search_fallback();
-  const Pose2D truth{2.2, 1.6, 0.4};
+  const Pose2 truth{2.2, 1.6, 0.4};
   RobotSim sim(grid, truth, 31);
   filter.Update(sim.odom(), sim.Scan());  // the search runs on this scan
   ASSERT_EQ(filter.last_search().count, 1);
@@ -313,16 +313,16 @@ TEST(AmclConfidenceTest, SplitParticleSetClaimsLargeCovarianceAndTwoModes) {
   bool in_a = false, in_b = false;
   for (const SearchCandidate& c : cands) {
     in_a = in_a || (PosError(c.pose, truth) < 0.1 && YawError(c.pose, truth) < 3 * kDeg);
-    const Pose2D twin{truth.x + kTwinShift, truth.y, truth.yaw};
+    const Pose2 twin{truth.x + kTwinShift, truth.y, truth.yaw};
     in_b = in_b || (PosError(c.pose, twin) < 0.1 && YawError(c.pose, twin) < 3 * kDeg);
   }
   EXPECT_TRUE(in_a && in_b);
   // Driving inside the room cannot split the twins: both modes stay, and so
   // does a covariance that spans them, however well each explains the scan.
-  std::vector<Pose2D> path;
+  std::vector<Pose2> path;
   for (int k = 0; k < 10; ++k) path.push_back({0.1, 0.0, 0.0});
   for (int k = 0; k < 10; ++k) path.push_back({0.0, 0.0, 15 * kDeg});
-  for (const Pose2D& u : path) {
+  for (const Pose2& u : path) {
     sim.Move(u);
     ASSERT_FALSE(HasFatalFailure());
     filter.Update(sim.odom(), sim.Scan());
@@ -344,9 +344,9 @@ TEST(AmclConfidenceTest, SplitParticleSetClaimsLargeCovarianceAndTwoModes) {
 // in the third room, whose scans do not fit, is refuted and loses its floor.
 TEST(AmclConfidenceTest, HypothesisKeepsItsProbabilityUntilTheEvidenceRefutesIt) {
   const OccupancyGrid grid = MakeTwinRooms(/*third_room=*/true);
-  const Pose2D truth{2.2, 1.6, 0.4};
-  const Pose2D twin{truth.x + kTwinShift, truth.y, truth.yaw};
-  const Pose2D elsewhere{18.2, 2.0, 0.4};  // the third room
+  const Pose2 truth{2.2, 1.6, 0.4};
+  const Pose2 twin{truth.x + kTwinShift, truth.y, truth.yaw};
+  const Pose2 elsewhere{18.2, 2.0, 0.4};  // the third room
   for (int floor_count : {0, 100}) {
     AmclOptions o = ShippedOptions();
     o.hypothesis_min_particles = floor_count;
@@ -366,7 +366,7 @@ TEST(AmclConfidenceTest, HypothesisKeepsItsProbabilityUntilTheEvidenceRefutesIt)
                             filter.hypotheses()[0].probability;
       EXPECT_NEAR(seeded, 0.002, 0.0002) << "the twin's prior";
     }
-    std::vector<Pose2D> path;
+    std::vector<Pose2> path;
     for (int k = 0; k < 10; ++k) path.push_back({0.1, 0.0, 0.0});
     for (int k = 0; k < 10; ++k) path.push_back({0.0, 0.0, 15 * kDeg});
     for (int k = 0; k < 10; ++k) path.push_back({0.05, 0.0, -15 * kDeg});
@@ -426,12 +426,12 @@ TEST(AmclConfidenceTest, ScanNotExplainedAtTheEstimateGivesLowFractionAndLargeCo
 // Global localization: never a claim while wrong, then the right one.
 // `searches` (if given) receives every map-wide search run meanwhile.
 void ExpectNoFalseClaimsThenRight(AmclFilter* filter, RobotSim* sim,
-                                  const std::vector<Pose2D>& path,
+                                  const std::vector<Pose2>& path,
                                   double* travel_to_claim,
                                   std::vector<SearchReport>* searches = nullptr) {
   double travel = 0.0;
   *travel_to_claim = -1.0;
-  for (const Pose2D& u : path) {
+  for (const Pose2& u : path) {
     sim->Move(u);
     ASSERT_FALSE(::testing::Test::HasFatalFailure());
     travel += std::hypot(u.x, u.y);
@@ -472,7 +472,7 @@ TEST(AmclConfidenceTest, ChallengeAddsTheLookAlikeTheSearchMissedSoNoClaim) {
     ASSERT_EQ(filter.last_search().candidates.size(), 1u);
     bool claimed = false, challenged = false;
     // ~2.5 m of new views.
-    for (const Pose2D& u : UTurnLaps(3)) {
+    for (const Pose2& u : UTurnLaps(3)) {
       sim.Move(u);
       ASSERT_FALSE(HasFatalFailure());
       filter.Update(sim.odom(), sim.Scan());
@@ -502,8 +502,8 @@ TEST(AmclConfidenceTest, ChallengeFindsAPlaceThatExplainsTheViewBetterThanTheEst
   // A pillar in the second room only (grid frame: 2 m of margin).
   testing::FillBox(&grid, 2.0 + kTwinShift + 4.0, 3.0, 2.0 + kTwinShift + 4.5,
                    3.5);
-  const Pose2D truth{2.2 + kTwinShift, 1.6, 0.4};
-  const Pose2D wrong{2.2, 1.6, 0.4};
+  const Pose2 truth{2.2 + kTwinShift, 1.6, 0.4};
+  const Pose2 wrong{2.2, 1.6, 0.4};
   for (int challenges : {0, 1}) {
     SCOPED_TRACE(challenges ? "checked" : "unchecked");
     AmclOptions o = ShippedOptions();
@@ -518,7 +518,7 @@ TEST(AmclConfidenceTest, ChallengeFindsAPlaceThatExplainsTheViewBetterThanTheEst
               o.confidence_min_explained)
         << "the wrong room must pass the explained-beams test";
     bool false_claim = false, right_claim = false, challenged = false;
-    for (const Pose2D& u : UTurnLaps(6)) {
+    for (const Pose2& u : UTurnLaps(6)) {
       sim.Move(u);
       ASSERT_FALSE(HasFatalFailure());
       filter.Update(sim.odom(), sim.Scan());
@@ -576,9 +576,9 @@ TEST(AmclConfidenceTest, OnlyNewViewsEarnEvidenceAndTurnsAreNewOnlyWithABlindSec
     if (all_round) {
       // Back and forth along one line re-reads the same views too.
       for (int k = 0; k < 54; ++k) {
-        sim.Move(k % 18 < 6 ? Pose2D{0.1, 0.0, 0.0} : k % 18 < 12
-                                  ? Pose2D{0.0, 0.0, 30 * kDeg}
-                                  : Pose2D{0.0, 0.0, 0.0});
+        sim.Move(k % 18 < 6 ? Pose2{0.1, 0.0, 0.0} : k % 18 < 12
+                                  ? Pose2{0.0, 0.0, 30 * kDeg}
+                                  : Pose2{0.0, 0.0, 0.0});
         ASSERT_FALSE(HasFatalFailure());
         if (k % 18 >= 12) continue;
         filter.Update(sim.odom(), scan());
@@ -660,7 +660,7 @@ TEST(AmclConfidenceTest, KidnappedRobotIsFoundAgainByTheSearch) {
 // can bring a kidnapped filter back) and a tight start at `start`: w_slow
 // begins at the tracking level, so a kidnapping drops w_fast below it and
 // the filter draws random poses.
-AmclOptions DrawsOnlyOptions(const Pose2D& start) {
+AmclOptions DrawsOnlyOptions(const Pose2& start) {
   AmclOptions o = ShippedOptions();
   o.confidence_lost_updates = 0;
   o.initial_pose_x = start.x;
@@ -689,7 +689,7 @@ void DriveOneMetre(RobotSim* sim, AmclFilter* filter) {
 // building they often do before that test fires.)
 TEST(AmclConfidenceTest, PlaceFoundByRandomDrawsIsSearchedNotClaimed) {
   const OccupancyGrid grid = MakeTwinRooms(true);
-  const Pose2D start{18.2, 2.0, 0.2};
+  const Pose2 start{18.2, 2.0, 0.2};
   AmclFilter filter(DrawsOnlyOptions(start), grid);
   ASSERT_NE(filter.global_search(), nullptr) << filter.global_search_fallback();
   RobotSim sim(grid, start, 36);
@@ -704,7 +704,7 @@ TEST(AmclConfidenceTest, PlaceFoundByRandomDrawsIsSearchedNotClaimed) {
   ASSERT_LT(PosError(filter.estimate().mean, sim.truth()), 0.1);
   sim.Kidnap({2.2, 1.6, 0.4});  // the first twin
   bool claimed = false, searched_on_injected = false;
-  for (const Pose2D& u : ShuttlePath(90)) {
+  for (const Pose2& u : ShuttlePath(90)) {
     sim.Move(u);
     ASSERT_FALSE(HasFatalFailure());
     // A claim is published with an update (amcl_pose): judge those.
@@ -740,7 +740,7 @@ TEST(AmclConfidenceTest, KidnappedFilterClaimsOnlyAfterSearchingWhatItsDrawsFoun
   ASSERT_EQ(filter.last_search().count, 0);
   sim.Kidnap({6.0, 4.0, 3.0});
   bool searched = false, claimed = false;
-  for (const Pose2D& u : ShuttlePath(90)) {
+  for (const Pose2& u : ShuttlePath(90)) {
     sim.Move(u);
     ASSERT_FALSE(HasFatalFailure());
     if (filter.Update(sim.odom(), sim.Scan()).status != UpdateStatus::kUpdated) {
@@ -811,8 +811,8 @@ TEST(AmclFilterTest, RejectsBadInputAndKeepsLastGoodState) {
   AmclFilter filter(o, grid);
   RobotSim sim(grid, kStartTruth, 25);
   filter.Update(sim.odom(), sim.Scan());
-  const std::vector<Pose2D> path = LoopPath();
-  Drive(std::vector<Pose2D>(path.begin(), path.begin() + 40), &sim, &filter);
+  const std::vector<Pose2> path = LoopPath();
+  Drive(std::vector<Pose2>(path.begin(), path.begin() + 40), &sim, &filter);
   ASSERT_FALSE(HasFatalFailure());
   const PoseEstimate good = filter.estimate();
   const std::vector<Particle> particles = filter.particles();

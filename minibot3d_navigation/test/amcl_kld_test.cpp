@@ -87,7 +87,7 @@ AmclOptions ResampleEveryUpdate() {
   return o;
 }
 
-LaserScan RoomScan(const Pose2D& truth) {
+LaserScan RoomScan(const Pose2& truth) {
   std::mt19937_64 rng(1);
   return testing::SimulateScan(testing::MakeAsymmetricRoom(), truth, {}, 180,
                                12.0, 0.0, &rng);
@@ -97,7 +97,7 @@ TEST(AmclKldTest, FilterShrinksToMinParticlesInOneBin) {
   const AmclOptions o = ResampleEveryUpdate();
   AmclFilter filter(o, testing::MakeAsymmetricRoom());
   // Centre of bin (4, 2, 20): every particle stays inside it.
-  const Pose2D centre{2.25, 1.25, -kPi + 20.5 * 10 * kDeg};
+  const Pose2 centre{2.25, 1.25, -kPi + 20.5 * 10 * kDeg};
   filter.SetPose(centre, Eigen::Matrix3d::Identity() * 1e-10);
   EXPECT_EQ(filter.particles().size(), 5000u) << "initialisation: max";
   const UpdateResult r = filter.Update({0, 0, 0}, RoomScan(centre));
@@ -122,7 +122,7 @@ TEST(AmclKldTest, FilterSetSizeSatisfiesBoundForItsOwnBins) {
   AmclFilter filter(o, testing::MakeAsymmetricRoom());
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
   cov.diagonal() << 0.3 * 0.3, 0.3 * 0.3, std::pow(15 * kDeg, 2);
-  const Pose2D truth{2.0, 1.5, 0.3};
+  const Pose2 truth{2.0, 1.5, 0.3};
   filter.SetPose(truth, cov);
   filter.Update({0, 0, 0}, RoomScan(truth));
   std::vector<uint64_t> scratch;

@@ -37,8 +37,8 @@ struct Moments {
 };
 
 Moments SampleMoments(const std::string& type, const OdomAlphas& alphas,
-            const Pose2D& start, const Pose2D& old_odom,
-            const Pose2D& new_odom, uint64_t seed = 7) {
+            const Pose2& start, const Pose2& old_odom,
+            const Pose2& new_odom, uint64_t seed = 7) {
   auto model = CreateMotionModel(type, alphas);
   std::vector<Particle> particles(kSamples);
   for (Particle& p : particles) {
@@ -48,7 +48,7 @@ Moments SampleMoments(const std::string& type, const OdomAlphas& alphas,
   std::mt19937_64 rng(seed);
   model->SamplePoses(old_odom, new_odom, &rng, &particles);
   Moments m;
-  std::vector<Pose2D> local(kSamples);
+  std::vector<Pose2> local(kSamples);
   for (int k = 0; k < kSamples; ++k) {
     local[k] = Between(start, particles[k].pose);
     m.mean_fwd += local[k].x;
@@ -76,8 +76,8 @@ void ExpectRel(double actual, double expected, const char* what) {
 
 // Odometry frame deliberately differs from the particle's map frame: only
 // the increment, expressed in the robot frame, may matter.
-const Pose2D kOldOdom{1.0, 2.0, 0.3};
-const Pose2D kStart{3.0, -1.0, 1.2};
+const Pose2 kOldOdom{1.0, 2.0, 0.3};
+const Pose2 kStart{3.0, -1.0, 1.2};
 
 // For r ~ N(0, s^2): E[cos r], E[cos^2 r], E[sin^2 r].
 double ECos(double s) { return std::exp(-s * s / 2); }
@@ -89,7 +89,7 @@ double ESin2(double s) { return 0.5 * (1 - std::exp(-2 * s * s)); }
 // R1, R2 ~ N(0, sr^2) independent.  These are exact moments.
 void CheckDiffStraight(const std::string& type, double t, double sr,
                        double st) {
-  const Pose2D new_odom = Compose(kOldOdom, {t, 0.0, 0.0});
+  const Pose2 new_odom = Compose(kOldOdom, {t, 0.0, 0.0});
   const Moments m =
       SampleMoments(type, DistinctAlphas(), kStart, kOldOdom, new_odom);
   const double et2 = t * t + st * st;
@@ -136,7 +136,7 @@ TEST(AmclMotionModelTest, DiffCorrectedInPlaceRotation) {
 // General increment: rot1 = atan2(dy, dx), rot2 = dyaw - rot1; the yaw change
 // is rot1_hat + rot2_hat so its variance is the sum of both rot variances.
 TEST(AmclMotionModelTest, DiffCorrectedGeneralIncrementYawMoments) {
-  const Pose2D local{0.4, 0.1, 0.3};
+  const Pose2 local{0.4, 0.1, 0.3};
   const OdomAlphas a = DistinctAlphas();
   const Moments m =
       SampleMoments("diff-corrected", a, kStart, kOldOdom,
@@ -171,7 +171,7 @@ TEST(AmclMotionModelTest, DiffBackwardMotionIsNotAHalfTurn) {
 // trans_hat, perpendicular strafe noise, yaw noise rot_hat; all linear, so
 // along/cross-track and yaw variances are exactly the squared std devs.
 void CheckOmni(const std::string& type, double sd_trans, double sd_rot,
-               double sd_strafe, const Pose2D& local) {
+               double sd_strafe, const Pose2& local) {
   const Moments m =
       SampleMoments(type, DistinctAlphas(), kStart, kOldOdom,
                     Compose(kOldOdom, local));
@@ -189,7 +189,7 @@ void CheckOmni(const std::string& type, double sd_trans, double sd_rot,
 }
 
 TEST(AmclMotionModelTest, OmniMoments) {
-  const Pose2D local{0.3, 0.2, 0.4};
+  const Pose2 local{0.3, 0.2, 0.4};
   const OdomAlphas a = DistinctAlphas();
   const double t2 = local.x * local.x + local.y * local.y;
   const double r2 = local.yaw * local.yaw;
@@ -199,7 +199,7 @@ TEST(AmclMotionModelTest, OmniMoments) {
 }
 
 TEST(AmclMotionModelTest, OmniCorrectedMoments) {
-  const Pose2D local{0.3, 0.2, 0.4};
+  const Pose2 local{0.3, 0.2, 0.4};
   const OdomAlphas a = DistinctAlphas();
   const double t2 = local.x * local.x + local.y * local.y;
   const double r2 = local.yaw * local.yaw;
@@ -210,7 +210,7 @@ TEST(AmclMotionModelTest, OmniCorrectedMoments) {
 
 TEST(AmclMotionModelTest, ZeroAlphasAreDeterministicAndExact) {
   OdomAlphas zero{0, 0, 0, 0, 0};
-  const Pose2D local{0.4, -0.15, -0.7};
+  const Pose2 local{0.4, -0.15, -0.7};
   for (const char* type :
        {"diff", "diff-corrected", "omni", "omni-corrected"}) {
     auto model = CreateMotionModel(type, zero);
@@ -218,7 +218,7 @@ TEST(AmclMotionModelTest, ZeroAlphasAreDeterministicAndExact) {
     p[0].pose = kStart;
     std::mt19937_64 rng(1);
     model->SamplePoses(kOldOdom, Compose(kOldOdom, local), &rng, &p);
-    const Pose2D expected = Compose(kStart, local);
+    const Pose2 expected = Compose(kStart, local);
     EXPECT_NEAR(p[0].pose.x, expected.x, 1e-12) << type;
     EXPECT_NEAR(p[0].pose.y, expected.y, 1e-12) << type;
     EXPECT_NEAR(AngleDiff(p[0].pose.yaw, expected.yaw), 0.0, 1e-12) << type;

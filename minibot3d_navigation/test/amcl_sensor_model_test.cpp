@@ -119,7 +119,7 @@ TEST(AmclMapTest, RayCastAgreesWithIndependentRayMarch) {
   MapModel map(g, 2.0);
   std::mt19937_64 rng(3);
   for (int k = 0; k < 200; ++k) {
-    const Pose2D ray = map.SampleFreePose(&rng);
+    const Pose2 ray = map.SampleFreePose(&rng);
     const double expected = testing::MarchRange(g, ray, 12.0);
     EXPECT_NEAR(map.CalcRange(ray, 12.0), expected, 0.005)
         << ray.x << " " << ray.y << " " << ray.yaw;
@@ -199,7 +199,7 @@ TEST(AmclScanTest, RejectsMalformedScans) {
   s.range_max = kInf;
   EXPECT_FALSE(PrepareScan(s, o, &ps, &err));
   s = good;
-  s.laser_pose.yaw = kNaN;
+  s.sensor_in_base.yaw = kNaN;
   EXPECT_FALSE(PrepareScan(s, o, &ps, &err));
   s = good;
   s.angles[1] = kNaN;
@@ -208,7 +208,7 @@ TEST(AmclScanTest, RejectsMalformedScans) {
 
 // A single-particle evaluation helper.
 double LogLikelihood(SensorModel* model, const LaserScan& scan,
-                     const AmclOptions& o, const Pose2D& pose,
+                     const AmclOptions& o, const Pose2& pose,
                      bool converged = false) {
   PreparedScan ps;
   std::string err;
@@ -245,14 +245,14 @@ TEST(AmclSensorModelTest, LikelihoodFieldMatchesHandComputation) {
   EXPECT_EQ(model->name(), "likelihood_field");
   double p = 1.0;
   for (double d : {0.1, 0.3, 0.7, 2.0}) p += std::pow(HandPz(d, o, 4.0), 3);
-  const Pose2D robot{0.25, 0.35, 0.0};
+  const Pose2 robot{0.25, 0.35, 0.0};
   EXPECT_NEAR(LogLikelihood(model.get(), HandScan(), o, robot), std::log(p),
               1e-6);
 
   // The laser pose in the base frame is applied: a laser mounted 0.1 m ahead
   // and turned around (as on minibot3d) sees the same from 0.1 m further back.
   LaserScan flipped = HandScan();
-  flipped.laser_pose = {0.1, 0.0, kPi};
+  flipped.sensor_in_base = {0.1, 0.0, kPi};
   for (double& a : flipped.angles) a = NormalizeAngle(a + kPi);
   EXPECT_NEAR(LogLikelihood(model.get(), flipped, o, {0.15, 0.35, 0.0}),
               std::log(p), 1e-6);
@@ -332,14 +332,14 @@ TEST_P(AlignedScanTest, TruePoseBeatsShiftedAndRotatedPoses) {
   o.laser_max_beams = 60;
   auto model = CreateSensorModel(o, map);
   std::mt19937_64 rng(11);
-  const Pose2D truth{2.0, 1.5, 0.3};
+  const Pose2 truth{2.0, 1.5, 0.3};
   const LaserScan scan =
       SimulateScan(g, truth, {0.02, 0.0, kPi}, 360, 12.0, 0.01, &rng);
   const double best = LogLikelihood(model.get(), scan, o, truth);
-  const Pose2D others[] = {{2.2, 1.5, 0.3}, {2.0, 1.3, 0.3}, {1.9, 1.6, 0.3},
+  const Pose2 others[] = {{2.2, 1.5, 0.3}, {2.0, 1.3, 0.3}, {1.9, 1.6, 0.3},
                            {2.0, 1.5, 0.3 + 5 * kPi / 180},
                            {2.0, 1.5, 0.3 - 5 * kPi / 180}};
-  for (const Pose2D& p : others) {
+  for (const Pose2& p : others) {
     EXPECT_GT(best, LogLikelihood(model.get(), scan, o, p))
         << GetParam() << " at " << p.x << " " << p.y << " " << p.yaw;
   }
@@ -359,7 +359,7 @@ TEST(AmclSensorModelTest, BeamSkippingIgnoresBeamsNoParticleExplains) {
   o.laser_model_type = "likelihood_field_prob";
   o.laser_max_beams = 30;
   o.do_beamskip = true;
-  const Pose2D truth{2.0, 1.5, 0.3};
+  const Pose2 truth{2.0, 1.5, 0.3};
   std::mt19937_64 rng(5);
   LaserScan scan = SimulateScan(g, truth, {}, 30, 12.0, 0.0, &rng);
 

@@ -19,12 +19,12 @@ namespace testing {
 // An empty grid (all free) of the given size in metres.
 inline OccupancyGrid MakeFreeGrid(double width_m, double height_m, double res,
                                   double origin_x = 0.0, double origin_y = 0.0,
-                                  double origin_yaw = 0.0) {
+                                  double origin_theta = 0.0) {
   OccupancyGrid g;
   g.resolution = res;
   g.origin_x = origin_x;
   g.origin_y = origin_y;
-  g.origin_yaw = origin_yaw;
+  g.origin_theta = origin_theta;
   g.width = static_cast<int>(std::lround(width_m / res));
   g.height = static_cast<int>(std::lround(height_m / res));
   g.data.assign(static_cast<size_t>(g.width) * g.height, 0);
@@ -33,7 +33,7 @@ inline OccupancyGrid MakeFreeGrid(double width_m, double height_m, double res,
 
 // Marks as occupied every cell whose centre lies in the axis-aligned box
 // [x0, x1] x [y0, y1] given in grid-frame metres (relative to the origin
-// corner; the tests' maps have origin_yaw 0 unless stated).
+// corner; the tests' maps have origin_theta 0 unless stated).
 inline void FillBox(OccupancyGrid* g, double x0, double y0, double x1,
                     double y1, int8_t value = 100) {
   for (int j = 0; j < g->height; ++j) {
@@ -76,9 +76,9 @@ inline OccupancyGrid MakeAsymmetricRoom() {
 
 // Range from a world pose along its yaw to the first occupied cell, by
 // marching in 2 mm steps; range_max if nothing is hit.
-inline double MarchRange(const OccupancyGrid& g, const Pose2D& ray,
+inline double MarchRange(const OccupancyGrid& g, const Pose2& ray,
                          double range_max) {
-  const double c0 = std::cos(g.origin_yaw), s0 = std::sin(g.origin_yaw);
+  const double c0 = std::cos(g.origin_theta), s0 = std::sin(g.origin_theta);
   const double step = 0.002;
   for (double r = 0.0; r < range_max; r += step) {
     const double wx = ray.x + r * std::cos(ray.yaw);
@@ -96,19 +96,19 @@ inline double MarchRange(const OccupancyGrid& g, const Pose2D& ray,
 // A full 360-degree scan of `count` beams taken by a laser mounted at
 // laser_pose (base frame) on a robot at `robot` (world), Gaussian range
 // noise of `noise_sd` metres.
-inline LaserScan SimulateScan(const OccupancyGrid& g, const Pose2D& robot,
-                              const Pose2D& laser_pose, int count,
+inline LaserScan SimulateScan(const OccupancyGrid& g, const Pose2& robot,
+                              const Pose2& laser_pose, int count,
                               double range_max, double noise_sd,
                               std::mt19937_64* rng) {
   LaserScan scan;
-  scan.laser_pose = laser_pose;
+  scan.sensor_in_base = laser_pose;
   scan.range_min = 0.15;
   scan.range_max = range_max;
   scan.angles = MakeBeamAngles(-kPi, 2.0 * kPi / count, count);
   std::normal_distribution<double> noise(0.0, noise_sd);
-  const Pose2D laser_world = Compose(robot, laser_pose);
+  const Pose2 laser_world = Compose(robot, laser_pose);
   for (double a : scan.angles) {
-    Pose2D ray = laser_world;
+    Pose2 ray = laser_world;
     ray.yaw = laser_world.yaw + a;
     double r = MarchRange(g, ray, range_max);
     if (r < range_max && noise_sd > 0.0) r += noise(*rng);

@@ -48,7 +48,7 @@ Costmap2D MapFromAscii(const std::vector<std::string>& rows) {
   return map;
 }
 
-Pose2D Cell(int mx, int my, double yaw = 0.0) {
+Pose2 Cell(int mx, int my, double yaw = 0.0) {
   return {(mx + 0.5) * kRes, (my + 0.5) * kRes, yaw};
 }
 
@@ -80,7 +80,7 @@ void ExpectPathClear(const Costmap2D& map, const Path& path, double max_step,
 }
 
 void ExpectPlanError(GlobalPlanner* planner, const Costmap2D& map,
-                     const Pose2D& start, const Pose2D& goal, Code code,
+                     const Pose2& start, const Pose2& goal, Code code,
                      const std::vector<std::string>& message_parts) {
   try {
     planner->MakePlan(map, start, goal);
@@ -116,7 +116,7 @@ const std::vector<std::string> kUTurn = {
 TEST(AStarPlannerTest, StraightCorridor) {
   const Costmap2D map = MapFromAscii(kCorridor);
   AStarPlanner planner({});
-  const Pose2D start = Cell(1, 2, 1.0), goal = Cell(10, 2, -0.5);
+  const Pose2 start = Cell(1, 2, 1.0), goal = Cell(10, 2, -0.5);
   const Path path = planner.MakePlan(map, start, goal);
   ExpectPathClear(map, path, kRes);
   EXPECT_NEAR(PathLength(path), 0.9, 1e-9);
@@ -126,17 +126,17 @@ TEST(AStarPlannerTest, StraightCorridor) {
   EXPECT_DOUBLE_EQ(path.back().x, goal.x);
   EXPECT_DOUBLE_EQ(path.back().y, goal.y);
   EXPECT_DOUBLE_EQ(path.back().yaw, goal.yaw);
-  for (const Pose2D& p : path) EXPECT_NEAR(p.y, start.y, 1e-12);
+  for (const Pose2& p : path) EXPECT_NEAR(p.y, start.y, 1e-12);
 }
 
 TEST(AStarPlannerTest, UTurnGoesAroundTheWall) {
   const Costmap2D map = MapFromAscii(kUTurn);
   AStarPlanner planner({});
-  const Pose2D start = Cell(2, 5), goal = Cell(9, 5, 1.0);
+  const Pose2 start = Cell(2, 5), goal = Cell(9, 5, 1.0);
   const Path path = planner.MakePlan(map, start, goal);
   ExpectPathClear(map, path, kRes);
   double min_y = 1e9;
-  for (const Pose2D& p : path) min_y = std::min(min_y, p.y);
+  for (const Pose2& p : path) min_y = std::min(min_y, p.y);
   EXPECT_LT(min_y, 0.3) << "must pass below the wall (rows 1..2)";
   EXPECT_GT(PathLength(path), 0.9);
   EXPECT_DOUBLE_EQ(path.back().yaw, 1.0);
@@ -172,10 +172,10 @@ TEST(AStarPlannerTest, GoalInObstacleWithinTolerancePlansToNearestFree) {
   AStarPlanner planner(o);
   // Goal near the left side of the block's cell (5, 2): the free cell (4, 2)
   // is 0.06 m away, (5, 1) 0.108 m.
-  const Pose2D goal{0.51, 0.25, 2.0};
+  const Pose2 goal{0.51, 0.25, 2.0};
   const Path path = planner.MakePlan(map, Cell(1, 1), goal);
   ExpectPathClear(map, path, kRes);
-  const Pose2D expected = Cell(4, 2);
+  const Pose2 expected = Cell(4, 2);
   EXPECT_NEAR(path.back().x, expected.x, 1e-12);
   EXPECT_NEAR(path.back().y, expected.y, 1e-12);
   EXPECT_DOUBLE_EQ(path.back().yaw, 2.0);
@@ -204,7 +204,7 @@ TEST(AStarPlannerTest, ToleranceFallsBackToAReachableCandidate) {
   AStarPlanner planner(o);
   // (4, 3) is lethal; the free cell (5, 3) (0.09 m away) is sealed off; the
   // free cell (3, 3) (0.11 m away) is reachable.
-  const Pose2D wall_goal{0.46, 0.35, 0.3};
+  const Pose2 wall_goal{0.46, 0.35, 0.3};
   const Path path = planner.MakePlan(map, Cell(1, 1), wall_goal);
   ExpectPathClear(map, path, kRes);
   EXPECT_NEAR(path.back().x, Cell(3, 3).x, 1e-12);
@@ -240,7 +240,7 @@ TEST(AStarPlannerTest, StartInInscribedBandStepsOutFirst) {
   const Path path = planner.MakePlan(map, Cell(1, 2), Cell(8, 2));
   EXPECT_EQ(CostAt(map, path.front().x, path.front().y), kInscribedInflatedObstacle);
   bool left_band = false;
-  for (const Pose2D& p : path) {
+  for (const Pose2& p : path) {
     const int c = CostAt(map, p.x, p.y);
     EXPECT_NE(c, kLethalObstacle);
     if (c < kInscribedInflatedObstacle) left_band = true;
@@ -249,7 +249,7 @@ TEST(AStarPlannerTest, StartInInscribedBandStepsOutFirst) {
   EXPECT_TRUE(left_band);
   // The inscribed column at x = 6 (not connected to the start's band) is not crossed.
   const Path around = planner.MakePlan(map, Cell(4, 2), Cell(8, 2));
-  for (const Pose2D& p : around) EXPECT_LT(CostAt(map, p.x, p.y), kInscribedInflatedObstacle);
+  for (const Pose2& p : around) EXPECT_LT(CostAt(map, p.x, p.y), kInscribedInflatedObstacle);
 }
 
 TEST(AStarPlannerTest, StartOrGoalOffMapOrOccupied) {
@@ -278,7 +278,7 @@ TEST(AStarPlannerTest, UnknownSpaceFollowsAllowUnknown) {
       "#......u.......#",
       "################",
   });
-  const Pose2D start = Cell(2, 4), goal = Cell(12, 4);
+  const Pose2 start = Cell(2, 4), goal = Cell(12, 4);
   GlobalPlannerOptions allow;
   allow.allow_unknown = true;
   AStarPlanner permissive(allow);
@@ -322,7 +322,7 @@ TEST(AStarPlannerTest, SmoothedPathIsClearNotLongerAndEndsAtGoal) {
   raw_opts.smooth_path = false;
   AStarPlanner raw_planner(raw_opts);
   AStarPlanner smooth_planner({});
-  const std::vector<std::pair<Pose2D, Pose2D>> queries = {
+  const std::vector<std::pair<Pose2, Pose2>> queries = {
       {Cell(2, 8, 0.3), Cell(17, 1, -2.0)},
       {Cell(2, 1), Cell(17, 8, 1.0)},
       {Cell(3, 2), Cell(15, 9 - 1, 0.0)},
@@ -335,7 +335,7 @@ TEST(AStarPlannerTest, SmoothedPathIsClearNotLongerAndEndsAtGoal) {
     ExpectPathClear(map, smooth, kRes);
     EXPECT_LE(PathLength(smooth), PathLength(raw) + 1e-9);
     int raw_max = 0;
-    for (const Pose2D& p : raw) raw_max = std::max(raw_max, CostAt(map, p.x, p.y));
+    for (const Pose2& p : raw) raw_max = std::max(raw_max, CostAt(map, p.x, p.y));
     for (size_t i = 1; i < smooth.size(); ++i) {
       EXPECT_TRUE(SegmentCostsAtMost(
           map, {smooth[i - 1].x, smooth[i - 1].y}, {smooth[i].x, smooth[i].y},
@@ -360,7 +360,7 @@ TEST(AStarPlannerTest, SmoothedPathIsClearNotLongerAndEndsAtGoal) {
 TEST(AStarPlannerTest, SmoothingRemovesTheZigZagInOpenSpace) {
   Costmap2D map(60, 60, kRes, 0.0, 0.0);
   AStarPlanner planner({});
-  const Pose2D start = Cell(2, 3), goal = Cell(55, 40);
+  const Pose2 start = Cell(2, 3), goal = Cell(55, 40);
   const Path path = planner.MakePlan(map, start, goal);
   EXPECT_NEAR(PathLength(path), std::hypot(goal.x - start.x, goal.y - start.y),
               1e-9);
@@ -406,7 +406,7 @@ double ReferenceCost(const Costmap2D& map, const GlobalPlannerOptions& o,
 }
 
 double RawPathCost(const Costmap2D& map, const GlobalPlannerOptions& o,
-                   const std::vector<Point2D>& raw) {
+                   const std::vector<Point2>& raw) {
   double cost = 0;
   for (size_t i = 1; i < raw.size(); ++i) {
     int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
@@ -459,7 +459,7 @@ TEST(AStarPlannerTest, PathCostIsOptimalOnRandomMaps) {
 
 TEST(AStarPlannerTest, OrientationModes) {
   const Costmap2D map = MapFromAscii(kCorridor);
-  const Pose2D start = Cell(1, 2, 0.5), goal = Cell(10, 2, 1.5);
+  const Pose2 start = Cell(1, 2, 0.5), goal = Cell(10, 2, 1.5);
   GlobalPlannerOptions none;
   none.orientation_mode = 0;
   const Path p0 = AStarPlanner(none).MakePlan(map, start, goal);
@@ -578,8 +578,8 @@ TEST(PathSmoothingTest, SegmentCheckTouchesCornerCells) {
 }
 
 TEST(PathSmoothingTest, ResampleKeepsCornersAndSpacing) {
-  const std::vector<Point2D> pts = {{0, 0}, {1, 0}, {1, 0.25}};
-  const std::vector<Point2D> r = ResamplePolyline(pts, 0.3);
+  const std::vector<Point2> pts = {{0, 0}, {1, 0}, {1, 0.25}};
+  const std::vector<Point2> r = ResamplePolyline(pts, 0.3);
   ASSERT_EQ(r.size(), 1u + 4u + 1u);
   EXPECT_DOUBLE_EQ(r[4].x, 1.0);
   EXPECT_DOUBLE_EQ(r[4].y, 0.0);

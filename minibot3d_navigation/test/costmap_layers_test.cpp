@@ -57,7 +57,7 @@ LayeredCostmap FixedCostmap(CostmapOptions o = SmallRobotOptions()) {
   return BuildLayeredCostmap(o);
 }
 
-Observation OneHit(Point2D origin, Point2D hit) {
+Observation OneHit(Point2 origin, Point2 hit) {
   Observation obs;
   obs.origin = origin;
   obs.hits.push_back(hit);
@@ -126,9 +126,9 @@ TEST(StaticLayerTest, RejectsMalformedMapsAndKeepsThePreviousOne) {
   EXPECT_THROW(layer.SetMap(grid), std::invalid_argument);
   EXPECT_FALSE(layer.has_map());
   grid.data.push_back(100);
-  grid.origin_yaw = 0.5;
+  grid.origin_theta = 0.5;
   EXPECT_THROW(layer.SetMap(grid), std::invalid_argument);
-  grid.origin_yaw = 0.0;
+  grid.origin_theta = 0.0;
   layer.SetMap(grid);
   EXPECT_TRUE(layer.has_map());
   grid.resolution = 0.0;
@@ -146,7 +146,7 @@ TEST(LayeredCostmapTest, SetStaticMapWithoutStaticLayerIsALogicError) {
 
 TEST(ObstacleLayerTest, MarksHitsAndClearsThemWhenTheObstacleMoves) {
   LayeredCostmap costmap = FixedCostmap();
-  const Pose2D robot{5.0, 5.0, 0.0};
+  const Pose2 robot{5.0, 5.0, 0.0};
   costmap.obstacle_layer()->AddObservation(OneHit({5.0, 5.0}, {6.02, 5.02}));
   costmap.UpdateMap(robot);
   EXPECT_EQ(CostAt(costmap.costmap(), 6.02, 5.02), kLethalObstacle);
@@ -168,7 +168,7 @@ TEST(ObstacleLayerTest, MarksHitsAndClearsThemWhenTheObstacleMoves) {
 TEST(ObstacleLayerTest, ClearingStopsBeforeTheHitCell) {
   LayeredCostmap costmap = FixedCostmap();
   ObstacleLayer* layer = costmap.obstacle_layer();
-  const Pose2D robot{5.0, 5.0, 0.0};
+  const Pose2 robot{5.0, 5.0, 0.0};
   layer->AddObservation(OneHit({5.0, 5.0}, {6.52, 5.02}));
   costmap.UpdateMap(robot);
   // A second, shorter reading ending in the same cell must not clear it.
@@ -186,12 +186,12 @@ TEST(ObstacleLayerTest, InfReadingsClearOnlyWithInfIsValid) {
     SCOPED_TRACE(inf_is_valid ? "inf_is_valid" : "inf dropped");
     LayeredCostmap costmap = FixedCostmap();
     ObstacleLayer* layer = costmap.obstacle_layer();
-    const Pose2D robot{5.0, 5.0, 0.0};
+    const Pose2 robot{5.0, 5.0, 0.0};
     layer->AddObservation(OneHit({5.0, 5.0}, {6.52, 5.02}));
     costmap.UpdateMap(robot);
     ASSERT_EQ(CostAt(costmap.costmap(), 6.52, 5.02), kLethalObstacle);
 
-    amcl::LaserScan scan;
+    LaserScan scan;
     scan.range_min = 0.1;
     scan.range_max = 4.0;
     scan.angles = {0.0, 0.5, 1.0};
@@ -303,7 +303,7 @@ TEST(RollingWindowTest, ObstaclesStayFixedInTheWorldWhileTheRobotMoves) {
   o.width = 6.0;
   o.height = 6.0;
   LayeredCostmap costmap = BuildLayeredCostmap(o);
-  const Point2D obstacle{1.52, 0.47};
+  const Point2 obstacle{1.52, 0.47};
   costmap.obstacle_layer()->AddObservation(OneHit({0.0, 0.0}, obstacle));
   costmap.UpdateMap({0.0, 0.0, 0.0});
   const Costmap2D& c = costmap.costmap();
@@ -311,8 +311,8 @@ TEST(RollingWindowTest, ObstaclesStayFixedInTheWorldWhileTheRobotMoves) {
   EXPECT_EQ(CostAt(c, obstacle.x, obstacle.y), kLethalObstacle);
 
   // Drive without new observations; the obstacle stays where it is.
-  for (const Pose2D& robot : {Pose2D{0.83, -0.31, 0.2}, Pose2D{-1.27, 0.58, 1.0},
-                              Pose2D{-1.4, 2.1, 2.0}}) {
+  for (const Pose2& robot : {Pose2{0.83, -0.31, 0.2}, Pose2{-1.27, 0.58, 1.0},
+                              Pose2{-1.4, 2.1, 2.0}}) {
     costmap.UpdateMap(robot);
     EXPECT_NEAR(c.origin_x() + c.size_x_m() / 2, robot.x, c.resolution());
     EXPECT_NEAR(c.origin_y() + c.size_y_m() / 2, robot.y, c.resolution());
@@ -487,7 +487,7 @@ TEST(LayeredCostmapTest, IncrementalUpdatesEqualAFullRebuild) {
     // Objects on a ring around the robot whose radius changes every step by a
     // few cells, so obstacles are cleared and re-marked on every side.
     const double radii[] = {1.0, 1.1, 0.95, 1.3, 1.25, 0.9, 1.02, 1.4};
-    Pose2D robot{2.0, 2.0, 0.0};
+    Pose2 robot{2.0, 2.0, 0.0};
     for (int step = 0; step < 24; ++step) {
       robot = {robot.x + 0.13, robot.y + 0.05, robot.yaw + 0.1};
       Observation obs;
@@ -536,7 +536,7 @@ TEST(LayeredCostmapTest, ClearExceptAroundKeepsOnlyTheSquareAroundTheRobot) {
   obs.origin = {5.0, 5.0};
   obs.hits = {{5.62, 5.02}, {6.82, 5.02}, {5.02, 3.12}};
   layer->AddObservation(obs);
-  const Pose2D robot{5.0, 5.0, 0.0};
+  const Pose2 robot{5.0, 5.0, 0.0};
   costmap.UpdateMap(robot);
   ASSERT_EQ(CostAt(costmap.costmap(), 6.82, 5.02), kLethalObstacle);
   costmap.ClearExceptAround(robot, 3.0);  // keeps |dx|, |dy| < 1.5 m

@@ -93,7 +93,7 @@ void Inflate(Costmap2D* map) {
 
 // Straight segments through the waypoints, a pose every 5 cm, yaw along
 // the path; the last pose gets `goal_yaw`.
-Path PolylinePlan(const std::vector<Point2D>& pts, double goal_yaw) {
+Path PolylinePlan(const std::vector<Point2>& pts, double goal_yaw) {
   Path plan;
   for (size_t i = 0; i + 1 < pts.size(); ++i) {
     const double dx = pts[i + 1].x - pts[i].x, dy = pts[i + 1].y - pts[i].y;
@@ -116,11 +116,11 @@ struct SimResult {
   int max_cost = 0;        // worst real footprint cost seen (-1 -> 255)
   double max_speed = 0.0;  // |vx|
   double time = 0.0;
-  Pose2D pose;
-  Twist2D velocity;
-  std::vector<Pose2D> track;
+  Pose2 pose;
+  Twist2 velocity;
+  std::vector<Pose2> track;
   std::vector<double> speeds;  // |vx| at each track pose
-  std::vector<Twist2D> commands;
+  std::vector<Twist2> commands;
 };
 
 double Approach(double v, double target, double dv) {
@@ -130,17 +130,17 @@ double Approach(double v, double target, double dv) {
 // Runs the planner at options.controller_frequency for up to `duration`
 // seconds.  On ControlError the robot is commanded to stop and, after one
 // more second of braking, the run ends.
-SimResult Simulate(DwaPlanner* planner, const Costmap2D& map, Pose2D pose,
+SimResult Simulate(DwaPlanner* planner, const Costmap2D& map, Pose2 pose,
                    const Path& plan, double duration) {
   const DwaOptions& o = planner->options();
   const double period = 1.0 / o.controller_frequency;
   const int substeps = static_cast<int>(std::lround(period / 0.001));
   const double dt = period / substeps;
   SimResult r;
-  Twist2D vel;
+  Twist2 vel;
   double stop_at = duration;
   for (double t = 0.0; t < stop_at; t += period) {
-    Twist2D cmd;
+    Twist2 cmd;
     if (!r.control_error) {
       if (planner->IsGoalReached(pose, vel, plan)) {
         r.reached = true;
@@ -151,18 +151,18 @@ SimResult Simulate(DwaPlanner* planner, const Costmap2D& map, Pose2D pose,
       } catch (const ControlError& e) {
         r.control_error = true;
         r.error = e.what();
-        cmd = Twist2D();
+        cmd = Twist2();
         stop_at = std::min(duration, t + 1.0);
       }
     }
     r.commands.push_back(cmd);
     for (int i = 0; i < substeps; ++i) {
       const double v1 = Approach(vel.vx, cmd.vx, o.acc_lim_x * dt);
-      const double w1 = Approach(vel.vtheta, cmd.vtheta, o.acc_lim_theta * dt);
+      const double w1 = Approach(vel.wz, cmd.wz, o.acc_lim_theta * dt);
       pose = TrajectoryGenerator::Step(pose, 0.5 * (vel.vx + v1),
-                                       0.5 * (vel.vtheta + w1), dt);
+                                       0.5 * (vel.wz + w1), dt);
       vel.vx = v1;
-      vel.vtheta = w1;
+      vel.wz = w1;
       int c = FootprintCost(map, kFootprint, pose);
       if (c < 0) c = 255;
       r.max_cost = std::max(r.max_cost, c);
@@ -194,23 +194,23 @@ DwaOptions FastOptions() {
 TEST(TrajectoryGeneratorTest, WindowIsReachableInOnePeriod) {
   DwaOptions o = FastOptions();
   const TrajectoryGenerator gen(o);
-  Twist2D v0;
+  Twist2 v0;
   v0.vx = 0.5;
-  v0.vtheta = 0.2;
+  v0.wz = 0.2;
   const VelocityWindow w = gen.Window(v0);
   EXPECT_NEAR(w.min_vx, 0.5 - 2.5 * 0.05, 1e-12);
   EXPECT_NEAR(w.max_vx, 0.5 + 2.5 * 0.05, 1e-12);
   EXPECT_NEAR(w.min_vth, 0.2 - 3.2 * 0.05, 1e-12);
   EXPECT_NEAR(w.max_vth, 0.2 + 3.2 * 0.05, 1e-12);
   // Clamped to the limits; min_vel_x floors the window.
-  const VelocityWindow still = gen.Window(Twist2D());
+  const VelocityWindow still = gen.Window(Twist2());
   EXPECT_NEAR(still.min_vx, 0.1, 1e-12);
   EXPECT_NEAR(still.max_vx, 0.125, 1e-12);
   // Rollout length must cover the stopping distance: v <= 2 a sim_time.
   o.sim_time = 0.1;
   o.max_vel_x = 2.0;
   o.controller_frequency = 20.0;
-  Twist2D fast;
+  Twist2 fast;
   fast.vx = 2.0;
   const VelocityWindow capped = TrajectoryGenerator(o).Window(fast);
   EXPECT_NEAR(capped.max_vx, 2.0 * 2.5 * 0.1, 1e-12);
@@ -219,9 +219,9 @@ TEST(TrajectoryGeneratorTest, WindowIsReachableInOnePeriod) {
 TEST(TrajectoryGeneratorTest, RolloutRampsThenHoldsAndTailBrakes) {
   const DwaOptions o = FastOptions();
   const TrajectoryGenerator gen(o);
-  Twist2D v0;
+  Twist2 v0;
   v0.vx = 1.0;
-  Twist2D cmd;
+  Twist2 cmd;
   cmd.vx = 1.0;
   Trajectory t;
   gen.Generate({0, 0, 0}, v0, cmd, TrajectoryKind::kSampled, &t);
@@ -237,8 +237,8 @@ TEST(TrajectoryGeneratorTest, RolloutRampsThenHoldsAndTailBrakes) {
   EXPECT_NEAR(t.braking_start_distance, 0.05, 1e-9);
 
   // A turn: exact-ish arc (radius v/w).
-  cmd.vtheta = 0.5;
-  v0.vtheta = 0.5;
+  cmd.wz = 0.5;
+  v0.wz = 0.5;
   gen.Generate({0, 0, 0}, v0, cmd, TrajectoryKind::kSampled, &t);
   EXPECT_NEAR(t.end().x, 2.0 * std::sin(0.5), 1e-3);
   EXPECT_NEAR(t.end().y, 2.0 * (1.0 - std::cos(0.5)), 1e-3);
@@ -256,11 +256,11 @@ TEST(TrajectoryGeneratorTest, BrakingTailRejectsCommandsThatCannotStop) {
   // (0.25 m + 0.125 m inscribed band) but not of the braking tail.
   AddBox(&map, 1.58, 0.0, 2.0, 2.0);
   Inflate(&map);
-  Twist2D v0;
+  Twist2 v0;
   v0.vx = 1.0;
   const TrajectoryGenerator gen(o);
   Trajectory t;
-  Twist2D hold;
+  Twist2 hold;
   hold.vx = 1.0;
   gen.Generate({1.0, 1.0, 0.0}, v0, hold, TrajectoryKind::kSampled, &t);
   ObstacleCostCritic critic(kFootprint);
@@ -275,7 +275,7 @@ TEST(TrajectoryGeneratorTest, BrakingTailRejectsCommandsThatCannotStop) {
   // So the planner slows down to a speed it can still stop from.
   DwaPlanner planner(o, kFootprint);
   const Path plan = PolylinePlan({{1.0, 1.0}, {3.5, 1.0}}, 0.0);
-  const Twist2D cmd = planner.ComputeVelocity({1.0, 1.0, 0.0}, v0, plan, map);
+  const Twist2 cmd = planner.ComputeVelocity({1.0, 1.0, 0.0}, v0, plan, map);
   EXPECT_LT(cmd.vx, 0.9);
   critic.SetCostmap(map);
   EXPECT_GE(critic.Score(planner.last_trajectory()), 0.0);
@@ -369,14 +369,14 @@ TEST(DwaPlannerTest, ErrorsSayWhy) {
   DwaPlanner planner(DwaOptions(), kFootprint);
   Costmap2D map = EmptyMap(4.0, 4.0);
   try {
-    planner.ComputeVelocity({1, 1, 0}, Twist2D(), Path(), map);
+    planner.ComputeVelocity({1, 1, 0}, Twist2(), Path(), map);
     FAIL();
   } catch (const ControlError& e) {
     EXPECT_NE(std::string(e.what()).find("plan is empty"), std::string::npos);
   }
   const Path plan = PolylinePlan({{1, 1}, {3, 1}}, 0.0);
   try {
-    planner.ComputeVelocity({9, 1, 0}, Twist2D(), plan, map);
+    planner.ComputeVelocity({9, 1, 0}, Twist2(), plan, map);
     FAIL();
   } catch (const ControlError& e) {
     EXPECT_NE(std::string(e.what()).find("off the local costmap"),
@@ -394,7 +394,7 @@ TEST(DwaPlannerTest, ErrorsSayWhy) {
   Inflate(&slot);
   const Path plan2 = PolylinePlan({{2.3, 1.0}, {3.5, 1.0}}, 0.0);
   try {
-    planner.ComputeVelocity({2.365, 1.0, 0.0}, Twist2D(), plan2, slot);
+    planner.ComputeVelocity({2.365, 1.0, 0.0}, Twist2(), plan2, slot);
     FAIL() << "wedged robot got a command";
   } catch (const ControlError& e) {
     const std::string msg = e.what();
@@ -412,7 +412,7 @@ TEST(DwaPlannerTest, ErrorsSayWhy) {
   Inflate(&narrow);
   const Path plan3 = PolylinePlan({{1.0, 1.0}, {2.0, 1.0}}, kPi / 2);
   try {
-    planner.ComputeVelocity({2.0, 1.0, 0.0}, Twist2D(), plan3, narrow);
+    planner.ComputeVelocity({2.0, 1.0, 0.0}, Twist2(), plan3, narrow);
     FAIL() << "turned in a slot";
   } catch (const ControlError& e) {
     const std::string msg = e.what();
@@ -427,9 +427,9 @@ TEST(DwaPlannerTest, RotatesInPlaceWhenFacingAwayFromThePath) {
   DwaPlanner planner(DwaOptions(), kFootprint);
   Costmap2D map = EmptyMap(4.0, 4.0);
   const Path plan = PolylinePlan({{1, 2}, {3.5, 2}}, 0.0);
-  const Twist2D cmd = planner.ComputeVelocity({1, 2, kPi}, Twist2D(), plan, map);
+  const Twist2 cmd = planner.ComputeVelocity({1, 2, kPi}, Twist2(), plan, map);
   EXPECT_EQ(cmd.vx, 0.0);
-  EXPECT_GE(std::fabs(cmd.vtheta), planner.options().min_in_place_vel_theta);
+  EXPECT_GE(std::fabs(cmd.wz), planner.options().min_in_place_vel_theta);
   EXPECT_EQ(planner.last_stats().mode, DwaPlanner::Mode::kRotateToPath);
 }
 
@@ -437,16 +437,16 @@ TEST(DwaPlannerTest, GoalReachedNeedsPositionYawAndStandstill) {
   DwaPlanner planner(DwaOptions(), kFootprint);
   Costmap2D map = EmptyMap(4.0, 4.0);
   const Path plan = PolylinePlan({{1, 2}, {2, 2}}, 0.0);
-  Twist2D moving;
+  Twist2 moving;
   moving.vx = 0.3;
   EXPECT_FALSE(planner.IsGoalReached({2.05, 2, 0.02}, moving, plan));
-  EXPECT_TRUE(planner.IsGoalReached({2.05, 2, 0.02}, Twist2D(), plan));
-  EXPECT_FALSE(planner.IsGoalReached({2.2, 2, 0.0}, Twist2D(), plan));
-  EXPECT_FALSE(planner.IsGoalReached({2.0, 2, 0.2}, Twist2D(), plan));
+  EXPECT_TRUE(planner.IsGoalReached({2.05, 2, 0.02}, Twist2(), plan));
+  EXPECT_FALSE(planner.IsGoalReached({2.2, 2, 0.0}, Twist2(), plan));
+  EXPECT_FALSE(planner.IsGoalReached({2.0, 2, 0.2}, Twist2(), plan));
   // At the goal: zero command.
-  const Twist2D cmd = planner.ComputeVelocity({2.0, 2.0, 0.01}, Twist2D(), plan, map);
+  const Twist2 cmd = planner.ComputeVelocity({2.0, 2.0, 0.01}, Twist2(), plan, map);
   EXPECT_EQ(cmd.vx, 0.0);
-  EXPECT_EQ(cmd.vtheta, 0.0);
+  EXPECT_EQ(cmd.wz, 0.0);
   EXPECT_EQ(planner.last_stats().mode, DwaPlanner::Mode::kAtGoal);
 }
 
@@ -456,16 +456,16 @@ TEST(DwaPlannerTest, LatchedGoalToleranceKeepsRotating) {
   DwaPlanner planner(o, kFootprint);
   Costmap2D map = EmptyMap(4.0, 4.0);
   const Path plan = PolylinePlan({{1, 2}, {2, 2}}, kPi / 2);
-  planner.ComputeVelocity({2.0, 2.0, 0.0}, Twist2D(), plan, map);
+  planner.ComputeVelocity({2.0, 2.0, 0.0}, Twist2(), plan, map);
   EXPECT_EQ(planner.last_stats().mode, DwaPlanner::Mode::kRotateToGoal);
   // Drifted out of the xy tolerance: still only rotating.
-  const Twist2D cmd = planner.ComputeVelocity({2.2, 2.0, 0.5}, Twist2D(), plan, map);
+  const Twist2 cmd = planner.ComputeVelocity({2.2, 2.0, 0.5}, Twist2(), plan, map);
   EXPECT_EQ(planner.last_stats().mode, DwaPlanner::Mode::kRotateToGoal);
   EXPECT_EQ(cmd.vx, 0.0);
-  EXPECT_TRUE(planner.IsGoalReached({2.2, 2.0, kPi / 2}, Twist2D(), plan));
+  EXPECT_TRUE(planner.IsGoalReached({2.2, 2.0, kPi / 2}, Twist2(), plan));
   // A new goal clears the latch.
   planner.Reset();
-  EXPECT_FALSE(planner.IsGoalReached({2.2, 2.0, kPi / 2}, Twist2D(), plan));
+  EXPECT_FALSE(planner.IsGoalReached({2.2, 2.0, kPi / 2}, Twist2(), plan));
 }
 
 TEST(DwaPlannerTest, EscapesBackwardsWhenNothingForwardIsLegal) {
@@ -479,14 +479,14 @@ TEST(DwaPlannerTest, EscapesBackwardsWhenNothingForwardIsLegal) {
   AddBox(&map, 2.5, 0.0, 2.6, 2.0);
   Inflate(&map);
   const Path plan = PolylinePlan({{2.0, 1.0}, {3.5, 1.0}}, 0.0);
-  const Pose2D pose{2.365, 1.0, 0.0};
+  const Pose2 pose{2.365, 1.0, 0.0};
   ASSERT_LT(FootprintCost(map, kFootprint, pose), kLethalObstacle);
   DwaPlanner planner(DwaOptions(), kFootprint);
-  const Twist2D back = planner.ComputeVelocity(pose, Twist2D(), plan, map);
+  const Twist2 back = planner.ComputeVelocity(pose, Twist2(), plan, map);
   EXPECT_EQ(planner.last_stats().mode, DwaPlanner::Mode::kEscape);
   EXPECT_LT(back.vx, 0.0);
   EXPECT_GE(back.vx, -0.1 - 1e-9);
-  EXPECT_EQ(back.vtheta, 0.0);
+  EXPECT_EQ(back.wz, 0.0);
 }
 
 TEST(DwaPlannerTest, CentripetalLimitKeepsFastArcsWide) {
@@ -502,26 +502,26 @@ TEST(DwaPlannerTest, CentripetalLimitKeepsFastArcsWide) {
   o.path_distance_bias = 1.2;
   o.meter_scoring = true;
   Costmap2D map = EmptyMap(4.0, 4.0);
-  std::vector<Point2D> arc;
+  std::vector<Point2> arc;
   for (int i = 0; i <= 30; ++i) {
     const double a = kPi * i / 30.0;  // half a circle around (1.0, 1.6)
     arc.push_back({1.0 + 0.6 * std::sin(a), 1.6 - 0.6 * std::cos(a)});
   }
   const Path plan = PolylinePlan(arc, kPi);
-  Twist2D v;
+  Twist2 v;
   v.vx = 0.9;
-  v.vtheta = 1.2;
+  v.wz = 1.2;
   {
     DwaPlanner unlimited(o, kFootprint);
-    const Twist2D cmd = unlimited.ComputeVelocity({1.0, 1.0, 0.0}, v, plan, map);
-    ASSERT_GT(std::fabs(cmd.vx * cmd.vtheta), 1.2) << cmd.vx << " " << cmd.vtheta;
+    const Twist2 cmd = unlimited.ComputeVelocity({1.0, 1.0, 0.0}, v, plan, map);
+    ASSERT_GT(std::fabs(cmd.vx * cmd.wz), 1.2) << cmd.vx << " " << cmd.wz;
   }
   o.max_centripetal_acc = 1.0;
   DwaPlanner limited(o, kFootprint);
-  const Twist2D cmd = limited.ComputeVelocity({1.0, 1.0, 0.0}, v, plan, map);
+  const Twist2 cmd = limited.ComputeVelocity({1.0, 1.0, 0.0}, v, plan, map);
   EXPECT_EQ(limited.last_stats().mode, DwaPlanner::Mode::kFollowPath);
-  EXPECT_LE(std::fabs(cmd.vx * cmd.vtheta), 1.0 + 1e-9) << cmd.vx << " " << cmd.vtheta;
-  EXPECT_GT(cmd.vtheta, 0.0);  // still turning towards the plan
+  EXPECT_LE(std::fabs(cmd.vx * cmd.wz), 1.0 + 1e-9) << cmd.vx << " " << cmd.wz;
+  EXPECT_GT(cmd.wz, 0.0);  // still turning towards the plan
 }
 
 TEST(DwaPlannerTest, FastRobotCarriedIntoTheBandBrakes) {
@@ -537,19 +537,19 @@ TEST(DwaPlannerTest, FastRobotCarriedIntoTheBandBrakes) {
   o.sim_time = 1.5;
   DwaPlanner planner(o, kFootprint);
   const Path plan = PolylinePlan({{1.0, 1.24}, {5.0, 1.24}}, 0.0);
-  Twist2D v;
+  Twist2 v;
   v.vx = 0.8;
-  const Twist2D cmd = planner.ComputeVelocity({1.0, 1.27, 0.35}, v, plan, map);
+  const Twist2 cmd = planner.ComputeVelocity({1.0, 1.27, 0.35}, v, plan, map);
   EXPECT_LT(cmd.vx, v.vx);
   EXPECT_NEAR(cmd.vx, v.vx - o.acc_lim_x / o.controller_frequency, 1e-9);
-  EXPECT_EQ(cmd.vtheta, 0.0);
+  EXPECT_EQ(cmd.wz, 0.0);
   // Slow, the same pose gets the way out instead of only braking.
-  Twist2D slow;
+  Twist2 slow;
   slow.vx = 0.05;
   DwaPlanner creeping(o, kFootprint);
-  const Twist2D way_out = creeping.ComputeVelocity({1.0, 1.27, 0.35}, slow, plan, map);
-  EXPECT_TRUE(way_out.vtheta < 0.0 || way_out.vx < 0.0)
-      << "turns or backs away from the wall: " << way_out.vx << " " << way_out.vtheta;
+  const Twist2 way_out = creeping.ComputeVelocity({1.0, 1.27, 0.35}, slow, plan, map);
+  EXPECT_TRUE(way_out.wz < 0.0 || way_out.vx < 0.0)
+      << "turns or backs away from the wall: " << way_out.vx << " " << way_out.wz;
 }
 
 TEST(DwaPlannerTest, SlowRobotTurnsOnTheSpotAtAQuarterOfTheAngle) {
@@ -558,11 +558,11 @@ TEST(DwaPlannerTest, SlowRobotTurnsOnTheSpotAtAQuarterOfTheAngle) {
   Costmap2D map = EmptyMap(4.0, 4.0);
   const Path plan = PolylinePlan({{1.0, 1.0}, {1.0 + std::sqrt(3.0), 2.0}}, kPi / 6);
   DwaPlanner stopped(DwaOptions(), kFootprint);
-  const Twist2D turn = stopped.ComputeVelocity({1.0, 1.0, 0.0}, Twist2D(), plan, map);
+  const Twist2 turn = stopped.ComputeVelocity({1.0, 1.0, 0.0}, Twist2(), plan, map);
   EXPECT_EQ(stopped.last_stats().mode, DwaPlanner::Mode::kRotateToPath);
   EXPECT_EQ(turn.vx, 0.0);
-  EXPECT_GT(turn.vtheta, 0.0);
-  Twist2D v;
+  EXPECT_GT(turn.wz, 0.0);
+  Twist2 v;
   v.vx = 0.4;
   DwaPlanner moving(DwaOptions(), kFootprint);
   moving.ComputeVelocity({1.0, 1.0, 0.0}, v, plan, map);
@@ -582,27 +582,27 @@ TEST(DwaPlannerTest, TiesGoToTheFasterTrajectory) {
   DwaPlanner planner(o, kFootprint);
   Costmap2D map = EmptyMap(4.0, 2.0);
   const Path plan = PolylinePlan({{1.025, 1.025}, {3.5, 1.025}}, 0.0);
-  const Twist2D cmd = planner.ComputeVelocity({1.025, 1.025, 0.0}, Twist2D(), plan, map);
+  const Twist2 cmd = planner.ComputeVelocity({1.025, 1.025, 0.0}, Twist2(), plan, map);
   EXPECT_EQ(planner.last_stats().mode, DwaPlanner::Mode::kFollowPath);
   EXPECT_NEAR(cmd.vx, 0.015, 1e-9);
-  EXPECT_EQ(cmd.vtheta, 0.0);
+  EXPECT_EQ(cmd.wz, 0.0);
 }
 
 TEST(OscillationCriticTest, ForbidsFlippingBackUntilMoved) {
   OscillationCritic critic(0.05);
   Costmap2D map = EmptyMap(1.0, 1.0);
   Trajectory left, right, forward, backward;
-  left.command.vtheta = 0.5;
-  right.command.vtheta = -0.5;
+  left.command.wz = 0.5;
+  right.command.wz = -0.5;
   forward.command.vx = 0.2;
   backward.command.vx = -0.1;
-  critic.Prepare({0.5, 0.5, 0}, Twist2D(), Path(), map);
+  critic.Prepare({0.5, 0.5, 0}, Twist2(), Path(), map);
   EXPECT_EQ(critic.Score(left), 0.0);
   critic.Debrief(left);
-  critic.Prepare({0.5, 0.5, 0.1}, Twist2D(), Path(), map);
+  critic.Prepare({0.5, 0.5, 0.1}, Twist2(), Path(), map);
   EXPECT_EQ(critic.Score(right), 0.0);
   critic.Debrief(right);  // flipped: turning left is now forbidden
-  critic.Prepare({0.5, 0.5, 0.0}, Twist2D(), Path(), map);
+  critic.Prepare({0.5, 0.5, 0.0}, Twist2(), Path(), map);
   EXPECT_LT(critic.Score(left), 0.0);
   EXPECT_EQ(critic.Score(right), 0.0);
   EXPECT_EQ(critic.Score(forward), 0.0);
@@ -615,7 +615,7 @@ TEST(OscillationCriticTest, ForbidsFlippingBackUntilMoved) {
   critic.Debrief(forward);
   EXPECT_LT(critic.Score(backward), 0.0);
   // Moving oscillation_reset_dist clears everything.
-  critic.Prepare({0.58, 0.5, 0.0}, Twist2D(), Path(), map);
+  critic.Prepare({0.58, 0.5, 0.0}, Twist2(), Path(), map);
   EXPECT_EQ(critic.Score(left), 0.0);
   EXPECT_EQ(critic.Score(backward), 0.0);
 }
@@ -629,12 +629,12 @@ TEST(DwaPlannerTest, MeterScoringScalesTheCostsByTheResolution) {
   DwaPlanner cells(o, kFootprint);
   o.meter_scoring = true;
   DwaPlanner metres(o, kFootprint);
-  Twist2D v0;
+  Twist2 v0;
   v0.vx = 0.3;
-  const Twist2D a = cells.ComputeVelocity({0.8, 1.5, 0.0}, v0, plan, map);
-  const Twist2D b = metres.ComputeVelocity({0.8, 1.5, 0.0}, v0, plan, map);
+  const Twist2 a = cells.ComputeVelocity({0.8, 1.5, 0.0}, v0, plan, map);
+  const Twist2 b = metres.ComputeVelocity({0.8, 1.5, 0.0}, v0, plan, map);
   EXPECT_DOUBLE_EQ(a.vx, b.vx);
-  EXPECT_DOUBLE_EQ(a.vtheta, b.vtheta);
+  EXPECT_DOUBLE_EQ(a.wz, b.wz);
   EXPECT_NEAR(metres.last_trajectory().cost,
               cells.last_trajectory().cost * map.resolution(), 1e-9);
 }
@@ -654,7 +654,7 @@ TEST(DwaClosedLoopTest, FollowsAStraightCorridor) {
   EXPECT_TRUE(r.reached) << r.error << " at (" << r.pose.x << ", " << r.pose.y << ")";
   EXPECT_LT(r.max_cost, kInscribedInflatedObstacle);
   double worst_offset = 0.0;
-  for (const Pose2D& p : r.track) worst_offset = std::max(worst_offset, std::fabs(p.y - 1.5));
+  for (const Pose2& p : r.track) worst_offset = std::max(worst_offset, std::fabs(p.y - 1.5));
   EXPECT_LT(worst_offset, 0.05);
   EXPECT_NEAR(r.max_speed, o.max_vel_x, 0.02);
   EXPECT_LT(r.time, 20.0);  // 6.5 m at 0.5 m/s plus ramps
@@ -682,7 +682,7 @@ void ExpectStopsInFrontOfWall(const DwaOptions& o, const char* label) {
   // wall): up to a cell (0.05 m) more than the geometric gap checked here.
   double closest = 0.0;
   for (size_t i = 0; i < r.track.size(); ++i) {
-    const Pose2D& p = r.track[i];
+    const Pose2& p = r.track[i];
     EXPECT_LT(p.x + 0.13, 5.0);
     if (r.speeds[i] > o.min_vel_x + 1e-6) {
       const double full = std::min(o.full_margin_vel, o.max_vel_x);
@@ -733,7 +733,7 @@ TEST(DwaClosedLoopTest, TurnsThroughADoorway) {
                          << ", " << r.pose.yaw << ")";
   EXPECT_LT(r.max_cost, kLethalObstacle);
   bool passed_door = false;
-  for (const Pose2D& p : r.track) passed_door = passed_door || p.y > 3.5;
+  for (const Pose2& p : r.track) passed_door = passed_door || p.y > 3.5;
   EXPECT_TRUE(passed_door);
   EXPECT_NEAR(r.pose.x, 3.0, 0.1);
   EXPECT_NEAR(r.pose.y, 4.8, 0.1);
@@ -770,7 +770,7 @@ DwaOptions ShippedOptions(double max_vel_x) {
 // A tight scene: the robot (0.26 m x 0.25 m with padding) must get through
 // and reach the plan's end at every max_vel_x in 0.1-1.0, its outline never
 // on a lethal cell.
-void ExpectGetsThrough(const Costmap2D& map, const Pose2D& start, const Path& plan,
+void ExpectGetsThrough(const Costmap2D& map, const Pose2& start, const Path& plan,
                        const char* scene) {
   for (double v : {0.1, 0.25, 0.5, 1.0}) {
     SCOPED_TRACE(std::string(scene) + ", max_vel_x " + std::to_string(v));
@@ -843,7 +843,7 @@ TEST(DwaTightSpacesTest, ThroughAGapBetweenPostsFasterThanCreeping) {
   EXPECT_LT(r.max_cost, kLethalObstacle);
   double crossing_speed = 1e9;
   for (size_t i = 0; i < r.track.size(); ++i) {
-    const Pose2D& p = r.track[i];
+    const Pose2& p = r.track[i];
     if (std::fabs(p.y - 2.975) > 0.15) continue;  // the outline is level with the posts
     crossing_speed = std::min(crossing_speed, r.speeds[i]);
     // Outline to the nearer post cell, sideways (the robot drives along y).
@@ -864,20 +864,20 @@ TEST(DwaPlannerTest, ARobotTouchingAWallSlidesAwayInsteadOfFreezing) {
   Costmap2D map = EmptyMap(8.0, 3.0);
   AddBox(&map, 0.0, 0.0, 8.0, 0.5);
   Inflate(&map);
-  const Pose2D start{1.0, 0.62, 0.0};
+  const Pose2 start{1.0, 0.62, 0.0};
   ASSERT_EQ(FootprintCost(map, kFootprint, start), kLethalObstacle);
   const Path plan = PolylinePlan({{1.0, 0.62}, {4.0, 0.9}, {7.0, 0.9}}, 0.0);
   DwaPlanner planner(ShippedOptions(0.5), kFootprint);
-  Twist2D cmd;
-  ASSERT_NO_THROW(cmd = planner.ComputeVelocity(start, Twist2D(), plan, map));
+  Twist2 cmd;
+  ASSERT_NO_THROW(cmd = planner.ComputeVelocity(start, Twist2(), plan, map));
   EXPECT_GE(cmd.vx, 0.0);
-  EXPECT_GE(cmd.vtheta, 0.0) << "turned its nose into the wall";
-  EXPECT_GT(std::fabs(cmd.vx) + std::fabs(cmd.vtheta), 0.0);
+  EXPECT_GE(cmd.wz, 0.0) << "turned its nose into the wall";
+  EXPECT_GT(std::fabs(cmd.vx) + std::fabs(cmd.wz), 0.0);
   const SimResult r = Simulate(&planner, map, start, plan, 60.0);
   EXPECT_TRUE(r.reached) << r.error << " at (" << r.pose.x << ", " << r.pose.y << ", "
                          << r.pose.yaw << ") after " << r.time << " s";
   double lowest = 1e9;
-  for (const Pose2D& p : r.track) lowest = std::min(lowest, p.y);
+  for (const Pose2& p : r.track) lowest = std::min(lowest, p.y);
   // Turning away swings the rear corner towards the wall by at most a quarter
   // cell; the outline never reaches a wall cell's centre (y = 0.475).
   EXPECT_GE(lowest - 0.125, 0.475) << "got closer to the wall than allowed";
@@ -893,7 +893,7 @@ TEST(DwaPlannerTest, ARobotWithinAQuarterCellOfAWallStillMovesAway) {
   Costmap2D map = EmptyMap(8.0, 3.0);
   AddBox(&map, 0.0, 0.0, 8.0, 0.5);
   Inflate(&map);
-  const Pose2D start{1.0, 0.61, 0.0};
+  const Pose2 start{1.0, 0.61, 0.0};
   ASSERT_EQ(FootprintCost(map, kFootprint, start), kLethalObstacle);
   const Path plan = PolylinePlan({{1.0, 0.61}, {4.0, 0.9}, {7.0, 0.9}}, 0.0);
   DwaPlanner planner(ShippedOptions(0.5), kFootprint);
@@ -902,7 +902,7 @@ TEST(DwaPlannerTest, ARobotWithinAQuarterCellOfAWallStillMovesAway) {
   EXPECT_GT(r.pose.x - start.x, 1.0) << "froze beside the wall";
   EXPECT_GE(r.pose.y, start.y) << "ended nearer the wall";
   double lowest = 1e9;
-  for (const Pose2D& p : r.track) lowest = std::min(lowest, p.y);
+  for (const Pose2& p : r.track) lowest = std::min(lowest, p.y);
   EXPECT_GE(lowest - 0.125, 0.475 + 0.005 - 1e-6) << "got closer to the wall than allowed";
 }
 
@@ -915,10 +915,10 @@ void ExpectRotatesToGoalYaw(double controller_frequency) {
   const SimResult r = Simulate(&planner, map, {2.02, 2.0, 0.0}, plan, 10.0);
   ASSERT_TRUE(r.reached) << r.error;
   EXPECT_NEAR(AngleDiff(r.pose.yaw, kPi / 2), 0.0, o.yaw_goal_tolerance);
-  for (const Twist2D& c : r.commands) {
+  for (const Twist2& c : r.commands) {
     EXPECT_EQ(c.vx, 0.0);
-    EXPECT_GE(c.vtheta, 0.0) << "turned the long way or overshot";
-    EXPECT_LE(c.vtheta, o.max_vel_theta);
+    EXPECT_GE(c.wz, 0.0) << "turned the long way or overshot";
+    EXPECT_LE(c.wz, o.max_vel_theta);
   }
   // Reached within a few seconds (pi/2 at <= 1 rad/s).
   EXPECT_LT(r.time, 4.0);

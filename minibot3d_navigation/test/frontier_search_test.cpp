@@ -18,8 +18,8 @@ namespace {
 constexpr double kRes = 0.1;
 
 // '.' free, '#' occupied, '?' unknown; row 0 of the text is the top (max y).
-amcl::OccupancyGrid Grid(const std::vector<std::string>& rows) {
-  amcl::OccupancyGrid g;
+OccupancyGrid Grid(const std::vector<std::string>& rows) {
+  OccupancyGrid g;
   g.resolution = kRes;
   g.height = static_cast<int>(rows.size());
   g.width = static_cast<int>(rows[0].size());
@@ -33,7 +33,7 @@ amcl::OccupancyGrid Grid(const std::vector<std::string>& rows) {
   return g;
 }
 
-Pose2D At(int x, int y) { return {(x + 0.5) * kRes, (y + 0.5) * kRes, 0.0}; }
+Pose2 At(int x, int y) { return {(x + 0.5) * kRes, (y + 0.5) * kRes, 0.0}; }
 
 ExploreOptions Options() {
   ExploreOptions o;
@@ -117,7 +117,7 @@ TEST(FrontierSearch, NearestFirstAndBlacklist) {
 
 // A room with a thin shelf (column 6) and a gap behind it, open to unknown
 // space at the gap's far end (top right).
-amcl::OccupancyGrid ThinShelfRoom() {
+OccupancyGrid ThinShelfRoom() {
   return Grid({
       "###########",
       "#.....#???#",
@@ -173,13 +173,13 @@ TEST(FrontierSearch, ExcludedViewpointsLeaveTheOthers) {
   FrontierSearch search(o);
   auto r = search.Find(grid, At(2, 1), {});
   ASSERT_EQ(r.frontiers.size(), 1u);
-  const Point2D first = r.frontiers[0].goal;
+  const Point2 first = r.frontiers[0].goal;
   r = search.Find(grid, At(2, 1), {first});
   ASSERT_EQ(r.frontiers.size(), 1u);
   EXPECT_GE(std::hypot(r.frontiers[0].goal.x - first.x, r.frontiers[0].goal.y - first.y), 0.25);
   EXPECT_EQ(r.blacklisted, 0);
   // Excluding the whole opening's side drops the frontier, counted as blacklisted.
-  std::vector<Point2D> all;
+  std::vector<Point2> all;
   for (int y = 0; y < 10; ++y) all.push_back({At(11, y).x, At(11, y).y});
   r = search.Find(grid, At(2, 1), all);
   EXPECT_TRUE(r.frontiers.empty());
@@ -255,7 +255,7 @@ TEST(ExplorationMemory, UnreachableGoalsAreRetriedWhenTheMapRoundThemChanges) {
       "....??????",
       "??????????",
   });
-  const Point2D goal{0.55, 0.25};
+  const Point2 goal{0.55, 0.25};
   EXPECT_EQ(memory.Failed(goal, grid), 1);
   EXPECT_EQ(memory.Excluded().size(), 1u);
   EXPECT_TRUE(memory.Refresh(grid).empty()) << "nothing changed";
@@ -305,7 +305,7 @@ TEST(FrontierSearch, RobotNextToAWallStillFindsItsWay) {
 
 TEST(FrontierSearch, BadInputIsRejectedSayingWhy) {
   FrontierSearch search(Options());
-  amcl::OccupancyGrid g = Grid({"...", "..."});
+  OccupancyGrid g = Grid({"...", "..."});
   try {
     search.Find(g, {5.0, 5.0, 0.0}, {});
     FAIL();

@@ -16,7 +16,7 @@ namespace {
 class StraightPlanner : public GlobalPlanner {
  public:
   std::string name() const override { return "straight"; }
-  Path MakePlan(const Costmap2D&, const Pose2D& start, const Pose2D& goal) override {
+  Path MakePlan(const Costmap2D&, const Pose2& start, const Pose2& goal) override {
     ++calls;
     if (fail) throw PlanningError(fail_code, "goal (3.00, 0.00) is in an obstacle (cost 254)");
     return {start, goal};
@@ -31,17 +31,17 @@ class GoToGoal : public LocalPlanner {
  public:
   std::string name() const override { return "goto"; }
   void Reset() override { ++resets; }
-  Twist2D ComputeVelocity(const Pose2D& pose, const Twist2D&, const Path& plan,
+  Twist2 ComputeVelocity(const Pose2& pose, const Twist2&, const Path& plan,
                           const Costmap2D&) override {
     if (fail) throw ControlError("all 42 trajectories collide");
-    Twist2D cmd;
+    Twist2 cmd;
     if (stall) return cmd;
     const double heading = std::atan2(plan.back().y - pose.y, plan.back().x - pose.x);
     cmd.vx = 0.5;
-    cmd.vtheta = 2.0 * AngleDiff(heading, pose.yaw);
+    cmd.wz = 2.0 * AngleDiff(heading, pose.yaw);
     return cmd;
   }
-  bool IsGoalReached(const Pose2D& pose, const Twist2D&, const Path& plan) override {
+  bool IsGoalReached(const Pose2& pose, const Twist2&, const Path& plan) override {
     return std::hypot(plan.back().x - pose.x, plan.back().y - pose.y) < 0.1;
   }
   bool fail = false;
@@ -54,8 +54,8 @@ class CountingRecovery : public RecoveryBehavior {
   explicit CountingRecovery(std::string n) : name_(std::move(n)) {}
   std::string name() const override { return name_; }
   void Start(const RobotState&) override { ++starts; cycles_left = 3; }
-  bool Step(const RobotState&, Twist2D* cmd) override {
-    cmd->vtheta = 0.5;
+  bool Step(const RobotState&, Twist2* cmd) override {
+    cmd->wz = 0.5;
     return cycles_left-- > 0;
   }
   int starts = 0;
@@ -78,13 +78,13 @@ struct Harness {
   CycleResult Run(double max_time, double dt = 0.05) {
     CycleResult r;
     for (; state.time < max_time; state.time += dt) {
-      r = exec.Step(state, Pose2D());
+      r = exec.Step(state, Pose2());
       if (!r.message.empty()) messages.push_back(r.message);
       if (r.status != GoalStatus::kActive) return r;
-      Pose2D& p = state.global_pose;
+      Pose2& p = state.global_pose;
       p.x += r.cmd.vx * std::cos(p.yaw) * dt;
       p.y += r.cmd.vx * std::sin(p.yaw) * dt;
-      p.yaw = NormalizeAngle(p.yaw + r.cmd.vtheta * dt);
+      p.yaw = NormalizeAngle(p.yaw + r.cmd.wz * dt);
       state.local_pose = p;
     }
     return r;
@@ -134,7 +134,7 @@ TEST(NavigationExecutive, PlannerFailureRunsRecoveriesThenAbortsSayingWhy) {
   // Each recovery waits planner_patience (5 s) first: 3 x 5 s plus recovery cycles.
   EXPECT_GT(h.state.time, 15.0);
   EXPECT_LT(h.state.time, 17.0);
-  EXPECT_EQ(h.exec.Step(h.state, Pose2D()).status, GoalStatus::kNone);
+  EXPECT_EQ(h.exec.Step(h.state, Pose2()).status, GoalStatus::kNone);
 }
 
 TEST(NavigationExecutive, MaxPlanningRetriesShortensPatience) {
@@ -198,10 +198,10 @@ TEST(NavigationExecutive, OscillationTriggersRecoveryAndAbort) {
 TEST(NavigationExecutive, CancelStopsAndPreemptionReplaces) {
   Harness h;
   h.exec.SetGoal({3.0, 0.0, 0.0}, 0.0);
-  CycleResult r = h.exec.Step(h.state, Pose2D());
+  CycleResult r = h.exec.Step(h.state, Pose2());
   EXPECT_GT(r.cmd.vx, 0.0);
   h.exec.Cancel();
-  r = h.exec.Step(h.state, Pose2D());
+  r = h.exec.Step(h.state, Pose2());
   EXPECT_EQ(r.status, GoalStatus::kNone);
   EXPECT_EQ(r.cmd.vx, 0.0);
 
@@ -235,14 +235,14 @@ TEST(NavigationExecutive, RejectsBadOptionsNamingThem) {
 int RunRecovery(RecoveryBehavior* rec, RobotState* state, double dt = 0.05,
                 double* max_vx = nullptr) {
   rec->Start(*state);
-  Twist2D cmd;
+  Twist2 cmd;
   int steps = 0;
   while (rec->Step(*state, &cmd) && steps < 2000) {
     if (max_vx != nullptr) *max_vx = std::max(*max_vx, cmd.vx);
-    Pose2D& p = state->local_pose;
+    Pose2& p = state->local_pose;
     p.x += cmd.vx * std::cos(p.yaw) * dt;
     p.y += cmd.vx * std::sin(p.yaw) * dt;
-    p.yaw = NormalizeAngle(p.yaw + cmd.vtheta * dt);
+    p.yaw = NormalizeAngle(p.yaw + cmd.wz * dt);
     state->time += dt;
     ++steps;
   }
@@ -250,8 +250,8 @@ int RunRecovery(RecoveryBehavior* rec, RobotState* state, double dt = 0.05,
 }
 
 // A trail driven forwards on an arc: from (0, 0) heading 0, turning left.
-std::vector<Pose2D> ArcTrail(int n = 60) {
-  std::vector<Pose2D> trail;
+std::vector<Pose2> ArcTrail(int n = 60) {
+  std::vector<Pose2> trail;
   for (int i = 0; i <= n; ++i) {
     const double yaw = 0.6 * i / n;
     const double s = 0.02 * i;
@@ -260,14 +260,14 @@ std::vector<Pose2D> ArcTrail(int n = 60) {
   return trail;
 }
 
-double DistanceToTrail(const std::vector<Pose2D>& trail, const Pose2D& p) {
+double DistanceToTrail(const std::vector<Pose2>& trail, const Pose2& p) {
   double best = 1e300;
-  for (const Pose2D& t : trail) best = std::min(best, std::hypot(t.x - p.x, t.y - p.y));
+  for (const Pose2& t : trail) best = std::min(best, std::hypot(t.x - p.x, t.y - p.y));
   return best;
 }
 
 // A robot at the end of `trail`, backing out on `costmap`.
-RobotState AtTrailEnd(const std::vector<Pose2D>& trail, const Costmap2D& costmap,
+RobotState AtTrailEnd(const std::vector<Pose2>& trail, const Costmap2D& costmap,
                       bool control_failed) {
   RobotState state;
   state.local_pose = trail.back();
@@ -284,7 +284,7 @@ void SetLethal(Costmap2D* costmap, double x, double y) {
 }
 
 TEST(BackOutRecovery, ReversesAlongTheTrailItDroveThrough) {
-  const std::vector<Pose2D> trail = ArcTrail();
+  const std::vector<Pose2> trail = ArcTrail();
   Costmap2D costmap(80, 80, 0.05, -2.0, -2.0);
   RobotState state = AtTrailEnd(trail, costmap, /*control_failed=*/true);
   BackOutOptions o;
@@ -293,16 +293,16 @@ TEST(BackOutRecovery, ReversesAlongTheTrailItDroveThrough) {
   // Checked along the way: never forwards, never off the trail.
   rec.Start(state);
   ASSERT_FALSE(rec.route().empty());
-  Twist2D cmd;
+  Twist2 cmd;
   double worst = 0.0;
   int steps = 0;
-  const Pose2D start = state.local_pose;
+  const Pose2 start = state.local_pose;
   while (rec.Step(state, &cmd) && steps++ < 2000) {
     EXPECT_LE(cmd.vx, 0.0);
-    Pose2D& p = state.local_pose;
+    Pose2& p = state.local_pose;
     p.x += cmd.vx * std::cos(p.yaw) * 0.05;
     p.y += cmd.vx * std::sin(p.yaw) * 0.05;
-    p.yaw = NormalizeAngle(p.yaw + cmd.vtheta * 0.05);
+    p.yaw = NormalizeAngle(p.yaw + cmd.wz * 0.05);
     state.time += 0.05;
     worst = std::max(worst, DistanceToTrail(trail, p));
   }
@@ -312,7 +312,7 @@ TEST(BackOutRecovery, ReversesAlongTheTrailItDroveThrough) {
 }
 
 TEST(BackOutRecovery, DoesNothingAfterOscillationOrWithoutTrail) {
-  const std::vector<Pose2D> trail = ArcTrail();
+  const std::vector<Pose2> trail = ArcTrail();
   Costmap2D costmap(80, 80, 0.05, -2.0, -2.0);
   RobotState state = AtTrailEnd(trail, costmap, /*control_failed=*/false);
   BackOutRecovery rec("back_out", BackOutOptions(), MakeCircleFootprint(0.12));
@@ -328,10 +328,10 @@ TEST(BackOutRecovery, BacksOutAfterOscillationWhenWedged) {
   // A robot that drove into a dead-end slot with its outline on an obstacle:
   // the local planner has no move, so the trigger is oscillation, not a
   // control failure; the way it came is still open.
-  const std::vector<Pose2D> trail = ArcTrail();
+  const std::vector<Pose2> trail = ArcTrail();
   Costmap2D costmap(80, 80, 0.05, -2.0, -2.0);
   const Footprint fp = MakeCircleFootprint(0.12);
-  const Pose2D end = trail.back();
+  const Pose2 end = trail.back();
   // An obstacle cell under the front of the footprint.
   SetLethal(&costmap, end.x + 0.11 * std::cos(end.yaw), end.y + 0.11 * std::sin(end.yaw));
   RobotState state = AtTrailEnd(trail, costmap, /*control_failed=*/false);
@@ -357,7 +357,7 @@ TEST(BackOutRecovery, LeavesADeadEndSlotLongerThanItsDistance) {
   }
   for (double y = -0.14; y <= 0.14; y += 0.025) SetLethal(&costmap, 1.3, y);
   const Footprint fp = {{0.12, 0.115}, {-0.12, 0.115}, {-0.12, -0.115}, {0.12, -0.115}};
-  std::vector<Pose2D> trail;
+  std::vector<Pose2> trail;
   for (double x = -1.0; x <= 1.0 + 1e-9; x += 0.02) trail.push_back({x, 0.0, 0.0});
   RobotState state = AtTrailEnd(trail, costmap, /*control_failed=*/true);
   BackOutOptions o;
@@ -374,7 +374,7 @@ TEST(BackOutRecovery, LeavesADeadEndSlotLongerThanItsDistance) {
 }
 
 TEST(BackOutRecovery, StopsBeforeSomethingNewOnItsWay) {
-  const std::vector<Pose2D> trail = ArcTrail();
+  const std::vector<Pose2> trail = ArcTrail();
   Costmap2D costmap(80, 80, 0.05, -2.0, -2.0);
   // A wall across the trail 0.35 m behind the robot, seen after it passed.
   for (int my = 0; my < 80; ++my) {
@@ -396,7 +396,7 @@ TEST(BackOutRecovery, StopsBeforeSomethingNewOnItsWay) {
 class DetourPlanner : public GlobalPlanner {
  public:
   std::string name() const override { return "detour"; }
-  Path MakePlan(const Costmap2D& costmap, const Pose2D& start, const Pose2D& goal) override {
+  Path MakePlan(const Costmap2D& costmap, const Pose2& start, const Pose2& goal) override {
     ++calls;
     bool blocked = false;
     for (double f = 0.0; f <= 1.0; f += 0.01) {
@@ -415,7 +415,7 @@ class DetourPlanner : public GlobalPlanner {
     p.insert(p.end(), q.begin() + 1, q.end());
     return p;
   }
-  static Path Line(const Pose2D& a, const Pose2D& b) {
+  static Path Line(const Pose2& a, const Pose2& b) {
     Path p;
     for (int i = 0; i <= 20; ++i) {
       p.push_back({a.x + (b.x - a.x) * i / 20.0, a.y + (b.y - a.y) * i / 20.0, 0.0});
@@ -439,7 +439,7 @@ struct BlockedHarness {
     state.local_costmap = &costmap;
     exec.SetGoal({2.0, 0.0, 0.0}, 0.0);
     for (; state.time < 1.5 && exec.blocked().empty(); state.time += 0.1) {
-      exec.Step(state, Pose2D());
+      exec.Step(state, Pose2());
     }
   }
   static MoveBaseOptions Options() {
@@ -468,7 +468,7 @@ TEST(NavigationExecutive, RemembersWhereControlFailedAndPlansRoundIt) {
   h.controller.fail = false;
   // Let the recovery finish, then the next plan goes round the disc.
   for (int i = 0; i < 10 && !h.planner.last_blocked; ++i, state.time += 0.1) {
-    exec.Step(state, Pose2D());
+    exec.Step(state, Pose2());
   }
   EXPECT_TRUE(h.planner.last_blocked);
   EXPECT_NEAR(exec.plan()[20].y, 1.0, 1e-9);  // via the detour waypoint
@@ -486,7 +486,7 @@ TEST(NavigationExecutive, ForgetsBlockedPlacesWhenNoPlanGoesRoundThem) {
   h.controller.fail = false;
   bool replanned = false;
   for (int i = 0; i < 10 && !replanned; ++i, state.time += 0.1) {
-    replanned = exec.Step(state, Pose2D()).new_plan;
+    replanned = exec.Step(state, Pose2()).new_plan;
   }
   EXPECT_TRUE(replanned);
   EXPECT_TRUE(exec.blocked().empty());  // no way round: forgotten, plain plan
@@ -497,7 +497,7 @@ TEST(NavigationExecutive, RecordsTheTrailItDrives) {
   Harness h;
   h.exec.SetGoal({2.0, 0.0, 0.0}, 0.0);
   ASSERT_EQ(h.Run(30.0).status, GoalStatus::kSucceeded);
-  const std::vector<Pose2D>& trail = h.exec.trail();
+  const std::vector<Pose2>& trail = h.exec.trail();
   ASSERT_GT(trail.size(), 50u);  // ~1.9 m at 2 cm spacing
   for (size_t i = 1; i < trail.size(); ++i) {
     EXPECT_LT(std::hypot(trail[i].x - trail[i - 1].x, trail[i].y - trail[i - 1].y), 0.05);
@@ -509,13 +509,13 @@ TEST(NavigationExecutive, TrailDropsTheLoopsOfARobotShufflingToAndFro) {
   // 1 m in, then 200 shuffles of 0.1 m back and forth at the end: the trail
   // is still the way in (its 500-pose cap would otherwise hold only shuffles).
   Harness h;
-  Pose2D p{0.0, 0.0, 0.0};
+  Pose2 p{0.0, 0.0, 0.0};
   auto drive_to = [&h, &p](double x) {
     const double step = x > p.x ? 0.005 : -0.005;
     while (std::abs(x - p.x) > 1e-9) {
       p.x = std::abs(x - p.x) < std::abs(step) ? x : p.x + step;
       h.state.local_pose = p;
-      h.exec.Step(h.state, Pose2D());
+      h.exec.Step(h.state, Pose2());
     }
   };
   drive_to(1.0);
@@ -523,7 +523,7 @@ TEST(NavigationExecutive, TrailDropsTheLoopsOfARobotShufflingToAndFro) {
     drive_to(0.9);
     drive_to(1.0);
   }
-  const std::vector<Pose2D>& trail = h.exec.trail();
+  const std::vector<Pose2>& trail = h.exec.trail();
   ASSERT_FALSE(trail.empty());
   EXPECT_NEAR(trail.front().x, 0.0, 0.01);
   EXPECT_NEAR(trail.back().x, 1.0, 0.02);

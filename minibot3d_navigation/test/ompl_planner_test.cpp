@@ -39,7 +39,7 @@ Costmap2D MapFromAscii(const std::vector<std::string>& rows) {
   return map;
 }
 
-Pose2D Cell(int mx, int my, double yaw = 0.0) {
+Pose2 Cell(int mx, int my, double yaw = 0.0) {
   return {(mx + 0.5) * kRes, (my + 0.5) * kRes, yaw};
 }
 
@@ -74,7 +74,7 @@ GlobalPlannerOptions Options(const std::string& algorithm, double time = 0.2) {
 }
 
 void ExpectValidPath(const OmplPlanner& planner, const Costmap2D& map,
-                     const Path& path, const Pose2D& start, const Pose2D& goal) {
+                     const Path& path, const Pose2& start, const Pose2& goal) {
   ASSERT_GE(path.size(), 2u);
   EXPECT_DOUBLE_EQ(path.front().x, start.x);
   EXPECT_DOUBLE_EQ(path.front().y, start.y);
@@ -97,7 +97,7 @@ class OmplAlgorithmTest : public ::testing::TestWithParam<std::string> {};
 TEST_P(OmplAlgorithmTest, SolvesCorridor) {
   const Costmap2D map = MapFromAscii(kCorridor);
   OmplPlanner planner(Options(GetParam()), MakeCircleFootprint(0.1));
-  const Pose2D start = Cell(1, 2, 0.3), goal = Cell(14, 2, -1.0);
+  const Pose2 start = Cell(1, 2, 0.3), goal = Cell(14, 2, -1.0);
   const Path path = planner.MakePlan(map, start, goal);
   ExpectValidPath(planner, map, path, start, goal);
   EXPECT_LT(PathLength(path), 1.3 * 1.3);
@@ -106,11 +106,11 @@ TEST_P(OmplAlgorithmTest, SolvesCorridor) {
 TEST_P(OmplAlgorithmTest, SolvesUTurn) {
   const Costmap2D map = MapFromAscii(kUTurn);
   OmplPlanner planner(Options(GetParam(), 0.3), MakeCircleFootprint(0.1));
-  const Pose2D start = Cell(3, 6), goal = Cell(12, 6, 1.57);
+  const Pose2 start = Cell(3, 6), goal = Cell(12, 6, 1.57);
   const Path path = planner.MakePlan(map, start, goal);
   ExpectValidPath(planner, map, path, start, goal);
   double min_y = 1e9;
-  for (const Pose2D& p : path) min_y = std::min(min_y, p.y);
+  for (const Pose2& p : path) min_y = std::min(min_y, p.y);
   EXPECT_LT(min_y, 0.3) << "must pass below the wall";
   // Forward orientation: each yaw points at the next pose.
   for (size_t i = 0; i + 1 < path.size(); ++i) {
@@ -161,7 +161,7 @@ TEST(OmplPlannerTest, ReachableButUnsolvedInTimeIsTimeout) {
 TEST(OmplPlannerTest, StartGoalErrorsMatchAStar) {
   const Costmap2D map = MapFromAscii(kCorridor);
   OmplPlanner planner(Options("rrtconnect"), {});
-  auto code_of = [&](const Pose2D& s, const Pose2D& g) {
+  auto code_of = [&](const Pose2& s, const Pose2& g) {
     try {
       planner.MakePlan(map, s, g);
     } catch (const PlanningError& e) {
@@ -228,7 +228,7 @@ TEST(OmplPlannerTest, RectangularFootprintIsCheckedAtEachPose) {
   OmplPlanner planner(Options("rrtconnect", 0.5), rect);
   EXPECT_TRUE(planner.IsValid(map, {1.0, 0.35, 0.0}));
   EXPECT_FALSE(planner.IsValid(map, {1.0, 0.35, kPi / 2}));
-  const Pose2D start{0.6, 0.35, 0.0}, goal{1.4, 0.35, 0.0};
+  const Pose2 start{0.6, 0.35, 0.0}, goal{1.4, 0.35, 0.0};
   const Path path = planner.MakePlan(map, start, goal);
   ExpectValidPath(planner, map, path, start, goal);
 }

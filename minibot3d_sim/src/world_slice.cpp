@@ -16,8 +16,12 @@
 #include <cmath>
 #include <utility>
 
+#include "minibot3d_common/geometry2d.h"
+
 namespace minibot3d_sim {
 namespace {
+
+using minibot3d_common::PointSegmentDistance;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Tilted cylinders are approximated by a prism with this many sides.
@@ -216,14 +220,6 @@ struct StampSlot {
   std::vector<std::uint32_t> stamps;
 };
 thread_local std::array<StampSlot, 4> tl_stamp_slots;
-
-double PointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                            const Eigen::Vector2d& e) {
-  const double len2 = e.squaredNorm();
-  double t = len2 > 0.0 ? (p - a).dot(e) / len2 : 0.0;
-  t = std::clamp(t, 0.0, 1.0);
-  return (a + t * e - p).norm();
-}
 
 // Whether closed segments [a, b] and [c, d] share a point.
 bool SegmentsIntersect(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
@@ -592,7 +588,7 @@ bool WorldSlice::ItemTouchesPolygon(std::uint32_t item,
     if (InConvexPolygon(polygon, orientation, a) || InConvexPolygon(polygon, orientation, b)) {
       return true;
     }
-    if (n == 1) return PointSegmentDistance(polygon[0], a, b - a) == 0.0;
+    if (n == 1) return PointSegmentDistance(polygon[0], a, b) == 0.0;
     const std::size_t edges = n == 2 ? 1 : n;
     for (std::size_t e = 0; e < edges; ++e) {
       if (SegmentsIntersect(a, b, polygon[e], polygon[(e + 1) % n])) return true;
@@ -605,7 +601,7 @@ bool WorldSlice::ItemTouchesPolygon(std::uint32_t item,
   for (std::size_t e = 0; e < edges; ++e) {
     const Eigen::Vector2d& a = polygon[e];
     const Eigen::Vector2d& b = polygon[(e + 1) % n];
-    if (PointSegmentDistance(c.center, a, b - a) <= c.radius) return true;
+    if (PointSegmentDistance(c.center, a, b) <= c.radius) return true;
   }
   return false;
 }
@@ -643,7 +639,7 @@ bool WorldSlice::PolygonCollides(const std::vector<Eigen::Vector2d>& polygon, in
 double WorldSlice::ItemDistance(std::uint32_t item, const Eigen::Vector2d& p) const {
   const Prim& q = prims_[item];
   if (item < segments_.size()) {
-    return PointSegmentDistance(p, Eigen::Vector2d(q.x, q.y), Eigen::Vector2d(q.u, q.v));
+    return PointSegmentDistance(p, segments_[item].a, segments_[item].b);
   }
   // Circles are solid discs: zero inside.
   return std::max(0.0, (p - Eigen::Vector2d(q.x, q.y)).norm() - q.v);

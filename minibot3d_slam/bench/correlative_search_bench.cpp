@@ -82,7 +82,7 @@ LaserScan GridScan(const GridMap& map, const Pose2& pose, double range_max) {
   scan.range_max = range_max;
   for (int i = 0; i < 360; ++i) {
     const double a = -M_PI + 2.0 * M_PI * i / 360;
-    const double c = std::cos(pose.theta + a), s = std::sin(pose.theta + a);
+    const double c = std::cos(pose.yaw + a), s = std::sin(pose.yaw + a);
     double r = INFINITY;
     for (double t = 0.0; t < range_max; t += map.resolution / 4) {
       const int v = Cell(map, pose.x + t * c, pose.y + t * s);
@@ -155,12 +155,12 @@ void Run(const std::string& name, const GridMap& map,
     if (best) {
       scores.push_back(best->score);
       if (std::hypot(best->pose.x - truth.x, best->pose.y - truth.y) <= 0.3 &&
-          std::fabs(minibot3d_slam::NormalizeAngle(best->pose.theta - truth.theta)) <= 0.05) {
+          std::fabs(minibot3d_slam::NormalizeAngle(best->pose.yaw - truth.yaw)) <= 0.05) {
         ++right_place;
       }
       if (std::fabs(best->pose.x - truth.x) <= map.resolution &&
           std::fabs(best->pose.y - truth.y) <= map.resolution &&
-          std::fabs(minibot3d_slam::NormalizeAngle(best->pose.theta - truth.theta)) <= step) {
+          std::fabs(minibot3d_slam::NormalizeAngle(best->pose.yaw - truth.yaw)) <= step) {
         ++found;
       } else if (settings.verbose) {
         CorrelativeSearchOptions local = options;
@@ -170,8 +170,8 @@ void Run(const std::string& name, const GridMap& map,
         const auto near = search.Search(points, truth, local);
         std::printf("  missed: truth (%.3f, %.3f, %.3f) score %.3f, best near it %.3f; found "
                     "(%.3f, %.3f, %.3f) score %.3f; step %.4f\n",
-                    truth.x, truth.y, truth.theta, search.Score(points, truth), near->score,
-                    best->pose.x, best->pose.y, best->pose.theta, best->score, step);
+                    truth.x, truth.y, truth.yaw, search.Score(points, truth), near->score,
+                    best->pose.x, best->pose.y, best->pose.yaw, best->score, step);
       }
     }
     second.push_back(all.size() > 1 ? all[1].score : 0.0);

@@ -43,7 +43,7 @@ class OdomTrack {
     const Pose2& p = lo->second;
     const Pose2& q = hi->second;
     *out = Pose2{p.x + a * (q.x - p.x), p.y + a * (q.y - p.y),
-                 NormalizeAngle(p.theta + a * NormalizeAngle(q.theta - p.theta))};
+                 NormalizeAngle(p.yaw + a * NormalizeAngle(q.yaw - p.yaw))};
     return true;
   }
   // Forgets the poses before t, keeping the last one before it (for interpolation).

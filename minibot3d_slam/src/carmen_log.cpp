@@ -302,7 +302,7 @@ class CarmenLogReader : public LogReader {
           const RawScan s = type == "FLASER" ? ParseFlaser(fields_, front_laser_resolution)
                                              : ParseRobotLaser(fields_);
           for (double r : s.log.scan.ranges) histogram.Add(r);
-          rel.push_back(Between(s.laser_pose, s.log.odom));
+          rel.push_back(Between(s.log.odom, s.laser_pose));
         } else if (type == "PARAM" && fields_.size() >= 3 && fields_[1] == "robot_front_laser_max") {
           front_laser_max_ = Number(fields_, 2, "robot_front_laser_max");
         } else if (type == "PARAM" && fields_.size() >= 3 && fields_[1] == "laser_front_laser_resolution") {
@@ -340,16 +340,16 @@ class CarmenLogReader : public LogReader {
       return v[v.size() / 2];
     };
     const Pose2 mount{median([](const Pose2& p) { return p.x; }), median([](const Pose2& p) { return p.y; }),
-                      median([](const Pose2& p) { return p.theta; })};
+                      median([](const Pose2& p) { return p.yaw; })};
     bool rigid = true;
     for (const Pose2& p : rel) {
       if (std::hypot(p.x - mount.x, p.y - mount.y) > 0.02 ||
-          std::fabs(NormalizeAngle(p.theta - mount.theta)) > 0.02) {
+          std::fabs(NormalizeAngle(p.yaw - mount.yaw)) > 0.02) {
         rigid = false;
         break;
       }
     }
-    const bool zero = std::hypot(mount.x, mount.y) < 1e-6 && std::fabs(mount.theta) < 1e-6;
+    const bool zero = std::hypot(mount.x, mount.y) < 1e-6 && std::fabs(mount.yaw) < 1e-6;
     sensor_in_base_ = Pose2{front_laser_offset_, 0.0, 0.0};
     if (rigid && !zero) sensor_in_base_ = mount;
     if (!rigid) {

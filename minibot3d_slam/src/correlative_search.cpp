@@ -70,7 +70,7 @@ std::vector<Eigen::Vector2d> ScanToPoints(const LaserScan& scan, double max_rang
   }
   const double limit = std::min(scan.range_max, max_range);
   const Pose2& s = scan.sensor_in_base;
-  const double c = std::cos(s.theta), sn = std::sin(s.theta);
+  const double c = std::cos(s.yaw), sn = std::sin(s.yaw);
   points.reserve(scan.ranges.size());
   for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
     const double r = scan.ranges[i];
@@ -209,7 +209,7 @@ CorrelativeSearch::Lattice CorrelativeSearch::MakeLattice(
   if (points.empty()) return lattice;
   const double r = map_.resolution;
   const Pose2 origin{map_.origin_x, map_.origin_y, map_.origin_theta};
-  const Pose2 g = Between(initial, origin);  // the initial pose in the grid frame
+  const Pose2 g = Between(origin, initial);  // the initial pose in the grid frame
   lattice.x0 = g.x;
   lattice.y0 = g.y;
 
@@ -221,10 +221,10 @@ CorrelativeSearch::Lattice CorrelativeSearch::MakeLattice(
   }
   if (options.angular_search_window >= M_PI) {
     const int n = std::max(1, CeilDiv(2.0 * M_PI, step));
-    for (int k = 0; k < n; ++k) lattice.angles.push_back(g.theta + 2.0 * M_PI * k / n);
+    for (int k = 0; k < n; ++k) lattice.angles.push_back(g.yaw + 2.0 * M_PI * k / n);
   } else {
     const int n = CeilDiv(options.angular_search_window, step);
-    for (int k = -n; k <= n; ++k) lattice.angles.push_back(g.theta + k * step);
+    for (int k = -n; k <= n; ++k) lattice.angles.push_back(g.yaw + k * step);
   }
 
   // Translations (i, j) put the robot at (x0 + i·r, y0 + j·r); keep it on the map.
@@ -409,7 +409,7 @@ class CorrelativeSearch::Searcher {
     const Pose2 pa = GridPose(a), pb = GridPose(b);
     if (std::hypot(pa.x - pb.x, pa.y - pb.y) >= options_.min_separation_linear) return false;
     return options_.min_separation_angular >= M_PI ||
-           std::fabs(NormalizeAngle(pa.theta - pb.theta)) < options_.min_separation_angular;
+           std::fabs(NormalizeAngle(pa.yaw - pb.yaw)) < options_.min_separation_angular;
   }
 
   void Accept(const Candidate& c) {
@@ -528,8 +528,8 @@ std::optional<CorrelativeMatch> CorrelativeSearch::BruteForceSearch(
 double CorrelativeSearch::Score(const std::vector<Eigen::Vector2d>& points,
                                 const Pose2& pose) const {
   if (points.empty()) return 0.0;
-  const Pose2 g = Between(pose, Pose2{map_.origin_x, map_.origin_y, map_.origin_theta});
-  const double c = std::cos(g.theta), s = std::sin(g.theta), r = map_.resolution;
+  const Pose2 g = Between(Pose2{map_.origin_x, map_.origin_y, map_.origin_theta}, pose);
+  const double c = std::cos(g.yaw), s = std::sin(g.yaw), r = map_.resolution;
   int sum = 0;
   for (const Eigen::Vector2d& p : points) {
     const int x = static_cast<int>(std::floor((c * p.x() - s * p.y() + g.x) / r));

@@ -79,7 +79,7 @@ void LoopCloser::AddNode(const PreparedScan& scan) {
   }
   direction_bytes_ += (d.cos.capacity() - before) * 2 * sizeof(float);
   s.directions = directions_;
-  const double c = std::cos(scan.sensor_in_base.theta), si = std::sin(scan.sensor_in_base.theta);
+  const double c = std::cos(scan.sensor_in_base.yaw), si = std::sin(scan.sensor_in_base.yaw);
   newest_points_.clear();
   for (std::size_t i = 0; i < scan.match_range.size(); ++i) {
     const double lx = scan.match_range[i] * scan.match_cos[i], ly = scan.match_range[i] * scan.match_sin[i];
@@ -101,7 +101,7 @@ std::size_t LoopCloser::ScanBytes() const {
 
 void LoopCloser::Render(const StoredScan& s, const Pose2& pose, Grid* grid) const {
   const Pose2 lp = Compose(pose, s.sensor_in_base);
-  const double c = std::cos(lp.theta), sn = std::sin(lp.theta);
+  const double c = std::cos(lp.yaw), sn = std::sin(lp.yaw);
   for (std::size_t i = 0; i < s.range.size(); ++i) {
     const double dx = c * s.Cos(i) - sn * s.Sin(i);
     const double dy = sn * s.Cos(i) + c * s.Sin(i);
@@ -226,7 +226,7 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
       for (const CorrelativeMatch& other : found) {
         const Eigen::Vector2d d(other.pose.x - match.pose.x, other.pose.y - match.pose.y);
         line = line && std::fabs(axis.x() * d.y() - axis.y() * d.x()) <= kAxisOffLine &&
-               std::fabs(NormalizeAngle(other.pose.theta - match.pose.theta)) <= kAxisTurn;
+               std::fabs(NormalizeAngle(other.pose.yaw - match.pose.yaw)) <= kAxisTurn;
       }
       if (!line) {
         ++ambiguous_;
@@ -245,7 +245,7 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
     matcher_->Optimize(submap->grid, prepared, match.pose, &climbed);
     Pose2 refined = matcher_->Refine(submap->grid, prepared, climbed);
     if (measured(refined.x - match.pose.x, refined.y - match.pose.y) > 3.0 * options_.delta ||
-        std::fabs(NormalizeAngle(refined.theta - match.pose.theta)) > 0.05) {
+        std::fabs(NormalizeAngle(refined.yaw - match.pose.yaw)) > 0.05) {
       continue;
     }
     if (along_axis) {
@@ -258,11 +258,11 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
     LoopConstraint c;
     c.from = anchor;
     c.to = cur;
-    c.measurement = Between(refined, trajectory[anchor]);
+    c.measurement = Between(trajectory[anchor], refined);
     c.score = match.score;
-    c.correction = Compose(refined, Between(Pose2{}, here));
+    c.correction = Compose(refined, Between(here, Pose2{}));
     c.along_axis = along_axis;
-    c.axis = NormalizeAngle(std::atan2(axis.y(), axis.x()) - trajectory[anchor].theta);
+    c.axis = NormalizeAngle(std::atan2(axis.y(), axis.x()) - trajectory[anchor].yaw);
     // Whether an earlier match t agrees with this one, and which of the two can vouch for the
     // other: the rigid correction of the map t implies puts this scan within a third of
     // kBigCorrection of where its own match puts it, plus the drift the front-end may have made
@@ -277,7 +277,7 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
     };
     const auto agreement = [&](const LoopConstraint& t) {
       Agreement r;
-      const auto corridor = [&](const LoopConstraint& k) { return k.axis + trajectory[k.from].theta; };
+      const auto corridor = [&](const LoopConstraint& k) { return k.axis + trajectory[k.from].yaw; };
       r.vouches_for_t = !c.along_axis;
       r.t_vouches = !t.along_axis;
       if (!r.vouches_for_t && !r.t_vouches) return r;
@@ -291,11 +291,11 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
         off = std::fabs(std::cos(a) * dy - std::sin(a) * dx);
       }
       r.agree = off < kBigCorrection / 3.0 + drift &&
-                std::fabs(NormalizeAngle(predicted.theta - refined.theta)) < kBigCorrection / 30.0 + drift / 10.0;
+                std::fabs(NormalizeAngle(predicted.yaw - refined.yaw)) < kBigCorrection / 30.0 + drift / 10.0;
       return r;
     };
     bool small = std::hypot(refined.x - here.x, refined.y - here.y) <= kBigCorrection &&
-                 std::fabs(NormalizeAngle(refined.theta - here.theta)) <= kBigCorrection / 10.0;
+                 std::fabs(NormalizeAngle(refined.yaw - here.yaw)) <= kBigCorrection / 10.0;
     // A correction just under kBigCorrection that repeats a large one still waiting for
     // confirmation, from the same submap, is that same claim, not a small one: it waits too.
     for (const LoopConstraint& t : tentative_) {
@@ -364,7 +364,7 @@ std::vector<Pose2> LoopCloser::Optimize(const std::vector<Pose2>& trajectory) {
     PoseGraphEdge e;
     e.from = static_cast<int>(i - 1);
     e.to = static_cast<int>(i);
-    e.measurement = Between(trajectory[i], trajectory[i - 1]);
+    e.measurement = Between(trajectory[i - 1], trajectory[i]);
     e.sigma_xy = kSequentialSigmaXy;
     e.sigma_theta = kSequentialSigmaTheta;
     edges.push_back(e);

@@ -7,8 +7,8 @@ namespace minibot3d_slam {
 
 Pose2 MotionModel::Sample(const Pose2& pose, const Pose2& odom_old, const Pose2& odom_new,
                           std::mt19937_64* rng) const {
-  const Pose2 u = Between(odom_new, odom_old);
-  const double ax = std::fabs(u.x), ay = std::fabs(u.y), at = std::fabs(u.theta);
+  const Pose2 u = Between(odom_old, odom_new);
+  const double ax = std::fabs(u.x), ay = std::fabs(u.y), at = std::fabs(u.yaw);
   const double sxy = 0.3 * srr_;
   const double sigma_x = srr_ * ax + sxy * ay + srt_ * at;
   const double sigma_y = srr_ * ay + sxy * ax + srt_ * at;
@@ -18,7 +18,7 @@ Pose2 MotionModel::Sample(const Pose2& pose, const Pose2& odom_old, const Pose2&
   // Draw all three even when a sigma is zero so that the random stream does not depend on it.
   noisy.x += sigma_x * unit(*rng);
   noisy.y += sigma_y * unit(*rng);
-  noisy.theta = NormalizeAngle(noisy.theta + sigma_t * unit(*rng));
+  noisy.yaw = NormalizeAngle(noisy.yaw + sigma_t * unit(*rng));
   return Compose(pose, noisy);
 }
 

@@ -24,7 +24,7 @@ struct EdgeCost {
   explicit EdgeCost(const PoseGraphEdge& e)
       : zx(e.measurement.x),
         zy(e.measurement.y),
-        zt(e.measurement.theta),
+        zt(e.measurement.yaw),
         ca(std::cos(e.axis)),
         sa(std::sin(e.axis)),
         inv_along(1.0 / (e.sigma_along > 0.0 ? e.sigma_along : e.sigma_xy)),
@@ -50,7 +50,7 @@ struct EdgeCost {
 
 double SquaredResidual(const Pose2& a, const Pose2& b, const PoseGraphEdge& e) {
   const EdgeCost cost(e);
-  const double pa[3] = {a.x, a.y, a.theta}, pb[3] = {b.x, b.y, b.theta};
+  const double pa[3] = {a.x, a.y, a.yaw}, pb[3] = {b.x, b.y, b.yaw};
   double r[3];
   cost(pa, pb, r);
   return r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
@@ -87,7 +87,7 @@ PoseGraphResult OptimizePoseGraph(const std::vector<Pose2>& initial, const std::
     for (int i = 0; i < n; ++i) {
       params[3 * i] = initial[i].x;
       params[3 * i + 1] = initial[i].y;
-      params[3 * i + 2] = initial[i].theta;
+      params[3 * i + 2] = initial[i].yaw;
     }
     ceres::Problem problem;
     for (std::size_t k = 0; k < edges.size(); ++k) {

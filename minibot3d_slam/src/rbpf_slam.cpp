@@ -93,7 +93,7 @@ Pose2 SampleGaussian(const Pose2& mean, const Eigen::Matrix3d& cov, std::mt19937
   Eigen::Vector3d z(unit(*rng), unit(*rng), unit(*rng));
   const Eigen::Vector3d sd = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt();
   const Eigen::Vector3d d = eig.eigenvectors() * sd.cwiseProduct(z);
-  return Pose2{mean.x + d.x(), mean.y + d.y(), NormalizeAngle(mean.theta + d.z())};
+  return Pose2{mean.x + d.x(), mean.y + d.y(), NormalizeAngle(mean.yaw + d.z())};
 }
 
 }  // namespace
@@ -172,9 +172,9 @@ bool RbpfSlam::Impl::AddScan(const LaserScan& scan, const Pose2& odom) {
     return true;
   }
   for (Particle& p : particles_) p.pose = motion_.Sample(p.pose, last_odom_, odom, &rng_);
-  const Pose2 u = Between(odom, last_odom_);
+  const Pose2 u = Between(last_odom_, odom);
   linear_ += std::hypot(u.x, u.y);
-  angular_ += std::fabs(u.theta);
+  angular_ += std::fabs(u.yaw);
   last_odom_ = odom;
   const bool due = linear_ >= options_.linearUpdate || angular_ >= options_.angularUpdate ||
                    (options_.temporalUpdate >= 0.0 && scan.time - processed_time_ > options_.temporalUpdate);
@@ -260,7 +260,7 @@ void RbpfSlam::Impl::OptimizeAndApply(const std::vector<StampedPose>& stamped, c
   // moves the estimate most; a deformation far back in the graph alone (a few constraints pulling
   // one old node) is no reason to reset the filter.
   const double shift = std::hypot(poses.back().x - corrected.back().x, poses.back().y - corrected.back().y);
-  const double turn = std::fabs(NormalizeAngle(poses.back().theta - corrected.back().theta));
+  const double turn = std::fabs(NormalizeAngle(poses.back().yaw - corrected.back().yaw));
   if (shift < LoopCloser::kApplyShift && turn < LoopCloser::kApplyTurn) return;
   // Reset every particle onto the corrected trajectory and its map (loop_closer.h: why).
   const Particle& best = particles_[static_cast<std::size_t>(BestIndex())];
@@ -319,7 +319,7 @@ Pose2 RbpfSlam::Impl::BestPose() const {
   if (!initialized_) return Pose2{};
   const Particle& best = particles_[static_cast<std::size_t>(BestIndex())];
   // Deterministic between processed scans: the processed pose moved by the odometry increment.
-  return Compose(best.node->stamped.pose, Between(last_odom_, processed_odom_));
+  return Compose(best.node->stamped.pose, Between(processed_odom_, last_odom_));
 }
 
 GridMap RbpfSlam::Impl::Map() const {
@@ -384,7 +384,7 @@ bool RbpfSlam::AddScan(const LaserScan& scan, const Pose2& odom) { return impl_-
 Pose2 RbpfSlam::BestPose() const { return impl_->BestPose(); }
 Pose2 RbpfSlam::MapToOdom() const {
   // map→odom T satisfies T ⊕ odom = best pose, so T = best ⊕ odom⁻¹.
-  const Pose2 odom_inverse = Between(Pose2{}, impl_->last_odom_);
+  const Pose2 odom_inverse = Between(impl_->last_odom_, Pose2{});
   return Compose(impl_->BestPose(), odom_inverse);
 }
 GridMap RbpfSlam::Map() const { return impl_->Map(); }
@@ -404,10 +404,10 @@ Pose2 RbpfSlam::Localize(const LaserScan& scan, const Pose2& guess) const {
   // The position: from the guess's, at the climb's heading, by the refinement alone — a few
   // passes, each bounded to a cell (Refine returns its input when a pass would go further, i.e.
   // when the problem is degenerate there).
-  Pose2 pose{guess.x, guess.y, mode.theta};
+  Pose2 pose{guess.x, guess.y, mode.yaw};
   for (int pass = 0; pass < kLocalizeRefinePasses; ++pass) {
     const Pose2 next = impl_->matcher_.Refine(grid, prepared, pose);
-    if (std::hypot(next.x - pose.x, next.y - pose.y) < 1e-6 && std::fabs(next.theta - pose.theta) < 1e-7) break;
+    if (std::hypot(next.x - pose.x, next.y - pose.y) < 1e-6 && std::fabs(next.yaw - pose.yaw) < 1e-7) break;
     pose = next;
   }
   return pose;

@@ -157,7 +157,7 @@ void WriteTrajectory(const std::string& path, const std::vector<StampedPose>& po
   std::string out = CommentBlock(comment) + "# timestamp x y theta\n";
   for (const StampedPose& p : poses) {
     out += FormatDouble(p.time) + " " + FormatDouble(p.pose.x) + " " +
-           FormatDouble(p.pose.y) + " " + FormatDouble(p.pose.theta) + "\n";
+           FormatDouble(p.pose.y) + " " + FormatDouble(p.pose.yaw) + "\n";
   }
   WriteOrThrow(path, out, "trajectory");
 }
@@ -168,7 +168,7 @@ void WriteRelations(const std::string& path, const std::vector<Relation>& relati
   for (const Relation& r : relations) {
     out += FormatDouble(r.t1) + " " + FormatDouble(r.t2) + " " +
            FormatDouble(r.delta.x) + " " + FormatDouble(r.delta.y) +
-           " 0 0 0 " + FormatDouble(r.delta.theta) + "\n";
+           " 0 0 0 " + FormatDouble(r.delta.yaw) + "\n";
   }
   WriteOrThrow(path, out, "relations");
 }
@@ -211,11 +211,11 @@ RelationsReport EvaluateRelations(const std::vector<StampedPose>& estimate,
       ++(l->exact ? report.exact_matches : report.nearest_matches);
       report.max_time_offset = std::max(report.max_time_offset, l->offset);
     }
-    const Pose2 estimated = Between(b.pose, a.pose);   // δ_ij = x_j ⊖ x_i
-    const Pose2 error = Between(estimated, r.delta);   // δ_ij ⊖ δ*_ij
+    const Pose2 estimated = Between(a.pose, b.pose);   // δ_ij = x_j ⊖ x_i
+    const Pose2 error = Between(r.delta, estimated);   // δ_ij ⊖ δ*_ij
     report.errors.push_back(error);
     const double t = std::hypot(error.x, error.y);
-    const double a_err = std::abs(NormalizeAngle(error.theta));
+    const double a_err = std::abs(NormalizeAngle(error.yaw));
     trans.push_back(t);
     rot.push_back(a_err);
     trans_sq.push_back(t * t);
@@ -305,7 +305,7 @@ std::vector<Relation> MakeRelations(const std::vector<StampedPose>& ground_truth
     Relation r;
     r.t1 = poses[i].time;
     r.t2 = poses[j].time;
-    r.delta = Between(poses[j].pose, poses[i].pose);
+    r.delta = Between(poses[i].pose, poses[j].pose);
     relations.push_back(r);
   }
   return relations;

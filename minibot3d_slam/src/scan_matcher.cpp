@@ -154,13 +154,13 @@ template <class F>
 void ScanMatcher::ForEachBeam(const Grid& grid, const PreparedScan& scan, const Pose2& pose,
                               WindowCache* cache, F&& f) const {
   const Pose2 lp = Compose(pose, scan.sensor_in_base);
-  const double c = std::cos(lp.theta), s = std::sin(lp.theta);
+  const double c = std::cos(lp.yaw), s = std::sin(lp.yaw);
   const int k = options_.kernelSize;
   const bool patches = WindowCache::Usable(k);
   constexpr int kSide = WindowCache::kSide;
   const std::size_t n = scan.match_range.size();
   constexpr double kNone = std::numeric_limits<double>::infinity();
-  WindowCache::Patch* slot = cache != nullptr ? cache->Slot(lp.theta) : nullptr;
+  WindowCache::Patch* slot = cache != nullptr ? cache->Slot(lp.yaw) : nullptr;
   int last_tx = 0, last_ty = 0;
   const Grid::Tile* last_tile = nullptr;
   for (std::size_t i = 0; i < n; ++i) {
@@ -324,7 +324,7 @@ double ScanMatcher::Optimize(const Grid& grid, const PreparedScan& scan, const P
     for (int m = 0; m < 6; ++m) {
       if (m == undo) continue;
       const Pose2 candidate{current.x + moves[m].x, current.y + moves[m].y,
-                            NormalizeAngle(current.theta + moves[m].theta)};
+                            NormalizeAngle(current.yaw + moves[m].yaw)};
       const double sc = ScoreCached(grid, scan, candidate, cache_ptr);
       if (sc > round_score) {
         round_score = sc;
@@ -418,13 +418,13 @@ Pose2 ScanMatcher::Refine(const Grid& grid, const PreparedScan& scan, const Pose
     if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return initial;
     const Eigen::Vector3d step = -ldlt.solve(g);
     if (!step.allFinite()) return initial;
-    pose = Pose2{pose.x + step(0), pose.y + step(1), NormalizeAngle(pose.theta + step(2))};
+    pose = Pose2{pose.x + step(0), pose.y + step(1), NormalizeAngle(pose.yaw + step(2))};
     if (std::hypot(step(0), step(1)) < 1e-5 && std::fabs(step(2)) < 1e-5) break;
   }
   // A refinement, not a search: a result more than a cell or astep away from the climber's pose
   // means the least-squares problem was degenerate (a corridor) or badly associated.
   if (std::hypot(pose.x - initial.x, pose.y - initial.y) > options_.delta ||
-      std::fabs(NormalizeAngle(pose.theta - initial.theta)) > options_.astep) {
+      std::fabs(NormalizeAngle(pose.yaw - initial.yaw)) > options_.astep) {
     return initial;
   }
   return pose;
@@ -453,7 +453,7 @@ ProposalFit ScanMatcher::SampleAround(const Grid& grid, const PreparedScan& scan
       for (int t = -na; t <= na; ++t) {
         const Eigen::Vector3d off(i * options_.llsamplestep, j * options_.llsamplestep,
                                   t * options_.lasamplestep);
-        const Pose2 p{mode.x + off.x(), mode.y + off.y(), NormalizeAngle(mode.theta + off.z())};
+        const Pose2 p{mode.x + off.x(), mode.y + off.y(), NormalizeAngle(mode.yaw + off.z())};
         const double l = LogLikelihoodCached(grid, scan, p, cache_ptr, nullptr);
         samples.push_back({off, l});
         lmax = std::max(lmax, l);
@@ -476,7 +476,7 @@ ProposalFit ScanMatcher::SampleAround(const Grid& grid, const PreparedScan& scan
     cov += w * d * d.transpose();
   }
   ProposalFit fit;
-  fit.mean = Pose2{mode.x + mean.x(), mode.y + mean.y(), NormalizeAngle(mode.theta + mean.z())};
+  fit.mean = Pose2{mode.x + mean.x(), mode.y + mean.y(), NormalizeAngle(mode.yaw + mean.z())};
   fit.covariance = cov;
   fit.log_weight = lmax + std::log(wsum / static_cast<double>(samples.size()));
   return fit;
@@ -484,7 +484,7 @@ ProposalFit ScanMatcher::SampleAround(const Grid& grid, const PreparedScan& scan
 
 void ScanMatcher::Register(const PreparedScan& scan, const Pose2& pose, Grid* grid) const {
   const Pose2 lp = Compose(pose, scan.sensor_in_base);
-  const double c = std::cos(lp.theta), s = std::sin(lp.theta);
+  const double c = std::cos(lp.yaw), s = std::sin(lp.yaw);
   for (std::size_t i = 0; i < scan.map_range.size(); ++i) {
     const double dx = c * scan.map_cos[i] - s * scan.map_sin[i];
     const double dy = s * scan.map_cos[i] + c * scan.map_sin[i];

@@ -230,7 +230,7 @@ class SlamGmappingNode {
       const double a = msg->angle_min + i * msg->angle_increment;
       scan.angles[i] = upside_down ? -a : a;
     }
-    if (upside_down) scan.sensor_in_base.theta = -scan.sensor_in_base.theta;  // see above
+    if (upside_down) scan.sensor_in_base.yaw = -scan.sensor_in_base.yaw;  // see above
     const Pose2 odom = ToPose2(odom_base.transform);
     bool processed = false;
     {
@@ -305,7 +305,7 @@ class SlamGmappingNode {
     t.child_frame_id = node_.odom_frame;
     t.transform.translation.x = m.x;
     t.transform.translation.y = m.y;
-    t.transform.rotation = YawQuaternion(m.theta);
+    t.transform.rotation = YawQuaternion(m.yaw);
     tf_broadcaster_.sendTransform(t);
   }
 

@@ -236,16 +236,16 @@ void ShowWarnings(const minibot3d_slam::LogReader& reader, bool quiet, std::size
 // reading) the odometry alone. Spread linearly in that measure: odometry errors grow with the
 // motion (the motion model's assumption too), and a reading's own match corrects what is left.
 Pose2 InterpolatedPose(const Pose2& pose0, const Pose2& odom0, const Pose2& odom, const Pose2* pose1, const Pose2* odom1) {
-  const Pose2 u = minibot3d_slam::Between(odom, odom0);
+  const Pose2 u = minibot3d_slam::Between(odom0, odom);
   if (pose1 == nullptr) return minibot3d_slam::Compose(pose0, u);
-  const Pose2 u1 = minibot3d_slam::Between(*odom1, odom0);
-  const Pose2 v = minibot3d_slam::Between(*pose1, pose0);
-  const double total = std::hypot(u1.x, u1.y) + std::fabs(u1.theta);
+  const Pose2 u1 = minibot3d_slam::Between(odom0, *odom1);
+  const Pose2 v = minibot3d_slam::Between(pose0, *pose1);
+  const double total = std::hypot(u1.x, u1.y) + std::fabs(u1.yaw);
   // (Two processed readings at one odometry pose — temporalUpdate, standing still — leave nothing
   // to spread by: the readings between keep the first's pose.)
-  const double f = total > 1e-9 ? std::min(1.0, (std::hypot(u.x, u.y) + std::fabs(u.theta)) / total) : 0.0;
+  const double f = total > 1e-9 ? std::min(1.0, (std::hypot(u.x, u.y) + std::fabs(u.yaw)) / total) : 0.0;
   const Pose2 rel{u.x + f * (v.x - u1.x), u.y + f * (v.y - u1.y),
-                  minibot3d_slam::NormalizeAngle(u.theta + f * minibot3d_slam::NormalizeAngle(v.theta - u1.theta))};
+                  minibot3d_slam::NormalizeAngle(u.yaw + f * minibot3d_slam::NormalizeAngle(v.yaw - u1.yaw))};
   return minibot3d_slam::Compose(pose0, rel);
 }
 
@@ -347,7 +347,7 @@ int main(int argc, char** argv) {
       poses[i] = slam.Localize(batch[i].scan, poses[i]);
     });
     for (std::size_t i = 0; i < batch.size(); ++i) {
-      std::fprintf(out, "%.6f %.6f %.6f %.6f\n", batch[i].timestamp, poses[i].x, poses[i].y, poses[i].theta);
+      std::fprintf(out, "%.6f %.6f %.6f %.6f\n", batch[i].timestamp, poses[i].x, poses[i].y, poses[i].yaw);
     }
     batch.clear();
     poses.clear();

@@ -90,7 +90,7 @@ TEST(BagLogStreamTest, YieldsPlacedScansInOrderAndRewinds) {
       EXPECT_NEAR(s.timestamp, t, 1e-6);
       EXPECT_NEAR(s.scan.time, t, 1e-6);
       EXPECT_NEAR(s.odom.x, t - 1.0, 1e-6);  // interpolated between two transforms
-      EXPECT_NEAR(s.odom.theta, 0.1, 1e-6);
+      EXPECT_NEAR(s.odom.yaw, 0.1, 1e-6);
       EXPECT_NEAR(s.scan.sensor_in_base.x, 0.2, 1e-9);
       ASSERT_EQ(s.scan.ranges.size(), 5u);
       EXPECT_NEAR(s.scan.ranges[1], t, 1e-6);

@@ -87,7 +87,7 @@ TEST(CarmenLogTest, ReadsEveryMessageTypeAndSkipsMalformedLines) {
   EXPECT_NEAR(a.scan.angles[1] - a.scan.angles[0], M_PI / 180, 1e-12);
   EXPECT_DOUBLE_EQ(a.scan.ranges[10], 1.1);
   EXPECT_DOUBLE_EQ(a.odom.x, 1.0);
-  EXPECT_DOUBLE_EQ(a.odom.theta, 0.1);
+  EXPECT_DOUBLE_EQ(a.odom.yaw, 0.1);
   EXPECT_DOUBLE_EQ(a.timestamp, 976052857.337530);
   EXPECT_DOUBLE_EQ(a.scan.time, a.timestamp);
   // 181 beams cover the whole 180°.
@@ -103,7 +103,7 @@ TEST(CarmenLogTest, ReadsEveryMessageTypeAndSkipsMalformedLines) {
   EXPECT_NEAR(r.scan.angles[0], -1.5, 1e-12);
   EXPECT_NEAR(r.scan.angles[6], 1.5, 1e-12);
   EXPECT_DOUBLE_EQ(r.odom.x, 3.0);
-  EXPECT_DOUBLE_EQ(r.odom.theta, 0.5);
+  EXPECT_DOUBLE_EQ(r.odom.yaw, 0.5);
   EXPECT_DOUBLE_EQ(r.scan.range_max, 30.0);
   EXPECT_NEAR(r.timestamp, 976052858.123456, 1e-7);
 }
@@ -123,7 +123,7 @@ TEST(CarmenLogTest, RigidLaserOffsetBecomesTheMounting) {
     // (the log holds 6 significant digits)
     EXPECT_NEAR(s.scan.sensor_in_base.x, 0.25, 1e-4);
     EXPECT_NEAR(s.scan.sensor_in_base.y, 0.0, 1e-4);
-    EXPECT_NEAR(s.scan.sensor_in_base.theta, 0.0, 1e-4);
+    EXPECT_NEAR(s.scan.sensor_in_base.yaw, 0.0, 1e-4);
   }
   EXPECT_DOUBLE_EQ(c.scans[2].odom.x, 2.0);
 }

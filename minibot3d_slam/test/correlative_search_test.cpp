@@ -76,7 +76,7 @@ TEST(CorrelativeSearchTest, BranchAndBoundEqualsBruteForce) {
     // The pose found has that score (ties may pick another lattice pose than brute force).
     EXPECT_EQ(search.Score(points, bnb->pose), bnb->score) << "trial " << trial;
     if (std::hypot(bnb->pose.x - brute->pose.x, bnb->pose.y - brute->pose.y) < 1e-9 &&
-        std::fabs(NormalizeAngle(bnb->pose.theta - brute->pose.theta)) < 1e-9) {
+        std::fabs(NormalizeAngle(bnb->pose.yaw - brute->pose.yaw)) < 1e-9) {
       ++same_pose;
     }
     // SearchAll's first candidate is Search's result.
@@ -117,7 +117,7 @@ void ExpectNear(const Pose2& found, const Pose2& truth, double resolution, doubl
                 const std::string& what) {
   EXPECT_LE(std::fabs(found.x - truth.x), resolution) << what;
   EXPECT_LE(std::fabs(found.y - truth.y), resolution) << what;
-  EXPECT_LE(std::fabs(NormalizeAngle(found.theta - truth.theta)), step) << what;
+  EXPECT_LE(std::fabs(NormalizeAngle(found.yaw - truth.yaw)), step) << what;
 }
 
 double DefaultStep(const std::vector<Eigen::Vector2d>& points, double resolution) {
@@ -168,7 +168,7 @@ TEST(CorrelativeSearchTest, LocalWindowForLoopClosure) {
   const CorrelativeSearch search(map, options);
   const Pose2 truth{-3.3, 2.4, 0.4};
   const auto points = ScanToPoints(FullScan(world, truth, 360, 12.0));
-  const Pose2 initial{truth.x + 1.1, truth.y - 0.7, truth.theta - 0.3};
+  const Pose2 initial{truth.x + 1.1, truth.y - 0.7, truth.yaw - 0.3};
   const auto found = search.Search(points, initial, options);
   ASSERT_TRUE(found);
   ExpectNear(found->pose, truth, map.resolution, DefaultStep(points, map.resolution), "office");
@@ -206,7 +206,7 @@ TEST(CorrelativeSearchTest, SearchAllReportsLookAlikeRooms) {
     const Pose2 a = all[0].pose.x < all[1].pose.x ? all[0].pose : all[1].pose;
     const Pose2 b = all[0].pose.x < all[1].pose.x ? all[1].pose : all[0].pose;
     ExpectNear(a, truth, map.resolution, step, "room A");
-    ExpectNear(b, Pose2{truth.x + shift, truth.y, truth.theta}, map.resolution, step, "room B");
+    ExpectNear(b, Pose2{truth.x + shift, truth.y, truth.yaw}, map.resolution, step, "room B");
     for (std::size_t k = 2; k < all.size(); ++k) EXPECT_LT(all[k].score, 0.8 * all[1].score);
     // Candidates are mutually separated.
     for (std::size_t i = 0; i < all.size(); ++i) {

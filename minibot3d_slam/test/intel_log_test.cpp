@@ -33,12 +33,12 @@ TEST(IntelLogTest, FirstScansGiveASaneMapAndASmoothTrajectory) {
   // Smooth: between consecutive processed scans (about linearUpdate = 1 m apart) the estimate
   // moves as the odometry does, give or take the odometry's error — no jumps.
   for (std::size_t i = 1; i < traj.size(); ++i) {
-    const Pose2 step = Between(traj[i].pose, traj[i - 1].pose);
-    const Pose2 odom_step = Between(odom_at_processed[i], odom_at_processed[i - 1]);
+    const Pose2 step = Between(traj[i - 1].pose, traj[i].pose);
+    const Pose2 odom_step = Between(odom_at_processed[i - 1], odom_at_processed[i]);
     EXPECT_LT(std::hypot(step.x, step.y), 1.5) << i;
     EXPECT_LT(std::hypot(step.x - odom_step.x, step.y - odom_step.y), 0.3)
         << "jump between processed scans " << i - 1 << " and " << i;
-    EXPECT_LT(std::fabs(NormalizeAngle(step.theta - odom_step.theta)), 0.2) << i;
+    EXPECT_LT(std::fabs(NormalizeAngle(step.yaw - odom_step.yaw)), 0.2) << i;
   }
   // The map has walls: a sane number of occupied cells, and many more free ones.
   const GridMap map = slam.Map();

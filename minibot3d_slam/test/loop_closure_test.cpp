@@ -121,9 +121,9 @@ DriveResult Drive(int loop_closure, const World& world = CorridorRing(), double 
   for (const Pose2& c : corners) {
     const double heading = std::atan2(c.y - truth.y, c.x - truth.x);
     // Turn on the spot.
-    while (std::fabs(NormalizeAngle(heading - truth.theta)) > 1e-9) {
-      const double d = std::clamp(NormalizeAngle(heading - truth.theta), -0.1, 0.1);
-      truth.theta = NormalizeAngle(truth.theta + d);
+    while (std::fabs(NormalizeAngle(heading - truth.yaw)) > 1e-9) {
+      const double d = std::clamp(NormalizeAngle(heading - truth.yaw), -0.1, 0.1);
+      truth.yaw = NormalizeAngle(truth.yaw + d);
       odom = Compose(odom, Pose2{0, 0, d});
       feed();
     }
@@ -146,8 +146,8 @@ DriveResult Drive(int loop_closure, const World& world = CorridorRing(), double 
     const Pose2& b = truth_at_time[i].second;
     run.worst_node_error = std::max(run.worst_node_error, std::hypot(a.x - b.x, a.y - b.y));
     run.worst_across =
-        std::max(run.worst_across, std::fabs(-std::sin(b.theta) * (a.x - b.x) + std::cos(b.theta) * (a.y - b.y)));
-    run.worst_turn = std::max(run.worst_turn, std::fabs(NormalizeAngle(a.theta - b.theta)));
+        std::max(run.worst_across, std::fabs(-std::sin(b.yaw) * (a.x - b.x) + std::cos(b.yaw) * (a.y - b.y)));
+    run.worst_turn = std::max(run.worst_turn, std::fabs(NormalizeAngle(a.yaw - b.yaw)));
   }
   run.closures = slam.loop_closures();
   return run;
@@ -174,9 +174,9 @@ TEST(LoopClosureTest, DriftingOdometryOnALoopIsCorrectedByClosingIt) {
   EXPECT_LT(closed.worst_node_error, LoopCloser::kApplyShift + 0.1)
       << "worst node " << closed.worst_node_error << " (open " << open.worst_node_error << ")";
   // The heading likewise, with the drift of the scans between optimisations on top.
-  EXPECT_LT(std::fabs(NormalizeAngle(closed.end_estimate.theta - closed.end_truth.theta)),
+  EXPECT_LT(std::fabs(NormalizeAngle(closed.end_estimate.yaw - closed.end_truth.yaw)),
             2.0 * LoopCloser::kApplyTurn);
-  EXPECT_GT(std::fabs(NormalizeAngle(open.end_estimate.theta - open.end_truth.theta)), 0.15);
+  EXPECT_GT(std::fabs(NormalizeAngle(open.end_estimate.yaw - open.end_truth.yaw)), 0.15);
 }
 
 // A building-sized loop: round an 80 m ring (312 m of corridor) the blind front-end comes back

@@ -31,7 +31,7 @@ TEST(PoseGraphTest, TwoMeasurementsOfOneEdgeGiveTheirInverseVarianceWeightedMean
   EXPECT_NEAR(r.poses[0].x, 0.0, 1e-12);
   EXPECT_NEAR(r.poses[1].x, 1.2, 1e-6);
   EXPECT_NEAR(r.poses[1].y, 0.0, 1e-6);
-  EXPECT_NEAR(r.poses[1].theta, 0.0, 1e-6);
+  EXPECT_NEAR(r.poses[1].yaw, 0.0, 1e-6);
 }
 
 TEST(PoseGraphTest, SquareLoopWithBiasedOdometryIsClosedByOneLoopEdge) {
@@ -55,15 +55,15 @@ TEST(PoseGraphTest, SquareLoopWithBiasedOdometryIsClosedByOneLoopEdge) {
   std::vector<PoseGraphEdge> edges;
   std::vector<Pose2> dead{truth[0]};
   for (std::size_t i = 1; i < truth.size(); ++i) {
-    Pose2 z = Between(truth[i], truth[i - 1]);
-    z.theta += 0.03;  // yaw bias
-    edges.push_back(Edge(static_cast<int>(i - 1), static_cast<int>(i), z.x, z.y, z.theta, 0.05, 0.02));
+    Pose2 z = Between(truth[i - 1], truth[i]);
+    z.yaw += 0.03;  // yaw bias
+    edges.push_back(Edge(static_cast<int>(i - 1), static_cast<int>(i), z.x, z.y, z.yaw, 0.05, 0.02));
     dead.push_back(Compose(dead.back(), z));
   }
   const double drift = std::hypot(dead.back().x - truth.back().x, dead.back().y - truth.back().y);
   ASSERT_GT(drift, 0.5);
-  const Pose2 z_loop = Between(truth.back(), truth[0]);
-  edges.push_back(Edge(0, 16, z_loop.x, z_loop.y, z_loop.theta, 0.01, 0.005, /*robust=*/true));
+  const Pose2 z_loop = Between(truth[0], truth.back());
+  edges.push_back(Edge(0, 16, z_loop.x, z_loop.y, z_loop.yaw, 0.01, 0.005, /*robust=*/true));
   PoseGraphOptions options;
   options.huber_scale = 1e3;  // quadratic here: the loop edge is correct
   const PoseGraphResult r = OptimizePoseGraph(dead, edges, options);
@@ -111,7 +111,7 @@ TEST(PoseGraphTest, AnEdgeWeakAlongItsAxisFixesOnlyTheOtherDirections) {
   const PoseGraphResult r = OptimizePoseGraph(initial, edges);
   EXPECT_NEAR(r.poses[1].x, 1.5, 1e-3);
   EXPECT_NEAR(r.poses[1].y, -0.5, 1e-3);
-  EXPECT_NEAR(r.poses[1].theta, 0.0, 1e-6);
+  EXPECT_NEAR(r.poses[1].yaw, 0.0, 1e-6);
   // The same edge, isotropic (sigma_along 0 means sigma_xy), puts node 1 at (3, 1).
   PoseGraphEdge tight = weak;
   tight.sigma_along = 0.0;

@@ -64,7 +64,7 @@ std::vector<Pose2> Tour() {
   auto turn = [&](double angle) {
     const int n = static_cast<int>(std::round(std::fabs(angle) / 0.1));
     for (int i = 0; i < n; ++i) {
-      p.theta = NormalizeAngle(p.theta + angle / n);
+      p.yaw = NormalizeAngle(p.yaw + angle / n);
       truth.push_back(p);
     }
   };
@@ -89,10 +89,10 @@ std::vector<Pose2> NoisyOdometry(const std::vector<Pose2>& truth) {
   std::normal_distribution<double> noise(0.0, 1.0);
   std::vector<Pose2> odom{truth[0]};
   for (std::size_t i = 1; i < truth.size(); ++i) {
-    Pose2 u = Between(truth[i], truth[i - 1]);
+    Pose2 u = Between(truth[i - 1], truth[i]);
     u.x = u.x * 1.02 + 0.003 * noise(rng);
     u.y += 0.002 * noise(rng);
-    u.theta = u.theta * 1.03 + 0.002 * noise(rng) + 0.0015 * std::fabs(u.x) / 0.1;
+    u.yaw = u.yaw * 1.03 + 0.002 * noise(rng) + 0.0015 * std::fabs(u.x) / 0.1;
     odom.push_back(Compose(odom.back(), u));
   }
   return odom;
@@ -141,7 +141,7 @@ void CheckNoisyOdometryTour(int subcell_match, int sample_proposal) {
   EXPECT_LT(worst, 0.25);
   const Pose2 last = slam.BestPose();
   EXPECT_LT(std::hypot(last.x - truth.back().x, last.y - truth.back().y), 0.15);
-  EXPECT_LT(std::fabs(NormalizeAngle(last.theta - truth.back().theta)), 0.05);
+  EXPECT_LT(std::fabs(NormalizeAngle(last.yaw - truth.back().yaw)), 0.05);
 
   // Walls are where they are: sample points along every wall; nearly all must be occupied within
   // one cell, while the middle of the free corridor is free.
@@ -204,7 +204,7 @@ TEST(RbpfSlamTest, TheResultDoesNotDependOnTheThreadCount) {
     for (std::size_t i = 0; i < runs[0].size(); ++i) {
       EXPECT_EQ(runs[0][i].pose.x, runs[1][i].pose.x) << "sampleProposal " << sample_proposal << ", node " << i;
       EXPECT_EQ(runs[0][i].pose.y, runs[1][i].pose.y) << "sampleProposal " << sample_proposal << ", node " << i;
-      EXPECT_EQ(runs[0][i].pose.theta, runs[1][i].pose.theta) << "sampleProposal " << sample_proposal;
+      EXPECT_EQ(runs[0][i].pose.yaw, runs[1][i].pose.yaw) << "sampleProposal " << sample_proposal;
     }
   }
 }
@@ -318,7 +318,7 @@ TEST(RbpfSlamTest, PoseBetweenProcessedScansFollowsOdometry) {
   const Pose2 back = Compose(slam.MapToOdom(), odom);
   EXPECT_NEAR(back.x, best.x, 1e-9);
   EXPECT_NEAR(back.y, best.y, 1e-9);
-  EXPECT_NEAR(NormalizeAngle(back.theta - best.theta), 0.0, 1e-9);
+  EXPECT_NEAR(NormalizeAngle(back.yaw - best.yaw), 0.0, 1e-9);
   EXPECT_GE(slam.Entropy(), 0.0);
   EXPECT_LE(slam.Entropy(), std::log(4.0) + 1e-9);
 }
@@ -355,7 +355,7 @@ TEST(RbpfSlamTest, LocalizeTakesFromTheMapWhatTheMapMeasures) {
   const Pose2 found = slam.Localize(scan, guess);
   EXPECT_NEAR(found.x, guess.x, 0.02);  // along: the guess's (the climb alone wandered 0.12 m)
   EXPECT_NEAR(found.y, truth.y, 0.01);
-  EXPECT_NEAR(NormalizeAngle(found.theta - truth.theta), 0.0, 0.005);
+  EXPECT_NEAR(NormalizeAngle(found.yaw - truth.yaw), 0.0, 0.005);
 
   const World office = Office();
   RbpfSlam room(o);
@@ -368,7 +368,7 @@ TEST(RbpfSlamTest, LocalizeTakesFromTheMapWhatTheMapMeasures) {
   const Pose2 matched = room.Localize(office.Scan(at, 181, M_PI, 30.0), off);
   EXPECT_NEAR(matched.x, at.x, 0.01);
   EXPECT_NEAR(matched.y, at.y, 0.01);
-  EXPECT_NEAR(NormalizeAngle(matched.theta - at.theta), 0.0, 0.005);
+  EXPECT_NEAR(NormalizeAngle(matched.yaw - at.yaw), 0.0, 0.005);
 }
 
 TEST(RbpfSlamTest, BadReadingsAndOddScansAreHandled) {
@@ -406,9 +406,9 @@ TEST(RbpfSlamTest, BadReadingsAndOddScansAreHandled) {
   EXPECT_TRUE(slam.AddScan(mounted, Pose2{0.6, 0.0, 0.0}));
   EXPECT_EQ(slam.processed_scans(), 5);
   const Pose2 p = slam.BestPose();
-  EXPECT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.theta));
+  EXPECT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.yaw));
   EXPECT_LT(std::hypot(p.x - 0.6, p.y), 0.05);
-  EXPECT_LT(std::fabs(p.theta), 0.03);
+  EXPECT_LT(std::fabs(p.yaw), 0.03);
   LaserScan mismatched = w.Scan(Pose2{0.6, 0.0, 0.0});
   mismatched.angles.pop_back();
   EXPECT_THROW(slam.AddScan(mismatched, Pose2{0.7, 0.0, 0.0}), std::invalid_argument);

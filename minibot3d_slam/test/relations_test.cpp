@@ -194,7 +194,7 @@ TEST_F(RelationsTest, FilesRoundTripExactly) {
   ASSERT_EQ(read_truth.size(), truth.size());
   for (std::size_t k = 0; k < truth.size(); ++k) {
     EXPECT_EQ(read_truth[k].time, truth[k].time);
-    EXPECT_EQ(read_truth[k].pose.theta, truth[k].pose.theta);
+    EXPECT_EQ(read_truth[k].pose.yaw, truth[k].pose.yaw);
   }
   const RelationsReport r = EvaluateRelations(read_truth, ReadRelations(rel));
   EXPECT_EQ(r.unmatched, 0);
@@ -216,11 +216,11 @@ TEST_F(RelationsTest, ReadsCommentsBlankLinesAndUnsortedPoses) {
   const auto poses = ReadTrajectory(path);
   ASSERT_EQ(poses.size(), 3u);
   EXPECT_EQ(poses[0].time, 1.0);
-  EXPECT_EQ(poses[2].pose.theta, 0.5);
+  EXPECT_EQ(poses[2].pose.yaw, 0.5);
   const std::string rel = Write("r.relations", "1 2 1 0 0 0 0 0\n2 3 1 0 9 0.1 0.2 0.5\n");
   const auto relations = ReadRelations(rel);
   ASSERT_EQ(relations.size(), 2u);
-  EXPECT_EQ(relations[1].delta.theta, 0.5);  // yaw is the 8th column
+  EXPECT_EQ(relations[1].delta.yaw, 0.5);  // yaw is the 8th column
   EXPECT_EQ(relations[1].delta.x, 1.0);
 }
 

@@ -36,12 +36,12 @@ TEST(ScanMatcherTest, RecoversKnownOffset) {
   const Pose2 truth{-3.0, -1.8, 0.7};
   const PreparedScan scan = matcher.Prepare(world.Scan(truth));
   for (const Pose2& off : {Pose2{0.1, 0.0, 0.05}, Pose2{-0.08, 0.06, -0.05}, Pose2{0.0, -0.1, 0.03}}) {
-    const Pose2 guess{truth.x + off.x, truth.y + off.y, truth.theta + off.theta};
+    const Pose2 guess{truth.x + off.x, truth.y + off.y, truth.yaw + off.yaw};
     Pose2 found;
     const double score = matcher.Optimize(grid, scan, guess, &found);
-    EXPECT_NEAR(found.x, truth.x, 0.02) << "offset " << off.x << " " << off.y << " " << off.theta;
+    EXPECT_NEAR(found.x, truth.x, 0.02) << "offset " << off.x << " " << off.y << " " << off.yaw;
     EXPECT_NEAR(found.y, truth.y, 0.02);
-    EXPECT_LT(AngleDiff(found.theta, truth.theta), 0.01);
+    EXPECT_LT(AngleDiff(found.yaw, truth.yaw), 0.01);
     EXPECT_GT(score, matcher.Score(grid, scan, guess));
   }
 }
@@ -61,17 +61,17 @@ TEST(ScanMatcherTest, RefineRecoversFractionalCellOffsets) {
     const PreparedScan scan = matcher.Prepare(world.Scan(truth));
     for (const Pose2& off : {Pose2{0.37 * cell, -0.21 * cell, 0.004},
                              Pose2{-0.62 * cell, 0.45 * cell, -0.006}, Pose2{0.08 * cell, 0.71 * cell, 0.0}}) {
-      SCOPED_TRACE(::testing::Message() << "truth " << truth.x << " " << truth.y << " " << truth.theta
-                                        << ", offset " << off.x << " " << off.y << " " << off.theta);
-      const Pose2 guess{truth.x + off.x, truth.y + off.y, truth.theta + off.theta};
+      SCOPED_TRACE(::testing::Message() << "truth " << truth.x << " " << truth.y << " " << truth.yaw
+                                        << ", offset " << off.x << " " << off.y << " " << off.yaw);
+      const Pose2 guess{truth.x + off.x, truth.y + off.y, truth.yaw + off.yaw};
       const Pose2 refined = matcher.Refine(grid, scan, guess);
       EXPECT_LT(std::hypot(refined.x - truth.x, refined.y - truth.y), 0.2 * cell);
-      EXPECT_LT(AngleDiff(refined.theta, truth.theta), 0.004);
+      EXPECT_LT(AngleDiff(refined.yaw, truth.yaw), 0.004);
       Pose2 climbed;
       matcher.Optimize(grid, scan, guess, &climbed);
       const Pose2 both = matcher.Refine(grid, scan, climbed);
       EXPECT_LT(std::hypot(both.x - truth.x, both.y - truth.y), 0.2 * cell);
-      EXPECT_LT(AngleDiff(both.theta, truth.theta), 0.004);
+      EXPECT_LT(AngleDiff(both.yaw, truth.yaw), 0.004);
     }
   }
 }
@@ -85,7 +85,7 @@ TEST(ScanMatcherTest, RefineKeepsThePoseWithoutEnoughMatches) {
   const Pose2 out = matcher.Refine(empty, scan, start);
   EXPECT_EQ(out.x, start.x);
   EXPECT_EQ(out.y, start.y);
-  EXPECT_EQ(out.theta, start.theta);
+  EXPECT_EQ(out.yaw, start.yaw);
 }
 
 TEST(ScanMatcherTest, ScoreAndLikelihoodPeakAtTheTruth) {
@@ -97,7 +97,7 @@ TEST(ScanMatcherTest, ScoreAndLikelihoodPeakAtTheTruth) {
   const PreparedScan scan = matcher.Prepare(world.Scan(truth));
   int matched_truth = 0, matched_off = 0;
   const double l_truth = matcher.LogLikelihood(grid, scan, truth, &matched_truth);
-  const Pose2 off{truth.x + 0.15, truth.y, truth.theta + 0.05};
+  const Pose2 off{truth.x + 0.15, truth.y, truth.yaw + 0.05};
   const double l_off = matcher.LogLikelihood(grid, scan, off, &matched_off);
   EXPECT_GT(l_truth, l_off);
   EXPECT_GT(matcher.Score(grid, scan, truth), matcher.Score(grid, scan, off));
@@ -129,7 +129,7 @@ TEST(ScanMatcherTest, SampleAroundFitsAGaussianAtTheMode) {
   const ProposalFit fit = matcher.SampleAround(grid, scan, truth);
   EXPECT_NEAR(fit.mean.x, truth.x, o.llsamplerange);
   EXPECT_NEAR(fit.mean.y, truth.y, o.llsamplerange);
-  EXPECT_LE(AngleDiff(fit.mean.theta, truth.theta), o.lasamplerange);
+  EXPECT_LE(AngleDiff(fit.mean.yaw, truth.yaw), o.lasamplerange);
   // A covariance: symmetric, non-negative diagonal, bounded by the sampled range.
   EXPECT_NEAR(fit.covariance(0, 1), fit.covariance(1, 0), 1e-15);
   for (int i = 0; i < 3; ++i) EXPECT_GE(fit.covariance(i, i), 0.0);
@@ -137,7 +137,7 @@ TEST(ScanMatcherTest, SampleAroundFitsAGaussianAtTheMode) {
   // log of the mean likelihood over the grid cannot exceed the best sample's.
   EXPECT_LE(fit.log_weight, matcher.LogLikelihood(grid, scan, truth) + 1e-9 +
                                 std::fabs(matcher.LogLikelihood(grid, scan, truth)));
-  EXPECT_GT(fit.log_weight, matcher.LogLikelihood(grid, scan, Pose2{truth.x + 0.2, truth.y, truth.theta}));
+  EXPECT_GT(fit.log_weight, matcher.LogLikelihood(grid, scan, Pose2{truth.x + 0.2, truth.y, truth.yaw}));
   // Without a sampling range, the proposal is the mode itself with zero covariance.
   o.llsamplerange = 0.0;
   o.lasamplerange = 0.0;
@@ -161,7 +161,7 @@ TEST(ScanMatcherTest, CachedEvaluationEqualsFreshEvaluation) {
     for (const Pose2& truth : {Pose2{-3.0, -1.8, 0.7}, Pose2{2.5, 2.8, -2.5}, Pose2{0.1, -0.2, 1.6}}) {
       const PreparedScan scan = matcher.Prepare(world.Scan(truth));
       for (const Pose2& off : {Pose2{0.12, -0.07, 0.06}, Pose2{-0.15, 0.1, -0.04}}) {
-        const Pose2 guess{truth.x + off.x, truth.y + off.y, truth.theta + off.theta};
+        const Pose2 guess{truth.x + off.x, truth.y + off.y, truth.yaw + off.yaw};
         Pose2 found;
         const double score = matcher.Optimize(grid, scan, guess, &found);
         EXPECT_EQ(score, matcher.Score(grid, scan, found)) << "kernelSize " << kernel;
@@ -176,7 +176,7 @@ TEST(ScanMatcherTest, CachedEvaluationEqualsFreshEvaluation) {
           for (int j = -nl; j <= nl; ++j) {
             for (int t = -na; t <= na; ++t) {
               const Pose2 p{found.x + i * o.llsamplestep, found.y + j * o.llsamplestep,
-                            NormalizeAngle(found.theta + t * o.lasamplestep)};
+                            NormalizeAngle(found.yaw + t * o.lasamplestep)};
               l.push_back(matcher.LogLikelihood(grid, scan, p));
               lmax = std::max(lmax, l.back());
             }

@@ -51,7 +51,7 @@ struct World {
     scan.range_max = range_max;
     for (int i = 0; i < n; ++i) {
       const double a = -fov / 2 + fov * i / (n - 1);
-      double r = Cast(pose.x, pose.y, pose.theta + a);
+      double r = Cast(pose.x, pose.y, pose.yaw + a);
       if (!(r < range_max)) r = std::numeric_limits<double>::infinity();
       scan.angles.push_back(a);
       scan.ranges.push_back(r);

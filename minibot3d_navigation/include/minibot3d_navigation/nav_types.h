@@ -1,6 +1,6 @@
 // Value types shared by the ROS-free navigation core (costmaps, global
-// planners, the DWA local planner).  Poses are the AMCL core's Pose2D so that
-// localization and navigation speak the same type.
+// planners, the DWA local planner): the workspace's planar pose, twist and
+// point (minibot3d_common), paths, and the planners' errors.
 #ifndef MINIBOT3D_NAVIGATION_NAV_TYPES_H_
 #define MINIBOT3D_NAVIGATION_NAV_TYPES_H_
 
@@ -8,33 +8,29 @@
 #include <string>
 #include <vector>
 
-#include "minibot3d_navigation/amcl/types.h"
+#include "minibot3d_common/geometry2d.h"
+#include "minibot3d_common/laser_scan.h"
+#include "minibot3d_map_io/map_io.h"
 
 namespace minibot3d_navigation {
 namespace nav {
 
-using amcl::AngleDiff;
-using amcl::Between;
-using amcl::Compose;
-using amcl::kPi;
-using amcl::NormalizeAngle;
-using amcl::Pose2D;
+using minibot3d_common::AngleDiff;
+using minibot3d_common::Between;
+using minibot3d_common::Compose;
+using minibot3d_common::kPi;
+using minibot3d_common::LaserScan;
+using minibot3d_common::MakeBeamAngles;
+using minibot3d_common::NormalizeAngle;
+using minibot3d_common::Point2;
+using minibot3d_common::Pose2;
+using minibot3d_common::Twist2;
+
+// The workspace's occupancy grid (map_server's layout; -1 unknown, 0 free .. 100 occupied).
+using OccupancyGrid = minibot3d_map_io::OccupancyGrid;
 
 // A path in the costmap's frame, start first.
-using Path = std::vector<Pose2D>;
-
-// Robot velocity in its own frame (m/s, m/s, rad/s).
-struct Twist2D {
-  double vx = 0.0;
-  double vy = 0.0;
-  double vtheta = 0.0;
-};
-
-// A 2-D point (footprint vertices, costmap cells in metres).
-struct Point2D {
-  double x = 0.0;
-  double y = 0.0;
-};
+using Path = std::vector<Pose2>;
 
 // Why a plan could not be made.  Global planners throw this instead of
 // returning false, so the action server can tell the user which start/goal

@@ -57,13 +57,13 @@ double LargestBeamGap(const LaserScan& scan) {
   return gap;
 }
 
-std::string PoseText(const Pose2D& p) {
+std::string PoseText(const Pose2& p) {
   std::ostringstream os;
   os << "(x=" << p.x << ", y=" << p.y << ", yaw=" << p.yaw << ")";
   return os.str();
 }
 
-void CheckPoseInMap(const Pose2D& mean, const MapModel& map, const char* what) {
+void CheckPoseInMap(const Pose2& mean, const MapModel& map, const char* what) {
   if (!IsFinite(mean)) {
     throw std::invalid_argument(std::string(what) + " " + PoseText(mean) +
                                 " is not finite");
@@ -76,7 +76,7 @@ void CheckPoseInMap(const Pose2D& mean, const MapModel& map, const char* what) {
     double min_y = min_x, max_y = -min_x;
     for (int ci = 0; ci < 2; ++ci) {
       for (int cj = 0; cj < 2; ++cj) {
-        const Pose2D c = map.GridFrameToWorld(
+        const Pose2 c = map.GridFrameToWorld(
             {ci * map.width() * map.resolution(),
              cj * map.height() * map.resolution(), 0.0});
         min_x = std::min(min_x, c.x);
@@ -133,8 +133,8 @@ const char* UpdateStatusName(UpdateStatus status) {
 }
 
 double ExplainedFraction(const MapModel& map, const PreparedScan& scan,
-                         const Pose2D& pose, double hit_dist, int* beams_used) {
-  const Pose2D laser = map.WorldToGridFrame(Compose(pose, scan.laser_pose));
+                         const Pose2& pose, double hit_dist, int* beams_used) {
+  const Pose2 laser = map.WorldToGridFrame(Compose(pose, scan.sensor_in_base));
   int used = 0, hit = 0;
   for (const PreparedScan::Beam& b : scan.beams) {
     if (b.is_max) continue;
@@ -187,7 +187,7 @@ AmclFilter::AmclFilter(const AmclOptions& options,
   }
 }
 
-void AmclFilter::SampleGaussian(const Pose2D& mean, const Eigen::Matrix3d& cov,
+void AmclFilter::SampleGaussian(const Pose2& mean, const Eigen::Matrix3d& cov,
                                 const MapModel& map,
                                 std::vector<Particle>* out) {
   CheckPoseInMap(mean, map, "initial pose");
@@ -205,7 +205,7 @@ void AmclFilter::SampleGaussian(const Pose2D& mean, const Eigen::Matrix3d& cov,
   }
 }
 
-void AmclFilter::SetPose(const Pose2D& mean,
+void AmclFilter::SetPose(const Pose2& mean,
                          const Eigen::Matrix3d& covariance) {
   std::vector<Particle> fresh;
   SampleGaussian(mean, covariance, *map_, &fresh);  // throws before any change
@@ -246,9 +246,9 @@ void AmclFilter::SeedFromCandidates(
   double total = 0.0;
   for (int m = 0; m < n; ++m) {
     const SearchCandidate& c = candidates[m % k];
-    Pose2D p = c.pose;
+    Pose2 p = c.pose;
     for (int t = 0; t < kTries; ++t) {
-      const Pose2D q{c.pose.x + kSigmaXY * gauss(rng_),
+      const Pose2 q{c.pose.x + kSigmaXY * gauss(rng_),
                      c.pose.y + kSigmaXY * gauss(rng_),
                      NormalizeAngle(c.pose.yaw + kSigmaYaw * gauss(rng_))};
       int i, j;
@@ -357,7 +357,7 @@ void AmclFilter::ResetAfterInitialization(int evidence_updates) {
   UpdateEstimate();
 }
 
-UpdateResult AmclFilter::Update(const Pose2D& odom_pose,
+UpdateResult AmclFilter::Update(const Pose2& odom_pose,
                                 const LaserScan& scan) {
   UpdateResult result;
   if (!IsFinite(odom_pose)) {
@@ -721,10 +721,10 @@ void AmclFilter::Challenge(const LaserScan& scan) {
   challenges_left_ = left;
 }
 
-bool AmclFilter::IsNewView(const Pose2D& odom_pose, const LaserScan& scan) const {
+bool AmclFilter::IsNewView(const Pose2& odom_pose, const LaserScan& scan) const {
   const double min_travel = std::max(options_.update_min_d, kMinViewTravel);
   int blind_sector = -1;  // the scan's beam gap, computed only when needed
-  for (const Pose2D& v : evidence_views_) {
+  for (const Pose2& v : evidence_views_) {
     if (std::hypot(odom_pose.x - v.x, odom_pose.y - v.y) >= min_travel) continue;
     if (blind_sector < 0) {
       blind_sector = LargestBeamGap(scan) > options_.update_min_a ? 1 : 0;
@@ -738,7 +738,7 @@ bool AmclFilter::IsNewView(const Pose2D& odom_pose, const LaserScan& scan) const
   return true;
 }
 
-void AmclFilter::UpdateConfidence(bool motion_update, const Pose2D& odom_pose,
+void AmclFilter::UpdateConfidence(bool motion_update, const Pose2& odom_pose,
                                   const LaserScan& scan) {
   confidence_.explained_fraction = ExplainedFraction(
       *map_, scan_, estimate_.mean,

@@ -56,31 +56,7 @@ GlobalSearch::GlobalSearch(const OccupancyGrid& grid,
     fallback_reason_ = os.str();
     return;
   }
-  search_.reset(new slam::CorrelativeSearch(ToSlamMap(grid), SearchOptions(options)));
-}
-
-slam::GridMap ToSlamMap(const OccupancyGrid& grid) {
-  slam::GridMap map;
-  map.resolution = grid.resolution;
-  map.origin_x = grid.origin_x;
-  map.origin_y = grid.origin_y;
-  map.origin_theta = grid.origin_yaw;
-  map.width = grid.width;
-  map.height = grid.height;
-  map.data = grid.data;
-  return map;
-}
-
-OccupancyGrid FromSlamMap(const slam::GridMap& map) {
-  OccupancyGrid grid;
-  grid.resolution = map.resolution;
-  grid.origin_x = map.origin_x;
-  grid.origin_y = map.origin_y;
-  grid.origin_yaw = map.origin_theta;
-  grid.width = map.width;
-  grid.height = map.height;
-  grid.data = map.data;
-  return grid;
+  search_.reset(new slam::CorrelativeSearch(grid, SearchOptions(options)));
 }
 
 GlobalSearch::~GlobalSearch() = default;
@@ -102,13 +78,13 @@ std::vector<SearchCandidate> GlobalSearch::Search(const LaserScan& scan,
   if (options_.laser_min_range > 0.0) {
     range_min = std::max(range_min, options_.laser_min_range);
   }
-  const Pose2D& l = scan.laser_pose;
+  const Pose2& l = scan.sensor_in_base;
   std::vector<Eigen::Vector2d> points;
   points.reserve(scan.ranges.size());
   for (size_t k = 0; k < scan.ranges.size(); ++k) {
     const double r = scan.ranges[k];
     if (!std::isfinite(r) || !(r > range_min) || !(r < range_max)) continue;
-    const Pose2D end = Compose(l, {r * std::cos(scan.angles[k]),
+    const Pose2 end = Compose(l, {r * std::cos(scan.angles[k]),
                                    r * std::sin(scan.angles[k]), 0.0});
     points.emplace_back(end.x, end.y);
   }
@@ -135,7 +111,7 @@ std::vector<SearchCandidate> GlobalSearch::Search(const LaserScan& scan,
   }
   if (cpu_seconds != nullptr) *cpu_seconds = ThreadCpuSeconds() - cpu_start;
   for (const slam::CorrelativeMatch& m : matches) {
-    out.push_back({{m.pose.x, m.pose.y, NormalizeAngle(m.pose.theta)},
+    out.push_back({{m.pose.x, m.pose.y, NormalizeAngle(m.pose.yaw)},
                    m.score});
   }
   return out;

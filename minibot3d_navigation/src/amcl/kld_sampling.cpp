@@ -20,7 +20,7 @@ int64_t ClampBin(double v) {
 
 }  // namespace
 
-PoseBin BinOfPose(const Pose2D& pose) {
+PoseBin BinOfPose(const Pose2& pose) {
   PoseBin b;
   b.ix = static_cast<int>(ClampBin(std::floor(pose.x / kBinSizeXY)));
   b.iy = static_cast<int>(ClampBin(std::floor(pose.y / kBinSizeXY)));

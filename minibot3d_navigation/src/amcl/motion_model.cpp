@@ -25,7 +25,7 @@ class DiffMotionModel : public MotionModel {
   DiffMotionModel(const OdomAlphas& a, bool corrected)
       : a_(a), corrected_(corrected) {}
 
-  void SamplePoses(const Pose2D& old_odom, const Pose2D& new_odom,
+  void SamplePoses(const Pose2& old_odom, const Pose2& new_odom,
                    std::mt19937_64* rng,
                    std::vector<Particle>* particles) const override {
     const double dx = new_odom.x - old_odom.x;
@@ -74,7 +74,7 @@ class OmniMotionModel : public MotionModel {
   OmniMotionModel(const OdomAlphas& a, bool corrected)
       : a_(a), corrected_(corrected) {}
 
-  void SamplePoses(const Pose2D& old_odom, const Pose2D& new_odom,
+  void SamplePoses(const Pose2& old_odom, const Pose2& new_odom,
                    std::mt19937_64* rng,
                    std::vector<Particle>* particles) const override {
     const double dx = new_odom.x - old_odom.x;

@@ -25,7 +25,7 @@ MapModel::MapModel(const OccupancyGrid& grid, double max_occ_dist) {
     errors.push_back(os.str());
   }
   if (!(std::isfinite(grid.origin_x) && std::isfinite(grid.origin_y) &&
-        std::isfinite(grid.origin_yaw))) {
+        std::isfinite(grid.origin_theta))) {
     errors.push_back("origin must be finite");
   }
   if (!(std::isfinite(max_occ_dist) && max_occ_dist > 0.0)) {
@@ -52,9 +52,9 @@ MapModel::MapModel(const OccupancyGrid& grid, double max_occ_dist) {
   height_ = grid.height;
   resolution_ = grid.resolution;
   inv_resolution_ = 1.0 / grid.resolution;
-  origin_ = {grid.origin_x, grid.origin_y, grid.origin_yaw};
-  cos_origin_ = std::cos(grid.origin_yaw);
-  sin_origin_ = std::sin(grid.origin_yaw);
+  origin_ = {grid.origin_x, grid.origin_y, grid.origin_theta};
+  cos_origin_ = std::cos(grid.origin_theta);
+  sin_origin_ = std::sin(grid.origin_theta);
   max_occ_dist_ = max_occ_dist;
 
   const size_t n = grid.data.size();
@@ -111,20 +111,20 @@ MapModel::MapModel(const OccupancyGrid& grid, double max_occ_dist) {
   }
 }
 
-Pose2D MapModel::WorldToGridFrame(const Pose2D& w) const {
+Pose2 MapModel::WorldToGridFrame(const Pose2& w) const {
   const double dx = w.x - origin_.x, dy = w.y - origin_.y;
   return {cos_origin_ * dx + sin_origin_ * dy,
           -sin_origin_ * dx + cos_origin_ * dy, AngleDiff(w.yaw, origin_.yaw)};
 }
 
-Pose2D MapModel::GridFrameToWorld(const Pose2D& g) const {
+Pose2 MapModel::GridFrameToWorld(const Pose2& g) const {
   return {origin_.x + cos_origin_ * g.x - sin_origin_ * g.y,
           origin_.y + sin_origin_ * g.x + cos_origin_ * g.y,
           NormalizeAngle(g.yaw + origin_.yaw)};
 }
 
 bool MapModel::WorldToCell(double wx, double wy, int* i, int* j) const {
-  const Pose2D g = WorldToGridFrame({wx, wy, 0.0});
+  const Pose2 g = WorldToGridFrame({wx, wy, 0.0});
   const double fi = std::floor(g.x * inv_resolution_);
   const double fj = std::floor(g.y * inv_resolution_);
   if (!(fi >= 0.0 && fj >= 0.0 && fi < width_ && fj < height_)) return false;
@@ -134,7 +134,7 @@ bool MapModel::WorldToCell(double wx, double wy, int* i, int* j) const {
 }
 
 void MapModel::CellCenterToWorld(int i, int j, double* wx, double* wy) const {
-  const Pose2D w =
+  const Pose2 w =
       GridFrameToWorld({(i + 0.5) * resolution_, (j + 0.5) * resolution_, 0.0});
   *wx = w.x;
   *wy = w.y;
@@ -178,12 +178,12 @@ double MapModel::CalcRangeGrid(double gx, double gy, double angle,
   }
 }
 
-double MapModel::CalcRange(const Pose2D& world_ray, double max_range) const {
-  const Pose2D g = WorldToGridFrame(world_ray);
+double MapModel::CalcRange(const Pose2& world_ray, double max_range) const {
+  const Pose2 g = WorldToGridFrame(world_ray);
   return CalcRangeGrid(g.x, g.y, g.yaw, max_range);
 }
 
-Pose2D MapModel::SampleFreePose(std::mt19937_64* rng) const {
+Pose2 MapModel::SampleFreePose(std::mt19937_64* rng) const {
   std::uniform_int_distribution<size_t> pick(0, free_cells_.size() - 1);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const int k = free_cells_[pick(*rng)];
@@ -191,7 +191,7 @@ Pose2D MapModel::SampleFreePose(std::mt19937_64* rng) const {
   const double gx = (i + unit(*rng)) * resolution_;
   const double gy = (j + unit(*rng)) * resolution_;
   const double yaw = -kPi + 2.0 * kPi * unit(*rng);
-  Pose2D w = GridFrameToWorld({gx, gy, 0.0});
+  Pose2 w = GridFrameToWorld({gx, gy, 0.0});
   w.yaw = NormalizeAngle(yaw);
   return w;
 }

@@ -112,7 +112,7 @@ std::vector<PoseCluster> ClusterParticles(
   std::vector<Moments> m(num_clusters);
   for (size_t k = 0; k < particles.size(); ++k) {
     Moments& c = m[label[k]];
-    const Pose2D& p = particles[k].pose;
+    const Pose2& p = particles[k].pose;
     c.w += w[k];
     if (particles[k].injected) c.injected += w[k];
     c.x += w[k] * p.x;
@@ -125,7 +125,7 @@ std::vector<PoseCluster> ClusterParticles(
   for (const Moments& c : m) result.push_back(Finish(c));
   for (size_t k = 0; k < particles.size(); ++k) {
     PoseCluster& c = result[label[k]];
-    const Pose2D& p = particles[k].pose;
+    const Pose2& p = particles[k].pose;
     const Eigen::Vector3d d(p.x - c.mean.x, p.y - c.mean.y,
                             AngleDiff(p.yaw, c.mean.yaw));
     c.covariance += w[k] * d * d.transpose();
@@ -145,7 +145,7 @@ PoseCluster WholeSetStatistics(const std::vector<Particle>& particles) {
   const std::vector<double> w = UsableWeights(particles);
   Moments m;
   for (size_t k = 0; k < particles.size(); ++k) {
-    const Pose2D& p = particles[k].pose;
+    const Pose2& p = particles[k].pose;
     m.w += w[k];
     m.x += w[k] * p.x;
     m.y += w[k] * p.y;
@@ -155,7 +155,7 @@ PoseCluster WholeSetStatistics(const std::vector<Particle>& particles) {
   }
   PoseCluster pc = Finish(m);
   for (size_t k = 0; k < particles.size(); ++k) {
-    const Pose2D& p = particles[k].pose;
+    const Pose2& p = particles[k].pose;
     const Eigen::Vector3d d(p.x - pc.mean.x, p.y - pc.mean.y,
                             AngleDiff(p.yaw, pc.mean.yaw));
     pc.covariance += w[k] * d * d.transpose();

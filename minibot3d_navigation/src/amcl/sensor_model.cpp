@@ -18,9 +18,9 @@ bool PrepareScan(const LaserScan& scan, const AmclOptions& options,
   } else if (scan.angles.size() != n) {
     err << "scan has " << n << " ranges but " << scan.angles.size()
         << " angles";
-  } else if (!IsFinite(scan.laser_pose)) {
-    err << "laser pose (" << scan.laser_pose.x << ", " << scan.laser_pose.y
-        << ", " << scan.laser_pose.yaw << ") is not finite";
+  } else if (!IsFinite(scan.sensor_in_base)) {
+    err << "laser pose (" << scan.sensor_in_base.x << ", " << scan.sensor_in_base.y
+        << ", " << scan.sensor_in_base.yaw << ") is not finite";
   }
   double range_max = scan.range_max;
   if (options.laser_max_range > 0.0) {
@@ -61,7 +61,7 @@ bool PrepareScan(const LaserScan& scan, const AmclOptions& options,
   out->beams.reserve(n / step + 1);
   out->range_max = range_max;
   out->range_min = range_min;
-  out->laser_pose = scan.laser_pose;
+  out->sensor_in_base = scan.sensor_in_base;
   out->subsampled_count = 0;
   out->nan_count = 0;
   for (size_t i = 0; i < n; i += step) {
@@ -140,10 +140,10 @@ class LikelihoodFieldBase : public SensorModel {
       table_rand_term_ = rand_term;
     }
     endpoints_.clear();
-    const Pose2D& lp = scan.laser_pose;
+    const Pose2& lp = scan.sensor_in_base;
     for (const auto& b : scan.beams) {
       if (b.is_max) continue;
-      const Pose2D e = Compose(lp, {b.range * std::cos(b.bearing),
+      const Pose2 e = Compose(lp, {b.range * std::cos(b.bearing),
                                     b.range * std::sin(b.bearing), 0.0});
       endpoints_.push_back(e.x);
       endpoints_.push_back(e.y);
@@ -165,8 +165,8 @@ class LikelihoodFieldBase : public SensorModel {
   // Calls visit(beam index, cell index or -1) for every end point of a
   // particle.  Inlined into the models' loops.
   template <typename Visit>
-  void ForEachEndpoint(const Pose2D& particle, Visit&& visit) const {
-    const Pose2D g = map_->WorldToGridFrame(particle);
+  void ForEachEndpoint(const Pose2& particle, Visit&& visit) const {
+    const Pose2 g = map_->WorldToGridFrame(particle);
     const double c = std::cos(g.yaw), s = std::sin(g.yaw);
     const size_t nb = endpoints_.size() / 2;
     for (size_t b = 0; b < nb; ++b) {
@@ -342,8 +342,8 @@ class BeamModel : public SensorModel {
     const double range_max = scan.range_max;
     log_likelihoods->resize(particles.size());
     for (size_t k = 0; k < particles.size(); ++k) {
-      const Pose2D laser_world = Compose(particles[k].pose, scan.laser_pose);
-      const Pose2D g = map_->WorldToGridFrame(laser_world);
+      const Pose2 laser_world = Compose(particles[k].pose, scan.sensor_in_base);
+      const Pose2 g = map_->WorldToGridFrame(laser_world);
       double p = 1.0;
       for (const auto& b : scan.beams) {
         const double expected =

@@ -40,7 +40,7 @@ bool Peek(const std::string& text, size_t* pos, char c) {
   return *pos < text.size() && text[*pos] == c;
 }
 
-double PointSegmentDistance(const Point2D& p, const Point2D& a, const Point2D& b) {
+double PointSegmentDistance(const Point2& p, const Point2& a, const Point2& b) {
   const double dx = b.x - a.x, dy = b.y - a.y;
   const double len2 = dx * dx + dy * dy;
   double t = len2 > 0.0 ? ((p.x - a.x) * dx + (p.y - a.y) * dy) / len2 : 0.0;
@@ -69,7 +69,7 @@ Footprint ParseFootprint(const std::string& text) {
   Expect(text, &pos, '[');
   while (true) {
     Expect(text, &pos, '[');
-    Point2D p;
+    Point2 p;
     p.x = ParseNumber(text, &pos);
     Expect(text, &pos, ',');
     p.y = ParseNumber(text, &pos);
@@ -121,7 +121,7 @@ Footprint MakeCircleFootprint(double radius) {
 
 Footprint PadFootprint(const Footprint& footprint, double padding) {
   Footprint out = footprint;
-  for (Point2D& p : out) {
+  for (Point2& p : out) {
     p.x += (p.x > 0.0 ? padding : (p.x < 0.0 ? -padding : 0.0));
     p.y += (p.y > 0.0 ? padding : (p.y < 0.0 ? -padding : 0.0));
   }
@@ -130,10 +130,10 @@ Footprint PadFootprint(const Footprint& footprint, double padding) {
 
 void FootprintRadii(const Footprint& footprint, double* inscribed, double* circumscribed) {
   double min_d = std::numeric_limits<double>::infinity(), max_d = 0.0;
-  const Point2D origin;
+  const Point2 origin;
   for (size_t i = 0; i < footprint.size(); ++i) {
-    const Point2D& a = footprint[i];
-    const Point2D& b = footprint[(i + 1) % footprint.size()];
+    const Point2& a = footprint[i];
+    const Point2& b = footprint[(i + 1) % footprint.size()];
     min_d = std::min(min_d, PointSegmentDistance(origin, a, b));
     max_d = std::max(max_d, std::hypot(a.x, a.y));
   }
@@ -142,11 +142,11 @@ void FootprintRadii(const Footprint& footprint, double* inscribed, double* circu
   *circumscribed = max_d;
 }
 
-Footprint TransformFootprint(const Footprint& footprint, const Pose2D& pose) {
+Footprint TransformFootprint(const Footprint& footprint, const Pose2& pose) {
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
   Footprint out;
   out.reserve(footprint.size());
-  for (const Point2D& p : footprint) {
+  for (const Point2& p : footprint) {
     out.push_back({pose.x + c * p.x - s * p.y, pose.y + s * p.x + c * p.y});
   }
   return out;
@@ -164,7 +164,7 @@ void PolygonOutlineCells(const Costmap2D& costmap, const Footprint& polygon,
   }
 }
 
-int FootprintCost(const Costmap2D& costmap, const Footprint& footprint, const Pose2D& pose) {
+int FootprintCost(const Costmap2D& costmap, const Footprint& footprint, const Pose2& pose) {
   int cx, cy;
   if (!costmap.WorldToMap(pose.x, pose.y, &cx, &cy)) return -1;
   int worst = costmap.cost(cx, cy);
@@ -172,7 +172,7 @@ int FootprintCost(const Costmap2D& costmap, const Footprint& footprint, const Po
   // Walk the outline without allocating: Bresenham per transformed edge.
   const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
   const size_t n = footprint.size();
-  auto to_cell = [&](const Point2D& p, int* mx, int* my) {
+  auto to_cell = [&](const Point2& p, int* mx, int* my) {
     costmap.WorldToMapNoBounds(pose.x + c * p.x - s * p.y, pose.y + s * p.x + c * p.y, mx, my);
   };
   int first_x = 0, first_y = 0;

@@ -150,7 +150,7 @@ void InflationLayer::ComputeKernel() {
   }
 }
 
-void InflationLayer::UpdateBounds(const Pose2D& /*robot*/, Bounds* bounds) {
+void InflationLayer::UpdateBounds(const Pose2& /*robot*/, Bounds* bounds) {
   if (need_reinflation_) {
     last_bounds_ = *bounds;
     *bounds = Bounds::All();

@@ -64,8 +64,8 @@ void LayeredCostmap::SetStaticMap(const OccupancyGrid& grid) {
   MatchStaticMapGeometry();
 }
 
-void LayeredCostmap::UpdateMap(const Pose2D& robot) {
-  if (!amcl::IsFinite(robot)) {
+void LayeredCostmap::UpdateMap(const Pose2& robot) {
+  if (!minibot3d_common::IsFinite(robot)) {
     throw std::invalid_argument("LayeredCostmap::UpdateMap: robot pose (" +
                                 options::Num(robot.x) + ", " + options::Num(robot.y) + ", " +
                                 options::Num(robot.yaw) + ") is not finite");
@@ -105,7 +105,7 @@ void LayeredCostmap::ResetLayers() {
   for (auto& layer : layers_) layer->Reset();
 }
 
-void LayeredCostmap::ClearExceptAround(const Pose2D& robot, double reset_distance) {
+void LayeredCostmap::ClearExceptAround(const Pose2& robot, double reset_distance) {
   if (!(reset_distance >= 0.0)) {
     throw std::invalid_argument("LayeredCostmap::ClearExceptAround: reset_distance=" +
                                 options::Num(reset_distance) + " must be >= 0");

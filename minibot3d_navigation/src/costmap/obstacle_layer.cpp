@@ -12,7 +12,7 @@ namespace minibot3d_navigation {
 namespace nav {
 namespace {
 
-bool FinitePoint(const Point2D& p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+bool FinitePoint(const Point2& p) { return std::isfinite(p.x) && std::isfinite(p.y); }
 
 // costmap_2d's cellDistance: ceil(world / resolution) cells, never negative,
 // saturated for huge or infinite ranges.
@@ -25,14 +25,14 @@ unsigned int CellDistance(double world, double resolution) {
 
 }  // namespace
 
-Observation ObservationFromScan(const amcl::LaserScan& scan, const Pose2D& sensor_pose,
+Observation ObservationFromScan(const LaserScan& scan, const Pose2& sensor_pose,
                                 double obstacle_range, double raytrace_range,
                                 bool inf_is_valid) {
   if (scan.ranges.size() != scan.angles.size()) {
     throw std::invalid_argument("obstacle layer: scan has " + std::to_string(scan.ranges.size()) +
                                 " ranges but " + std::to_string(scan.angles.size()) + " angles");
   }
-  if (!amcl::IsFinite(sensor_pose)) {
+  if (!minibot3d_common::IsFinite(sensor_pose)) {
     throw std::invalid_argument("obstacle layer: scan sensor pose is not finite");
   }
   Observation obs;
@@ -88,11 +88,11 @@ void ObstacleLayer::AddObservation(const Observation& obs) {
   copy.obstacle_range = obs.obstacle_range;
   copy.raytrace_range = obs.raytrace_range;
   copy.hits.reserve(obs.hits.size());
-  for (const Point2D& p : obs.hits) {
+  for (const Point2& p : obs.hits) {
     if (FinitePoint(p)) copy.hits.push_back(p); else ++skipped_points_;
   }
   copy.clear_endpoints.reserve(obs.clear_endpoints.size());
-  for (const Point2D& p : obs.clear_endpoints) {
+  for (const Point2& p : obs.clear_endpoints) {
     if (FinitePoint(p)) copy.clear_endpoints.push_back(p); else ++skipped_points_;
   }
   pending_.push_back(std::move(copy));
@@ -145,7 +145,7 @@ void ObstacleLayer::RaytraceFreespace(const Observation& obs, Bounds* bounds) {
   const double map_end_y = origin_y + grid_.size_y_m();
   const unsigned int max_cells = CellDistance(obs.raytrace_range, grid_.resolution());
 
-  auto trace = [&](const Point2D& p) {
+  auto trace = [&](const Point2& p) {
     double wx = p.x, wy = p.y;
     const double a = wx - ox, b = wy - oy;
     bool clipped = false;
@@ -183,14 +183,14 @@ void ObstacleLayer::RaytraceFreespace(const Observation& obs, Bounds* bounds) {
     const double s = full > 0.0 ? std::min(1.0, obs.raytrace_range / full) : 1.0;
     bounds->Touch(ox + ddx * s, oy + ddy * s);
   };
-  for (const Point2D& p : obs.hits) trace(p);
-  for (const Point2D& p : obs.clear_endpoints) trace(p);
+  for (const Point2& p : obs.hits) trace(p);
+  for (const Point2& p : obs.clear_endpoints) trace(p);
 }
 
-void ObstacleLayer::ClearFootprint(const Pose2D& robot, Bounds* bounds) {
+void ObstacleLayer::ClearFootprint(const Pose2& robot, Bounds* bounds) {
   if (footprint_.empty() || grid_.size_x() <= 0) return;
   const Footprint placed = TransformFootprint(footprint_, robot);
-  for (const Point2D& p : placed) bounds->Touch(p.x, p.y);
+  for (const Point2& p : placed) bounds->Touch(p.x, p.y);
   // Fill the convex polygon row by row between its outline's extreme cells
   // (costmap_2d's convexFillCells), clipped to the grid.
   PolygonOutlineCells(grid_, placed, &scratch_cells_);
@@ -216,7 +216,7 @@ void ObstacleLayer::ClearFootprint(const Pose2D& robot, Bounds* bounds) {
   }
 }
 
-void ObstacleLayer::UpdateBounds(const Pose2D& robot, Bounds* bounds) {
+void ObstacleLayer::UpdateBounds(const Pose2& robot, Bounds* bounds) {
   if (grid_.size_x() <= 0) return;
   if (extra_full_bounds_) {
     bounds->Touch(grid_.origin_x(), grid_.origin_y());
@@ -228,7 +228,7 @@ void ObstacleLayer::UpdateBounds(const Pose2D& robot, Bounds* bounds) {
   for (const Observation& obs : pending_) RaytraceFreespace(obs, &layer);
   for (const Observation& obs : pending_) {
     const double sq_range = obs.obstacle_range * obs.obstacle_range;
-    for (const Point2D& p : obs.hits) {
+    for (const Point2& p : obs.hits) {
       const double ddx = p.x - obs.origin.x, ddy = p.y - obs.origin.y;
       if (ddx * ddx + ddy * ddy >= sq_range) continue;
       int mx, my;

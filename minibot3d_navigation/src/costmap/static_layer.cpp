@@ -41,11 +41,11 @@ void StaticLayer::SetMap(const OccupancyGrid& grid) {
                                 " values, expected " + std::to_string(cells));
   }
   if (!std::isfinite(grid.origin_x) || !std::isfinite(grid.origin_y) ||
-      !std::isfinite(grid.origin_yaw)) {
+      !std::isfinite(grid.origin_theta)) {
     throw std::invalid_argument(what + ": origin is not finite");
   }
-  if (std::abs(grid.origin_yaw) > 1e-6) {
-    throw std::invalid_argument(what + ": origin yaw " + std::to_string(grid.origin_yaw) +
+  if (std::abs(grid.origin_theta) > 1e-6) {
+    throw std::invalid_argument(what + ": origin yaw " + std::to_string(grid.origin_theta) +
                                 " rad is not supported (costmaps are axis-aligned with the map)");
   }
   map_.Resize(grid.width, grid.height, grid.resolution, grid.origin_x, grid.origin_y,
@@ -58,7 +58,7 @@ void StaticLayer::SetMap(const OccupancyGrid& grid) {
   has_updated_data_ = true;
 }
 
-void StaticLayer::UpdateBounds(const Pose2D& /*robot*/, Bounds* bounds) {
+void StaticLayer::UpdateBounds(const Pose2& /*robot*/, Bounds* bounds) {
   if (!has_updated_data_) return;
   bounds->Touch(map_.origin_x(), map_.origin_y());
   bounds->Touch(map_.origin_x() + map_.size_x_m(), map_.origin_y() + map_.size_y_m());

@@ -21,8 +21,8 @@ bool InsidePolygon(const Footprint& poly, double x, double y) {
   bool inside = false;
   const size_t n = poly.size();
   for (size_t i = 0, j = n - 1; i < n; j = i++) {
-    const Point2D& a = poly[i];
-    const Point2D& b = poly[j];
+    const Point2& a = poly[i];
+    const Point2& b = poly[j];
     if ((a.y > y) != (b.y > y) &&
         x < (b.x - a.x) * (y - a.y) / (b.y - a.y) + a.x) {
       inside = !inside;
@@ -31,7 +31,7 @@ bool InsidePolygon(const Footprint& poly, double x, double y) {
   return inside;
 }
 
-double PointSegmentDistance(double x, double y, const Point2D& a, const Point2D& b) {
+double PointSegmentDistance(double x, double y, const Point2& a, const Point2& b) {
   const double dx = b.x - a.x, dy = b.y - a.y;
   const double len2 = dx * dx + dy * dy;
   double t = len2 > 0.0 ? ((x - a.x) * dx + (y - a.y) * dy) / len2 : 0.0;
@@ -40,7 +40,7 @@ double PointSegmentDistance(double x, double y, const Point2D& a, const Point2D&
 }
 
 // Length of the polyline poses[0..index].
-double ArcLength(const std::vector<Pose2D>& poses, size_t index) {
+double ArcLength(const std::vector<Pose2>& poses, size_t index) {
   double len = 0.0;
   for (size_t i = 1; i <= index && i < poses.size(); ++i) {
     len += std::hypot(poses[i].x - poses[i - 1].x, poses[i].y - poses[i - 1].y);
@@ -54,7 +54,7 @@ double ScoreOnGrid(const MapGrid& grid, const Costmap2D& costmap,
                    const Trajectory& traj) {
   const float impossible = grid.impossible_distance();
   float d = 0.0f;
-  for (const Pose2D& p : traj.poses) {
+  for (const Pose2& p : traj.poses) {
     int mx, my;
     if (!costmap.WorldToMap(p.x, p.y, &mx, &my)) return -1.0;
     d = grid.distance(mx, my);
@@ -66,11 +66,11 @@ double ScoreOnGrid(const MapGrid& grid, const Costmap2D& costmap,
 }  // namespace
 
 void FootprintCells(const Costmap2D& costmap, const Footprint& footprint,
-                    const Pose2D& pose, std::vector<int>* cells) {
+                    const Pose2& pose, std::vector<int>* cells) {
   cells->clear();
   const Footprint poly = TransformFootprint(footprint, pose);
   double x0 = pose.x, x1 = pose.x, y0 = pose.y, y1 = pose.y;
-  for (const Point2D& p : poly) {
+  for (const Point2& p : poly) {
     x0 = std::min(x0, p.x);
     x1 = std::max(x1, p.x);
     y0 = std::min(y0, p.y);
@@ -105,7 +105,7 @@ void FootprintCells(const Costmap2D& costmap, const Footprint& footprint,
 
 // --- PathDistCritic ---
 
-bool PathDistCritic::Prepare(const Pose2D& pose, const Twist2D& /*velocity*/,
+bool PathDistCritic::Prepare(const Pose2& pose, const Twist2& /*velocity*/,
                              const Path& plan, const Costmap2D& costmap) {
   costmap_ = &costmap;
   failure_.clear();
@@ -135,7 +135,7 @@ double PathDistCritic::Score(const Trajectory& traj) {
 
 // --- GoalDistCritic ---
 
-bool GoalDistCritic::Prepare(const Pose2D& pose, const Twist2D& /*velocity*/,
+bool GoalDistCritic::Prepare(const Pose2& pose, const Twist2& /*velocity*/,
                              const Path& plan, const Costmap2D& costmap) {
   costmap_ = &costmap;
   failure_.clear();
@@ -189,7 +189,7 @@ double GoalDistCritic::Score(const Trajectory& traj) {
   return ScoreOnGrid(grid_, *costmap_, traj);
 }
 
-double GoalDistCritic::DistanceAhead(const Pose2D& pose,
+double GoalDistCritic::DistanceAhead(const Pose2& pose,
                                      double lookahead) const {
   int mx, my;
   if (!costmap_->WorldToMap(pose.x + lookahead * std::cos(pose.yaw),
@@ -202,8 +202,8 @@ double GoalDistCritic::DistanceAhead(const Pose2D& pose,
 
 // --- ObstacleCostCritic ---
 
-bool ObstacleCostCritic::Prepare(const Pose2D& /*pose*/,
-                                 const Twist2D& /*velocity*/,
+bool ObstacleCostCritic::Prepare(const Pose2& /*pose*/,
+                                 const Twist2& /*velocity*/,
                                  const Path& /*plan*/,
                                  const Costmap2D& costmap) {
   SetCostmap(costmap);
@@ -252,7 +252,7 @@ void ObstacleCostCritic::SetCostmap(const Costmap2D& costmap) {
   }
 }
 
-double ObstacleCostCritic::StartClearance(const Pose2D& start) const {
+double ObstacleCostCritic::StartClearance(const Pose2& start) const {
   // Every rollout of a cycle starts at the robot's pose: computed once per cycle.
   if (!start_clearance_valid_ || start.x != start_pose_.x || start.y != start_pose_.y ||
       start.yaw != start_pose_.yaw) {
@@ -263,10 +263,10 @@ double ObstacleCostCritic::StartClearance(const Pose2D& start) const {
   return start_clearance_;
 }
 
-double ObstacleCostCritic::ContinuousClearance(const Pose2D& pose, bool centre) const {
+double ObstacleCostCritic::ContinuousClearance(const Pose2& pose, bool centre) const {
   const Footprint poly = TransformFootprint(footprint_, pose);
   double reach = 0.0;
-  for (const Point2D& p : footprint_) reach = std::max(reach, std::hypot(p.x, p.y));
+  for (const Point2& p : footprint_) reach = std::max(reach, std::hypot(p.x, p.y));
   reach += 2.0 * costmap_->resolution();
   int mx0, my0, mx1, my1;
   costmap_->WorldToMapNoBounds(pose.x - reach, pose.y - reach, &mx0, &my0);
@@ -295,7 +295,7 @@ double ObstacleCostCritic::ContinuousClearance(const Pose2D& pose, bool centre) 
   return nearest;
 }
 
-double ObstacleCostCritic::Clearance(const Pose2D& pose) const {
+double ObstacleCostCritic::Clearance(const Pose2& pose) const {
   PolygonOutlineCells(*costmap_, TransformFootprint(footprint_, pose), &outline_);
   double nearest = std::numeric_limits<double>::infinity();
   for (const auto& c : outline_) {
@@ -331,7 +331,7 @@ int ObstacleCostCritic::Check(const Trajectory& traj, double* collision_distance
   const int limit = whole_band ? kInscribedInflatedObstacle : kLethalObstacle;
   // Inside the band, a pose nearer to a lethal cell than the margin is
   // rejected like a collision.
-  auto too_close = [&](int c, const Pose2D& pose) {
+  auto too_close = [&](int c, const Pose2& pose) {
     return c == kInscribedInflatedObstacle && margin > 0.0 && !whole_band &&
            Clearance(pose) < margin - 1e-6;
   };
@@ -353,7 +353,7 @@ int ObstacleCostCritic::Check(const Trajectory& traj, double* collision_distance
   const double floor = std::max(std::min(0.25 * res, 0.5 * start_clearance),
                                 start_clearance - 0.25 * res);
   bool relaxed = false;
-  auto cost_at = [&](const Pose2D& pose) {
+  auto cost_at = [&](const Pose2& pose) {
     int c = FootprintCost(*costmap_, footprint_, pose);
     if (c == kLethalObstacle && near_lethal && ContinuousClearance(pose, false) >= floor) {
       c = kInscribedInflatedObstacle;
@@ -413,7 +413,7 @@ double ObstacleCostCritic::Score(const Trajectory& traj) {
 
 // --- OscillationCritic ---
 
-bool OscillationCritic::Prepare(const Pose2D& pose, const Twist2D& /*velocity*/,
+bool OscillationCritic::Prepare(const Pose2& pose, const Twist2& /*velocity*/,
                                 const Path& /*plan*/,
                                 const Costmap2D& /*costmap*/) {
   pose_ = pose;
@@ -431,10 +431,10 @@ bool OscillationCritic::Prepare(const Pose2D& pose, const Twist2D& /*velocity*/,
 
 double OscillationCritic::Score(const Trajectory& traj) {
   if (traj.kind == TrajectoryKind::kStop) return 0.0;
-  const Twist2D& c = traj.command;
+  const Twist2& c = traj.command;
   if (c.vx == 0.0) {
-    if (c.vtheta > 0.0 && forbid_pos_rot_) return -1.0;
-    if (c.vtheta < 0.0 && forbid_neg_rot_) return -1.0;
+    if (c.wz > 0.0 && forbid_pos_rot_) return -1.0;
+    if (c.wz < 0.0 && forbid_neg_rot_) return -1.0;
   }
   if (c.vx > 0.0 && forbid_forward_) return -1.0;
   if (c.vx < 0.0 && forbid_backward_) return -1.0;
@@ -443,12 +443,12 @@ double OscillationCritic::Score(const Trajectory& traj) {
 
 void OscillationCritic::Debrief(const Trajectory& chosen) {
   if (chosen.kind == TrajectoryKind::kStop) return;
-  const Twist2D& c = chosen.command;
+  const Twist2& c = chosen.command;
   if (!(c.vx > 0.0)) {
-    if (c.vtheta < 0.0) {
+    if (c.wz < 0.0) {
       if (rotated_pos_) forbid_pos_rot_ = true;
       rotated_neg_ = true;
-    } else if (c.vtheta > 0.0) {
+    } else if (c.wz > 0.0) {
       if (rotated_neg_) forbid_neg_rot_ = true;
       rotated_pos_ = true;
     }

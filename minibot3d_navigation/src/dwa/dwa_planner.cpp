@@ -27,13 +27,13 @@ std::string Xy(double x, double y) {
   return "(" + Fixed(x, 3) + ", " + Fixed(y, 3) + ")";
 }
 
-bool SameGoal(const Pose2D& a, const Pose2D& b) {
+bool SameGoal(const Pose2& a, const Pose2& b) {
   return std::fabs(a.x - b.x) < 1e-6 && std::fabs(a.y - b.y) < 1e-6 &&
          std::fabs(AngleDiff(a.yaw, b.yaw)) < 1e-6;
 }
 
-double SegmentDistance(double px, double py, const Point2D& a,
-                       const Point2D& b) {
+double SegmentDistance(double px, double py, const Point2& a,
+                       const Point2& b) {
   const double dx = b.x - a.x, dy = b.y - a.y;
   const double len2 = dx * dx + dy * dy;
   double t = len2 > 0.0 ? ((px - a.x) * dx + (py - a.y) * dy) / len2 : 0.0;
@@ -47,8 +47,8 @@ double FootprintDistance(const Footprint& fp, double px, double py) {
   bool inside = false;
   double d = kInf;
   for (size_t i = 0, j = fp.size() - 1; i < fp.size(); j = i++) {
-    const Point2D& a = fp[i];
-    const Point2D& b = fp[j];
+    const Point2& a = fp[i];
+    const Point2& b = fp[j];
     if ((a.y > py) != (b.y > py) &&
         px < (b.x - a.x) * (py - a.y) / (b.y - a.y) + a.x) {
       inside = !inside;
@@ -91,7 +91,7 @@ const Footprint& CheckedFootprint(const Footprint& footprint) {
         "DWA local planner: the footprint needs at least 3 points, got " +
         std::to_string(footprint.size()));
   }
-  for (const Point2D& p : footprint) {
+  for (const Point2& p : footprint) {
     if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
       throw std::invalid_argument(
           "DWA local planner: footprint point is not finite");
@@ -127,9 +127,9 @@ void DwaPlanner::Reset() {
   stats_ = CycleStats();
 }
 
-void DwaPlanner::GenerateBraking(const Pose2D& pose, const Twist2D& velocity,
+void DwaPlanner::GenerateBraking(const Pose2& pose, const Twist2& velocity,
                                  Trajectory* traj) const {
-  generator_.Generate(pose, velocity, Twist2D(), TrajectoryKind::kStop, traj);
+  generator_.Generate(pose, velocity, Twist2(), TrajectoryKind::kStop, traj);
   traj->command = generator_.BrakingCommand(velocity);
 }
 
@@ -137,12 +137,12 @@ double DwaPlanner::CreepSpeed() const {
   return std::max(options_.min_vel_x, -options_.escape_vel);
 }
 
-bool DwaPlanner::Stopped(const Twist2D& v) const {
+bool DwaPlanner::Stopped(const Twist2& v) const {
   return std::fabs(v.vx) <= options_.trans_stopped_vel &&
-         std::fabs(v.vtheta) <= options_.rot_stopped_vel;
+         std::fabs(v.wz) <= options_.rot_stopped_vel;
 }
 
-void DwaPlanner::CheckInputs(const Pose2D& pose, const Twist2D& velocity,
+void DwaPlanner::CheckInputs(const Pose2& pose, const Twist2& velocity,
                              const Path& plan,
                              const Costmap2D& costmap) const {
   if (plan.empty()) {
@@ -154,7 +154,7 @@ void DwaPlanner::CheckInputs(const Pose2D& pose, const Twist2D& velocity,
                        Fixed(pose.x, 3) + ", " + Fixed(pose.y, 3) + ", " +
                        Fixed(pose.yaw, 3) + ")");
   }
-  if (!std::isfinite(velocity.vx) || !std::isfinite(velocity.vtheta)) {
+  if (!std::isfinite(velocity.vx) || !std::isfinite(velocity.wz)) {
     throw ControlError("DWA local planner: the robot velocity is not finite");
   }
   if (costmap.size_x() <= 0 || costmap.size_y() <= 0) {
@@ -172,7 +172,7 @@ void DwaPlanner::CheckInputs(const Pose2D& pose, const Twist2D& velocity,
   }
 }
 
-void DwaPlanner::PrunePlan(const Pose2D& pose, const Path& plan,
+void DwaPlanner::PrunePlan(const Pose2& pose, const Path& plan,
                            const Costmap2D& costmap) {
   size_t first = 0;
   if (options_.prune_plan) {
@@ -198,7 +198,7 @@ void DwaPlanner::PrunePlan(const Pose2D& pose, const Path& plan,
   pruned_.assign(plan.begin() + static_cast<std::ptrdiff_t>(first), plan.end());
 }
 
-Twist2D DwaPlanner::Brake(const Pose2D& pose, const Twist2D& velocity,
+Twist2 DwaPlanner::Brake(const Pose2& pose, const Twist2& velocity,
                           Mode mode, const Costmap2D& costmap) {
   GenerateBraking(pose, velocity, &best_);
   obstacle_critic_.SetCostmap(costmap);
@@ -209,9 +209,9 @@ Twist2D DwaPlanner::Brake(const Pose2D& pose, const Twist2D& velocity,
   return best_.command;
 }
 
-bool DwaPlanner::RotateTowards(const Pose2D& pose, const Twist2D& velocity,
+bool DwaPlanner::RotateTowards(const Pose2& pose, const Twist2& velocity,
                                double target_yaw, double tolerance,
-                               const Costmap2D& costmap, Twist2D* command) {
+                               const Costmap2D& costmap, Twist2* command) {
   const double diff = AngleDiff(target_yaw, pose.yaw);
   const double sign = diff >= 0.0 ? 1.0 : -1.0;
   const double adiff = std::fabs(diff);
@@ -222,7 +222,7 @@ bool DwaPlanner::RotateTowards(const Pose2D& pose, const Twist2D& velocity,
   // TrajectoryPlannerROS::rotateToGoal: proportional, at least the in-place
   // minimum, acceleration-limited, slow enough to stop at the target.
   double mag = std::clamp(adiff, options_.min_in_place_vel_theta, max_rot);
-  const double current = std::max(0.0, sign * velocity.vtheta);
+  const double current = std::max(0.0, sign * velocity.wz);
   mag = std::clamp(mag, current - acc * period, current + acc * period);
   mag = std::min(mag, std::sqrt(2.0 * acc * adiff));
   mag = std::clamp(mag, options_.min_in_place_vel_theta, max_rot);
@@ -233,8 +233,8 @@ bool DwaPlanner::RotateTowards(const Pose2D& pose, const Twist2D& velocity,
   const double no_overshoot =
       acc * (-period + std::sqrt(period * period + 2.0 * budget / acc));
   mag = std::min(mag, no_overshoot);
-  *command = Twist2D();
-  command->vtheta = sign * mag;
+  *command = Twist2();
+  command->wz = sign * mag;
 
   generator_.Generate(pose, velocity, *command, TrajectoryKind::kInPlace,
                       &candidate_);
@@ -256,15 +256,15 @@ bool DwaPlanner::RotateTowards(const Pose2D& pose, const Twist2D& velocity,
   return best_.cost >= 0.0;
 }
 
-double DwaPlanner::PathHeadingError(const Pose2D& pose,
+double DwaPlanner::PathHeadingError(const Pose2& pose,
                                     const Costmap2D& costmap) const {
   // Bearing of the first plan pose at least heading_lookahead from the robot
   // (the plan's end if none is).  Measured from the robot, so a robot that
   // has strayed beside the plan is also turned back towards it.
   const double lookahead =
       std::max(options_.heading_lookahead, 2.0 * costmap.resolution());
-  const Pose2D* target = &pruned_.back();
-  for (const Pose2D& p : pruned_) {
+  const Pose2* target = &pruned_.back();
+  for (const Pose2& p : pruned_) {
     if (std::hypot(p.x - pose.x, p.y - pose.y) >= lookahead) {
       target = &p;
       break;
@@ -301,7 +301,7 @@ double DwaPlanner::Evaluate(double bound) {
   return cost;
 }
 
-Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
+Twist2 DwaPlanner::FollowPath(const Pose2& pose, const Twist2& velocity,
                                const Costmap2D& costmap) {
   const double res = options_.meter_scoring ? costmap.resolution() : 1.0;
   path_critic_.set_scale(options_.path_distance_bias * res);
@@ -386,7 +386,7 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
 
     if (!escaping_) {
       for (int i = 0; i < nvx; ++i) {
-        Twist2D cmd;
+        Twist2 cmd;
         cmd.vx = vx_sample(i);
         if (pass == 1 && cmd.vx > creep + 1e-6) break;
         // The theta samples span the window, narrowed at this speed to the
@@ -401,8 +401,8 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
         // The straight command first, then the theta samples.
         for (int j = -1; j < nth; ++j) {
           if (j >= 0 && lo > hi) break;
-          cmd.vtheta = j < 0 ? 0.0 : vth_sample(j, lo, hi);
-          if (j >= 0 && cmd.vtheta == 0.0) continue;
+          cmd.wz = j < 0 ? 0.0 : vth_sample(j, lo, hi);
+          if (j >= 0 && cmd.wz == 0.0) continue;
           generator_.Generate(pose, velocity, cmd, TrajectoryKind::kSampled,
                               &candidate_);
           Evaluate(best_cost);
@@ -415,9 +415,9 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
     // back straight out, but an arc backs its nose off.
     if (pass == 1 && options_.escape_vel < 0.0) {
       for (int j = 0; j < nth; ++j) {
-        Twist2D cmd;
+        Twist2 cmd;
         cmd.vx = options_.escape_vel;
-        cmd.vtheta = vth_sample(j, win.min_vth, win.max_vth);
+        cmd.wz = vth_sample(j, win.min_vth, win.max_vth);
         generator_.Generate(pose, velocity, cmd, TrajectoryKind::kEscape, &candidate_);
         Evaluate(best_cost);
         take_if_better();
@@ -448,8 +448,8 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
         ++stats_.rotations_refused;
         continue;
       }
-      Twist2D cmd;
-      cmd.vtheta = limited;
+      Twist2 cmd;
+      cmd.wz = limited;
       generator_.Generate(pose, velocity, cmd, TrajectoryKind::kInPlace,
                           &candidate_);
       const double cost = Evaluate(have_best ? best_cost : kInf);
@@ -483,7 +483,7 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
     // rotations (lower obstacle cost) and make the robot stop-start.  Not while
     // escaping: there the escape trajectory itself is the fallback.
     if (!have_best && !escaping_ &&
-        (std::fabs(velocity.vx) > 1e-3 || std::fabs(velocity.vtheta) > 1e-3)) {
+        (std::fabs(velocity.vx) > 1e-3 || std::fabs(velocity.wz) > 1e-3)) {
       GenerateBraking(pose, velocity, &candidate_);
       Evaluate(kInf);
       take_if_better();
@@ -517,7 +517,7 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
                   "), so the way ahead is blocked rather than the robot stuck: "
                   "not backing up";
   } else {
-    Twist2D cmd;
+    Twist2 cmd;
     cmd.vx = options_.escape_vel;
     generator_.Generate(pose, velocity, cmd, TrajectoryKind::kEscape,
                         &candidate_);
@@ -540,7 +540,7 @@ Twist2D DwaPlanner::FollowPath(const Pose2D& pose, const Twist2D& velocity,
   throw ControlError(Diagnose(pose, costmap) + "; " + escape_note);
 }
 
-std::string DwaPlanner::NearestObstacle(const Pose2D& pose,
+std::string DwaPlanner::NearestObstacle(const Pose2& pose,
                                         const Costmap2D& costmap) const {
   std::ostringstream os;
   // Nearest lethal cell to the footprint, and where it is.
@@ -587,7 +587,7 @@ std::string DwaPlanner::NearestObstacle(const Pose2D& pose,
   return os.str();
 }
 
-std::string DwaPlanner::Diagnose(const Pose2D& pose,
+std::string DwaPlanner::Diagnose(const Pose2& pose,
                                  const Costmap2D& costmap) const {
   std::ostringstream os;
   const int total = stats_.evaluated;
@@ -630,7 +630,7 @@ std::string DwaPlanner::Diagnose(const Pose2D& pose,
   return os.str();
 }
 
-Twist2D DwaPlanner::ComputeVelocity(const Pose2D& pose, const Twist2D& velocity,
+Twist2 DwaPlanner::ComputeVelocity(const Pose2& pose, const Twist2& velocity,
                                     const Path& plan,
                                     const Costmap2D& costmap) {
   stats_ = CycleStats();
@@ -647,7 +647,7 @@ Twist2D DwaPlanner::ComputeVelocity(const Pose2D& pose, const Twist2D& velocity,
   last_yaw_ = pose.yaw;
   PrunePlan(pose, plan, costmap);
 
-  const Pose2D& goal = plan.back();
+  const Pose2& goal = plan.back();
   if (latched_ && !SameGoal(goal, latched_goal_)) latched_ = false;
   if (latched_ ||
       std::hypot(goal.x - pose.x, goal.y - pose.y) <= options_.xy_goal_tolerance) {
@@ -660,14 +660,14 @@ Twist2D DwaPlanner::ComputeVelocity(const Pose2D& pose, const Twist2D& velocity,
     if (std::fabs(yaw_error) <= options_.yaw_goal_tolerance) {
       rotating_to_goal_ = false;
       stats_.mode = Mode::kAtGoal;
-      return Twist2D();
+      return Twist2();
     }
     if (!rotating_to_goal_ && !Stopped(velocity)) {
       return Brake(pose, velocity, Mode::kStopAtGoal, costmap);
     }
     rotating_to_goal_ = true;
     stats_.mode = Mode::kRotateToGoal;
-    Twist2D cmd;
+    Twist2 cmd;
     if (!RotateTowards(pose, velocity, goal.yaw, options_.yaw_goal_tolerance,
                        costmap, &cmd)) {
       throw ControlError(
@@ -699,7 +699,7 @@ Twist2D DwaPlanner::ComputeVelocity(const Pose2D& pose, const Twist2D& velocity,
       if (std::fabs(velocity.vx) > options_.trans_stopped_vel) {
         return Brake(pose, velocity, Mode::kRotateToPath, costmap);
       }
-      Twist2D cmd;
+      Twist2 cmd;
       if (RotateTowards(pose, velocity, pose.yaw + error,
                         0.125 * options_.rotate_to_path_angle, costmap, &cmd)) {
         stats_.mode = Mode::kRotateToPath;
@@ -715,10 +715,10 @@ Twist2D DwaPlanner::ComputeVelocity(const Pose2D& pose, const Twist2D& velocity,
   return FollowPath(pose, velocity, costmap);
 }
 
-bool DwaPlanner::IsGoalReached(const Pose2D& pose, const Twist2D& velocity,
+bool DwaPlanner::IsGoalReached(const Pose2& pose, const Twist2& velocity,
                                const Path& plan) {
   if (plan.empty()) return false;
-  const Pose2D& goal = plan.back();
+  const Pose2& goal = plan.back();
   const bool xy_ok =
       std::hypot(goal.x - pose.x, goal.y - pose.y) <=
           options_.xy_goal_tolerance ||

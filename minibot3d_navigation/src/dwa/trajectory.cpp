@@ -38,14 +38,14 @@ TrajectoryGenerator::TrajectoryGenerator(const DwaOptions& options)
       sim_period_(1.0 / options.controller_frequency),
       angular_granularity_(EffectiveAngularSimGranularity(options)) {}
 
-Pose2D TrajectoryGenerator::Step(const Pose2D& p, double v, double w,
+Pose2 TrajectoryGenerator::Step(const Pose2& p, double v, double w,
                                  double dt) {
   const double mid = p.yaw + 0.5 * w * dt;
   return {p.x + v * dt * std::cos(mid), p.y + v * dt * std::sin(mid),
           NormalizeAngle(p.yaw + w * dt)};
 }
 
-VelocityWindow TrajectoryGenerator::Window(const Twist2D& current) const {
+VelocityWindow TrajectoryGenerator::Window(const Twist2& current) const {
   const double horizon = options_.dwa ? sim_period_ : options_.sim_time;
   // Speed cap so that the rollout length v*sim_time is at least the stopping
   // distance v^2/(2a) (see trajectory.h).
@@ -60,21 +60,21 @@ VelocityWindow TrajectoryGenerator::Window(const Twist2D& current) const {
   VelocityWindow w;
   w.max_vx = std::clamp(current.vx + dv, vx_lo, vx_cap);
   w.min_vx = std::clamp(current.vx - dv, vx_lo, vx_cap);
-  w.max_vth = std::clamp(current.vtheta + dw, vth_lo, vth_hi);
-  w.min_vth = std::clamp(current.vtheta - dw, vth_lo, vth_hi);
+  w.max_vth = std::clamp(current.wz + dw, vth_lo, vth_hi);
+  w.min_vth = std::clamp(current.wz - dw, vth_lo, vth_hi);
   return w;
 }
 
-Twist2D TrajectoryGenerator::BrakingCommand(const Twist2D& current) const {
-  Twist2D cmd;
+Twist2 TrajectoryGenerator::BrakingCommand(const Twist2& current) const {
+  Twist2 cmd;
   cmd.vx = Approach(current.vx, 0.0, options_.acc_lim_x * sim_period_);
-  cmd.vtheta =
-      Approach(current.vtheta, 0.0, options_.acc_lim_theta * sim_period_);
+  cmd.wz =
+      Approach(current.wz, 0.0, options_.acc_lim_theta * sim_period_);
   return cmd;
 }
 
-void TrajectoryGenerator::Generate(const Pose2D& start, const Twist2D& current,
-                                   const Twist2D& command, TrajectoryKind kind,
+void TrajectoryGenerator::Generate(const Pose2& start, const Twist2& current,
+                                   const Twist2& command, TrajectoryKind kind,
                                    Trajectory* traj) const {
   traj->Clear();
   traj->command = command;
@@ -89,20 +89,20 @@ void TrajectoryGenerator::Generate(const Pose2D& start, const Twist2D& current,
   // part by the speed, not the angle; we use the angle).
   const double vmag = std::max(std::fabs(current.vx), std::fabs(command.vx));
   const double wmag =
-      std::max(std::fabs(current.vtheta), std::fabs(command.vtheta));
+      std::max(std::fabs(current.wz), std::fabs(command.wz));
   int steps = static_cast<int>(std::max(vmag * t_sim / options_.sim_granularity,
                                         wmag * t_sim / angular_granularity_) +
                                0.5);
   steps = std::max(steps, 1);
   const double dt = t_sim / steps;
   traj->poses.reserve(steps + 1);
-  Pose2D p = start;
-  double v = current.vx, w = current.vtheta;
+  Pose2 p = start;
+  double v = current.vx, w = current.wz;
   traj->poses.push_back(p);
   int i = 0;
-  for (; i < steps && (v != command.vx || w != command.vtheta); ++i) {
+  for (; i < steps && (v != command.vx || w != command.wz); ++i) {
     const double v_next = Approach(v, command.vx, acc_x * dt);
-    const double w_next = Approach(w, command.vtheta, acc_th * dt);
+    const double w_next = Approach(w, command.wz, acc_th * dt);
     p = Step(p, 0.5 * (v + v_next), 0.5 * (w + w_next), dt);
     v = v_next;
     w = w_next;
@@ -132,11 +132,11 @@ void TrajectoryGenerator::Generate(const Pose2D& start, const Twist2D& current,
   // guarantees sim_time >= period), then full braking.
   const double period = sim_period_;
   const double sub_dt = period / kPeriodSubsteps;
-  Pose2D q = start;
-  double vq = current.vx, wq = current.vtheta;
+  Pose2 q = start;
+  double vq = current.vx, wq = current.wz;
   for (int i = 0; i < kPeriodSubsteps; ++i) {
     const double v_next = Approach(vq, command.vx, acc_x * sub_dt);
-    const double w_next = Approach(wq, command.vtheta, acc_th * sub_dt);
+    const double w_next = Approach(wq, command.wz, acc_th * sub_dt);
     q = Step(q, 0.5 * (vq + v_next), 0.5 * (wq + w_next), sub_dt);
     traj->braking_start_distance += std::fabs(0.5 * (vq + v_next)) * sub_dt;
     vq = v_next;

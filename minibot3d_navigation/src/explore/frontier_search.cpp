@@ -40,7 +40,7 @@ int8_t Kind(int value, int free_threshold) {
   return value < 0 ? 1 : (value <= free_threshold ? 0 : 2);
 }
 
-void CheckGrid(const amcl::OccupancyGrid& grid) {
+void CheckGrid(const OccupancyGrid& grid) {
   const int w = grid.width, h = grid.height;
   if (w <= 0 || h <= 0 || !(grid.resolution > 0.0) ||
       grid.data.size() != static_cast<size_t>(w) * h) {
@@ -50,7 +50,7 @@ void CheckGrid(const amcl::OccupancyGrid& grid) {
   }
 }
 
-std::vector<uint8_t> Kinds(const amcl::OccupancyGrid& grid, int free_threshold) {
+std::vector<uint8_t> Kinds(const OccupancyGrid& grid, int free_threshold) {
   std::vector<uint8_t> kind(grid.data.size());
   for (size_t i = 0; i < kind.size(); ++i) kind[i] = Kind(grid.data[i], free_threshold);
   return kind;
@@ -183,15 +183,15 @@ FrontierSearch::FrontierSearch(const ExploreOptions& options) : options_(options
   ValidateExploreOptions(options_);
 }
 
-FrontierSearchResult FrontierSearch::Find(const amcl::OccupancyGrid& grid, const Pose2D& robot,
-                                          const std::vector<Point2D>& excluded,
-                                          const std::vector<Point2D>& looked_at) const {
+FrontierSearchResult FrontierSearch::Find(const OccupancyGrid& grid, const Pose2& robot,
+                                          const std::vector<Point2>& excluded,
+                                          const std::vector<Point2>& looked_at) const {
   CheckGrid(grid);
   const int w = grid.width, h = grid.height;
   const double res = grid.resolution;
   const int n = w * h;
   auto to_world = [&](int i) {
-    return Point2D{grid.origin_x + (i % w + 0.5) * res, grid.origin_y + (i / w + 0.5) * res};
+    return Point2{grid.origin_x + (i % w + 0.5) * res, grid.origin_y + (i / w + 0.5) * res};
   };
   const int rx = static_cast<int>(std::floor((robot.x - grid.origin_x) / res));
   const int ry = static_cast<int>(std::floor((robot.y - grid.origin_y) / res));
@@ -244,7 +244,7 @@ FrontierSearchResult FrontierSearch::Find(const amcl::OccupancyGrid& grid, const
 
   // Frontier cells, but for those looked at from a viewpoint, clustered 8-connected.
   std::vector<uint8_t> is_frontier = FrontierCells(kind, w, h);
-  for (const Point2D& p : looked_at) {
+  for (const Point2& p : looked_at) {
     const int x = static_cast<int>(std::floor((p.x - grid.origin_x) / res));
     const int y = static_cast<int>(std::floor((p.y - grid.origin_y) / res));
     if (x >= 0 && y >= 0 && x < w && y < h) is_frontier[y * w + x] = 0;
@@ -254,12 +254,12 @@ FrontierSearchResult FrontierSearch::Find(const amcl::OccupancyGrid& grid, const
   // Cells within blacklist_radius of an excluded viewpoint.
   std::vector<uint8_t> is_excluded(n, 0);
   const int er = static_cast<int>(std::ceil(options_.blacklist_radius / res));
-  for (const Point2D& e : excluded) {
+  for (const Point2& e : excluded) {
     const int ex = static_cast<int>(std::floor((e.x - grid.origin_x) / res));
     const int ey = static_cast<int>(std::floor((e.y - grid.origin_y) / res));
     for (int y = std::max(0, ey - er); y <= std::min(h - 1, ey + er); ++y) {
       for (int x = std::max(0, ex - er); x <= std::min(w - 1, ex + er); ++x) {
-        const Point2D p = to_world(y * w + x);
+        const Point2 p = to_world(y * w + x);
         if (std::hypot(e.x - p.x, e.y - p.y) < options_.blacklist_radius) {
           is_excluded[y * w + x] = 1;
         }
@@ -295,7 +295,7 @@ FrontierSearchResult FrontierSearch::Find(const amcl::OccupancyGrid& grid, const
     f.size = cluster.size() * res;
     double cx = 0.0, cy = 0.0;
     for (int i : cluster) {
-      const Point2D p = to_world(i);
+      const Point2 p = to_world(i);
       cx += p.x;
       cy += p.y;
     }
@@ -340,12 +340,12 @@ FrontierSearchResult FrontierSearch::Find(const amcl::OccupancyGrid& grid, const
   return result;
 }
 
-std::vector<Point2D> FrontierSearch::InSight(const amcl::OccupancyGrid& grid,
-                                             const Point2D& viewpoint) const {
+std::vector<Point2> FrontierSearch::InSight(const OccupancyGrid& grid,
+                                             const Point2& viewpoint) const {
   CheckGrid(grid);
   const int w = grid.width, h = grid.height;
   const double res = grid.resolution;
-  std::vector<Point2D> cells;
+  std::vector<Point2> cells;
   const int vx = static_cast<int>(std::floor((viewpoint.x - grid.origin_x) / res));
   const int vy = static_cast<int>(std::floor((viewpoint.y - grid.origin_y) / res));
   if (vx < 0 || vy < 0 || vx >= w || vy >= h) return cells;
@@ -370,14 +370,14 @@ ExplorationMemory::ExplorationMemory(const ExploreOptions& options) : options_(o
   ValidateExploreOptions(options_);
 }
 
-void ExplorationMemory::Reached(const Point2D& viewpoint) { visited_.push_back(viewpoint); }
+void ExplorationMemory::Reached(const Point2& viewpoint) { visited_.push_back(viewpoint); }
 
-void ExplorationMemory::LookedAt(const std::vector<Point2D>& in_sight) {
+void ExplorationMemory::LookedAt(const std::vector<Point2>& in_sight) {
   looked_at_.insert(looked_at_.end(), in_sight.begin(), in_sight.end());
 }
 
-std::vector<int8_t> ExplorationMemory::Window(const Point2D& centre, double step,
-                                              const amcl::OccupancyGrid& map) const {
+std::vector<int8_t> ExplorationMemory::Window(const Point2& centre, double step,
+                                              const OccupancyGrid& map) const {
   const int half = static_cast<int>(std::ceil(options_.retry_window / step));
   const bool well_formed = map.resolution > 0.0 && map.width > 0 && map.height > 0 &&
                           map.data.size() == static_cast<size_t>(map.width) * map.height;
@@ -401,7 +401,7 @@ std::vector<int8_t> ExplorationMemory::Window(const Point2D& centre, double step
   return window;
 }
 
-int ExplorationMemory::Failed(const Point2D& goal, const amcl::OccupancyGrid& map) {
+int ExplorationMemory::Failed(const Point2& goal, const OccupancyGrid& map) {
   Failure* f = nullptr;
   for (Failure& g : failures_) {
     if (std::hypot(g.goal.x - goal.x, g.goal.y - goal.y) < options_.blacklist_radius) f = &g;
@@ -418,8 +418,8 @@ int ExplorationMemory::Failed(const Point2D& goal, const amcl::OccupancyGrid& ma
   return f->attempts;
 }
 
-std::vector<Point2D> ExplorationMemory::Refresh(const amcl::OccupancyGrid& map) {
-  std::vector<Point2D> released;
+std::vector<Point2> ExplorationMemory::Refresh(const OccupancyGrid& map) {
+  std::vector<Point2> released;
   for (Failure& f : failures_) {
     if (!f.excluded || f.attempts >= options_.max_goal_attempts) continue;
     const std::vector<int8_t> now = Window(f.goal, f.step, map);
@@ -433,8 +433,8 @@ std::vector<Point2D> ExplorationMemory::Refresh(const amcl::OccupancyGrid& map) 
   return released;
 }
 
-std::vector<Point2D> ExplorationMemory::Excluded() const {
-  std::vector<Point2D> out = visited_;
+std::vector<Point2> ExplorationMemory::Excluded() const {
+  std::vector<Point2> out = visited_;
   for (const Failure& f : failures_) {
     if (f.excluded) out.push_back(f.goal);
   }

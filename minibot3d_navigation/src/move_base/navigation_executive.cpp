@@ -30,7 +30,7 @@ NavigationExecutive::NavigationExecutive(const MoveBaseOptions& options,
   ValidateMoveBaseOptions(options_);
 }
 
-void NavigationExecutive::SetGoal(const Pose2D& goal, double time) {
+void NavigationExecutive::SetGoal(const Pose2& goal, double time) {
   goal_ = goal;
   state_ = NavState::kPlanning;
   plan_.clear();
@@ -40,7 +40,7 @@ void NavigationExecutive::SetGoal(const Pose2D& goal, double time) {
   last_valid_control_ = time;
   last_oscillation_reset_ = time;
   next_plan_time_ = time;
-  oscillation_pose_ = Pose2D{std::nan(""), std::nan(""), 0.0};
+  oscillation_pose_ = Pose2{std::nan(""), std::nan(""), 0.0};
   planning_retries_ = 0;
   recovery_index_ = 0;
   recovery_running_ = false;
@@ -60,7 +60,7 @@ constexpr size_t kTrailMaxPoses = 500;     // >= 10 m of trail at kTrailSpacing
 constexpr size_t kMaxBlocked = 32;
 }  // namespace
 
-void NavigationExecutive::RecordTrail(const Pose2D& p) {
+void NavigationExecutive::RecordTrail(const Pose2& p) {
   // Loop erasure: back where it has been, the loop driven since is dropped, so
   // the trail stays the way back (a robot that shuffles to and fro in a pocket
   // does not fill it with the shuffle and lose the way in).
@@ -71,7 +71,7 @@ void NavigationExecutive::RecordTrail(const Pose2D& p) {
     }
   }
   if (!trail_.empty()) {
-    const Pose2D& last = trail_.back();
+    const Pose2& last = trail_.back();
     if (std::hypot(p.x - last.x, p.y - last.y) < kTrailSpacing &&
         std::abs(AngleDiff(p.yaw, last.yaw)) < kTrailYawSpacing) {
       return;
@@ -85,7 +85,7 @@ void NavigationExecutive::RememberBlocked(const RobotState& state) {
   if (options_.blocked_radius <= 0.0 || plan_.empty()) return;
   // The plan pose nearest the robot, then the first one blocked_lookahead
   // beyond it (straight-line distance from the robot).
-  const Pose2D& r = state.global_pose;
+  const Pose2& r = state.global_pose;
   size_t nearest = 0;
   double best = 1e300;
   for (size_t i = 0; i < plan_.size(); ++i) {
@@ -98,7 +98,7 @@ void NavigationExecutive::RememberBlocked(const RobotState& state) {
     ++i;
   }
   // Never the goal itself: the goal stays plannable.
-  const Point2D c{plan_[i].x, plan_[i].y};
+  const Point2 c{plan_[i].x, plan_[i].y};
   if (std::hypot(c.x - goal_.x, c.y - goal_.y) < options_.blocked_radius + 0.1) return;
   blocked_.push_back(c);
   if (blocked_.size() > kMaxBlocked) blocked_.erase(blocked_.begin());
@@ -113,7 +113,7 @@ const Costmap2D& NavigationExecutive::PlanningCostmap(const RobotState& state) {
   // its disc: the disc then only counts once it has left).
   const double keep = options_.blocked_radius;
   const int rc = static_cast<int>(std::ceil(options_.blocked_radius / res));
-  for (const Point2D& b : blocked_) {
+  for (const Point2& b : blocked_) {
     int cx, cy;
     g.WorldToMapNoBounds(b.x, b.y, &cx, &cy);
     for (int my = cy - rc; my <= cy + rc; ++my) {
@@ -217,7 +217,7 @@ CycleResult NavigationExecutive::EnterClearing(Trigger trigger, const RobotState
   return Abort(msg.str());
 }
 
-CycleResult NavigationExecutive::Step(const RobotState& input, const Pose2D& global_to_local) {
+CycleResult NavigationExecutive::Step(const RobotState& input, const Pose2& global_to_local) {
   CycleResult result;
   RecordTrail(input.local_pose);
   if (state_ == NavState::kIdle) return result;
@@ -238,7 +238,7 @@ CycleResult NavigationExecutive::Step(const RobotState& input, const Pose2D& glo
   }
 
   if (state_ == NavState::kClearing) {
-    Twist2D cmd;
+    Twist2 cmd;
     if (recovery_running_ && recoveries_[recovery_index_]->Step(state, &cmd)) {
       result.cmd = cmd;
       return result;
@@ -286,7 +286,7 @@ CycleResult NavigationExecutive::Step(const RobotState& input, const Pose2D& glo
   // CONTROLLING.
   local_plan_.clear();
   local_plan_.reserve(plan_.size());
-  for (const Pose2D& p : plan_) local_plan_.push_back(Compose(global_to_local, p));
+  for (const Pose2& p : plan_) local_plan_.push_back(Compose(global_to_local, p));
 
   if (local_planner_->IsGoalReached(state.local_pose, state.velocity, local_plan_)) {
     state_ = NavState::kIdle;
@@ -310,7 +310,7 @@ CycleResult NavigationExecutive::Step(const RobotState& input, const Pose2D& glo
     }
   } catch (const ControlError& e) {
     last_error_ = e.what();
-    result.cmd = Twist2D();
+    result.cmd = Twist2();
     if (t - last_valid_control_ > options_.controller_patience) {
       return EnterClearing(Trigger::kControlling, state);
     }

@@ -17,8 +17,8 @@ void ClearCostmapRecovery::Start(const RobotState&) {
   if (clear_) clear_(reset_distance_);
 }
 
-bool ClearCostmapRecovery::Step(const RobotState&, Twist2D* cmd) {
-  *cmd = Twist2D();
+bool ClearCostmapRecovery::Step(const RobotState&, Twist2* cmd) {
+  *cmd = Twist2();
   return false;
 }
 
@@ -32,8 +32,8 @@ void RotateRecovery::Start(const RobotState& state) {
   turned_ = 0.0;
 }
 
-bool RotateRecovery::Step(const RobotState& state, Twist2D* cmd) {
-  *cmd = Twist2D();
+bool RotateRecovery::Step(const RobotState& state, Twist2* cmd) {
+  *cmd = Twist2();
   // Counter-clockwise progress since the last cycle (a turn of more than pi
   // between two cycles is impossible at these rates).
   turned_ += std::max(0.0, AngleDiff(state.local_pose.yaw, last_yaw_));
@@ -50,7 +50,7 @@ bool RotateRecovery::Step(const RobotState& state, Twist2D* cmd) {
                                                 std::max(1e-6, options_.acc_lim_th) +
                                             0.2);
     for (double a = 0.0; a <= look; a += options_.sim_granularity) {
-      Pose2D p = state.local_pose;
+      Pose2 p = state.local_pose;
       p.yaw = NormalizeAngle(p.yaw + a);
       const int c = FootprintCost(*state.local_costmap, footprint_, p);
       if (c < 0 || c == kLethalObstacle) return false;
@@ -59,7 +59,7 @@ bool RotateRecovery::Step(const RobotState& state, Twist2D* cmd) {
   // Decelerate so that the turn ends near a full revolution.
   double vel = std::sqrt(2.0 * options_.acc_lim_th * remaining);
   vel = std::clamp(vel, options_.min_rotational_vel, options_.max_rotational_vel);
-  cmd->vtheta = vel;
+  cmd->wz = vel;
   return true;
 }
 
@@ -90,13 +90,13 @@ void BackOutRecovery::Start(const RobotState& state) {
     outcome_ = "not needed: the local planner still finds commands and the robot can turn here";
     return;
   }
-  const std::vector<Pose2D>& trail = *state.trail;
+  const std::vector<Pose2>& trail = *state.trail;
   // Back along the trail until `distance` from here in a straight line: the
   // wiggles of a robot that worked its way into the spot are replayed too.
   // Where the robot could not turn on the spot there, on to the first trail
   // pose where it can (a dead-end slot longer than `distance`), at most
   // kMaxDistanceFactor * distance.
-  const Pose2D& start = state.local_pose;
+  const Pose2& start = state.local_pose;
   for (auto it = trail.rbegin(); it != trail.rend(); ++it) {
     route_.push_back(*it);
     const double d = std::hypot(it->x - start.x, it->y - start.y);
@@ -108,23 +108,23 @@ void BackOutRecovery::Start(const RobotState& state) {
   }
 }
 
-bool BackOutRecovery::BackClear(const Costmap2D& costmap, const Pose2D& pose) const {
+bool BackOutRecovery::BackClear(const Costmap2D& costmap, const Pose2& pose) const {
   // The back half of the footprint (reversing, the robot moves away from its
   // front), narrowed so that its sides move in by one cell.
   double half_width = 0.0;
-  for (const Point2D& v : footprint_) half_width = std::max(half_width, std::abs(v.y));
+  for (const Point2& v : footprint_) half_width = std::max(half_width, std::abs(v.y));
   const double scale = 1.0 - costmap.resolution() / std::max(1e-9, half_width);
   if (scale <= 0.0) return true;  // a robot under two cells wide
   Footprint narrowed = footprint_;
-  for (Point2D& v : narrowed) v = {std::min(v.x, 0.0), v.y * scale};
+  for (Point2& v : narrowed) v = {std::min(v.x, 0.0), v.y * scale};
   return FootprintCost(costmap, narrowed, pose) != kLethalObstacle;
 }
 
-bool BackOutRecovery::CanTurnAt(const Costmap2D* costmap, const Pose2D& pose) const {
+bool BackOutRecovery::CanTurnAt(const Costmap2D* costmap, const Pose2& pose) const {
   if (costmap == nullptr || footprint_.empty()) return true;
   constexpr int kHeadings = 16;
   for (int k = 0; k < kHeadings; ++k) {
-    Pose2D q = pose;
+    Pose2 q = pose;
     q.yaw = NormalizeAngle(pose.yaw + 2.0 * kPi * k / kHeadings);
     const int c = FootprintCost(*costmap, footprint_, q);
     if (c < 0 || c == kLethalObstacle) return false;
@@ -132,8 +132,8 @@ bool BackOutRecovery::CanTurnAt(const Costmap2D* costmap, const Pose2D& pose) co
   return true;
 }
 
-bool BackOutRecovery::OnTrail(const Pose2D& q) const {
-  for (const Pose2D& t : route_) {
+bool BackOutRecovery::OnTrail(const Pose2& q) const {
+  for (const Pose2& t : route_) {
     if (std::hypot(t.x - q.x, t.y - q.y) < 0.04 && std::abs(AngleDiff(t.yaw, q.yaw)) < 0.3) {
       return true;
     }
@@ -141,10 +141,10 @@ bool BackOutRecovery::OnTrail(const Pose2D& q) const {
   return false;
 }
 
-bool BackOutRecovery::Step(const RobotState& state, Twist2D* cmd) {
-  *cmd = Twist2D();
+bool BackOutRecovery::Step(const RobotState& state, Twist2* cmd) {
+  *cmd = Twist2();
   if (route_.empty()) return false;
-  const Pose2D& p = state.local_pose;
+  const Pose2& p = state.local_pose;
   auto stop = [this, &p](const char* why) {
     std::ostringstream o;
     o << "backed " << std::fixed << std::setprecision(2)
@@ -158,25 +158,25 @@ bool BackOutRecovery::Step(const RobotState& state, Twist2D* cmd) {
     return stop("timed out");
   }
   const double c = std::cos(p.yaw), s = std::sin(p.yaw);
-  auto dist = [&p](const Pose2D& q) { return std::hypot(q.x - p.x, q.y - p.y); };
+  auto dist = [&p](const Pose2& q) { return std::hypot(q.x - p.x, q.y - p.y); };
   // Steer at the first trail point at least kLookahead away (positions only:
   // the turns and wiggles of the way in need not be replayed).
   while (next_ + 1 < route_.size() && dist(route_[next_]) < kLookahead) ++next_;
-  const Pose2D& t = route_[next_];
+  const Pose2& t = route_[next_];
   if (next_ + 1 == route_.size() && dist(t) < 0.03) return stop("reached its end");
   const double dx = c * (t.x - p.x) + s * (t.y - p.y);
   const double dy = -s * (t.x - p.x) + c * (t.y - p.y);
   // Heading error of the robot's back: the bearing of the target seen from
   // behind (dx < 0 when it is behind).
   const double e = std::atan2(-dy, -dx);
-  Twist2D u;
+  Twist2 u;
   if (std::abs(e) > 0.6) {
-    u.vtheta = std::copysign(std::max(options_.min_rotational_vel, std::min(
+    u.wz = std::copysign(std::max(options_.min_rotational_vel, std::min(
         options_.max_rotational_vel, 2.5 * std::abs(e))), e);
   } else {
     u.vx = -options_.vel;
     // Reverse pure pursuit: the arc through the target, w = v * 2 dy / d^2.
-    u.vtheta = std::clamp(u.vx * 2.0 * dy / std::max(1e-6, dx * dx + dy * dy),
+    u.wz = std::clamp(u.vx * 2.0 * dy / std::max(1e-6, dx * dx + dy * dy),
                           -options_.max_rotational_vel, options_.max_rotational_vel);
   }
   if (state.local_costmap != nullptr && !footprint_.empty()) {
@@ -187,8 +187,8 @@ bool BackOutRecovery::Step(const RobotState& state, Twist2D* cmd) {
     // one deeper in the back half, the way it is going, is new and stops it.
     // Off the trail the footprint must stay clear of lethal cells.
     const double dt = 0.2;
-    Pose2D ahead = p;
-    ahead.yaw = NormalizeAngle(p.yaw + u.vtheta * dt);
+    Pose2 ahead = p;
+    ahead.yaw = NormalizeAngle(p.yaw + u.wz * dt);
     ahead.x += u.vx * dt * c;
     ahead.y += u.vx * dt * s;
     const int cost = FootprintCost(*state.local_costmap, footprint_, ahead);

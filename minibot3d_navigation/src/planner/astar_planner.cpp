@@ -194,8 +194,8 @@ void AStarPlanner::TraceBack(const Costmap2D& costmap, int start_index,
   std::reverse(cells->begin(), cells->end());
 }
 
-Path AStarPlanner::MakePlan(const Costmap2D& costmap, const Pose2D& start,
-                            const Pose2D& goal) {
+Path AStarPlanner::MakePlan(const Costmap2D& costmap, const Pose2& start,
+                            const Pose2& goal) {
   const PlanEndpoints ep = ResolveEndpoints(costmap, start, goal, options_);
   const int w = costmap.size_x();
   const int start_index = costmap.Index(ep.start_mx, ep.start_my);
@@ -228,14 +228,14 @@ Path AStarPlanner::MakePlan(const Costmap2D& costmap, const Pose2D& start,
   }
   TraceBack(costmap, start_index, target, &cells_);
 
-  Pose2D end = goal;
+  Pose2 end = goal;
   if (ep.goal_substituted) {
     costmap.MapToWorld(target % w, target / w, &end.x, &end.y);
   }
   raw_path_.clear();
   raw_path_.reserve(cells_.size() + 1);
   for (int idx : cells_) {
-    Point2D p;
+    Point2 p;
     costmap.MapToWorld(idx % w, idx / w, &p.x, &p.y);
     raw_path_.push_back(p);
   }
@@ -249,7 +249,7 @@ Path AStarPlanner::MakePlan(const Costmap2D& costmap, const Pose2D& start,
   if (!options_.smooth_path) {
     return MakePathPoses(raw_path_, start.yaw, end, options_.orientation_mode);
   }
-  const std::vector<Point2D> smooth = ResamplePolyline(
+  const std::vector<Point2> smooth = ResamplePolyline(
       ShortcutPath(costmap, raw_path_, options_), costmap.resolution());
   return MakePathPoses(smooth, start.yaw, end, options_.orientation_mode);
 }

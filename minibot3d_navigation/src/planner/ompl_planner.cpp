@@ -95,7 +95,7 @@ bool OmplPlanner::UsesFootprintCheck(const Costmap2D& costmap) const {
          circumscribed_radius_ - inscribed_radius_ > 0.5 * costmap.resolution();
 }
 
-bool OmplPlanner::IsValid(const Costmap2D& costmap, const Pose2D& pose) const {
+bool OmplPlanner::IsValid(const Costmap2D& costmap, const Pose2& pose) const {
   int mx = 0, my = 0;
   if (!costmap.WorldToMap(pose.x, pose.y, &mx, &my)) return false;
   if (!IsTraversableCost(costmap.cost(mx, my), options_)) return false;
@@ -105,8 +105,8 @@ bool OmplPlanner::IsValid(const Costmap2D& costmap, const Pose2D& pose) const {
          (c == kNoInformation && options_.allow_unknown);
 }
 
-Path OmplPlanner::MakePlan(const Costmap2D& costmap, const Pose2D& start,
-                           const Pose2D& goal) {
+Path OmplPlanner::MakePlan(const Costmap2D& costmap, const Pose2& start,
+                           const Pose2& goal) {
   using Code = PlanningError::Code;
   const PlanEndpoints ep = ResolveEndpoints(costmap, start, goal, options_);
   const int w = costmap.size_x();
@@ -147,7 +147,7 @@ Path OmplPlanner::MakePlan(const Costmap2D& costmap, const Pose2D& start,
                                  : "") +
                             ": not connected through traversable cells");
   }
-  Pose2D end = goal;
+  Pose2 end = goal;
   if (ep.goal_substituted) costmap.MapToWorld(target % w, target / w, &end.x, &end.y);
   if (footprint_check && !IsValid(costmap, end)) {
     throw PlanningError(Code::kGoalOccupied,
@@ -177,7 +177,7 @@ Path OmplPlanner::MakePlan(const Costmap2D& costmap, const Pose2D& start,
   const Costmap2D* cm = &costmap;
   ss.setStateValidityChecker([this, cm, start_index](const ob::State* s) {
     const auto* se2 = s->as<ob::SE2StateSpace::StateType>();
-    const Pose2D p{se2->getX(), se2->getY(), se2->getYaw()};
+    const Pose2 p{se2->getX(), se2->getY(), se2->getYaw()};
     int mx = 0, my = 0;
     if (cm->WorldToMap(p.x, p.y, &mx, &my) && cm->Index(mx, my) == start_index &&
         !UsesFootprintCheck(*cm)) {
@@ -220,7 +220,7 @@ Path OmplPlanner::MakePlan(const Costmap2D& costmap, const Pose2D& start,
   // interpolation is linear in x, y too, so the positions are on validated
   // motions).  vertex_yaw / vertex_of let a non-circular robot fall back to
   // the yaw OMPL validated.
-  std::vector<Point2D> vertices;
+  std::vector<Point2> vertices;
   std::vector<double> vertex_yaw;
   for (std::size_t i = 0; i < solution.getStateCount(); ++i) {
     const auto* st = solution.getState(i)->as<ob::SE2StateSpace::StateType>();
@@ -229,7 +229,7 @@ Path OmplPlanner::MakePlan(const Costmap2D& costmap, const Pose2D& start,
   }
   vertices.front() = {start.x, start.y};
   vertices.back() = {end.x, end.y};
-  const std::vector<Point2D> points =
+  const std::vector<Point2> points =
       ResamplePolyline(vertices, options_.ompl_interpolation_resolution);
   Path path = MakePathPoses(points, start.yaw, end, options_.orientation_mode);
   if (footprint_check) {
@@ -237,8 +237,8 @@ Path OmplPlanner::MakePlan(const Costmap2D& costmap, const Pose2D& start,
     // vertex i + 1 (ResamplePolyline's order): recover the segment per point.
     size_t k = 1;
     for (size_t seg = 0; seg + 1 < vertices.size(); ++seg) {
-      const Point2D& a = vertices[seg];
-      const Point2D& b = vertices[seg + 1];
+      const Point2& a = vertices[seg];
+      const Point2& b = vertices[seg + 1];
       const double len = std::hypot(b.x - a.x, b.y - a.y);
       const int pieces = std::max(
           1, static_cast<int>(std::ceil(len / options_.ompl_interpolation_resolution - 1e-9)));

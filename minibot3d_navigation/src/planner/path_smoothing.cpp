@@ -7,8 +7,8 @@
 namespace minibot3d_navigation {
 namespace nav {
 
-bool SegmentCostsAtMost(const Costmap2D& costmap, const Point2D& a,
-                        const Point2D& b, int max_cost,
+bool SegmentCostsAtMost(const Costmap2D& costmap, const Point2& a,
+                        const Point2& b, int max_cost,
                         const GlobalPlannerOptions& options) {
   auto ok = [&](int x, int y) {
     if (!costmap.InBounds(x, y)) return false;
@@ -52,8 +52,8 @@ bool SegmentCostsAtMost(const Costmap2D& costmap, const Point2D& a,
   return true;
 }
 
-std::vector<Point2D> ShortcutPath(const Costmap2D& costmap,
-                                  const std::vector<Point2D>& raw,
+std::vector<Point2> ShortcutPath(const Costmap2D& costmap,
+                                  const std::vector<Point2>& raw,
                                   const GlobalPlannerOptions& options) {
   const int n = static_cast<int>(raw.size());
   if (n <= 2) return raw;
@@ -131,20 +131,20 @@ std::vector<Point2D> ShortcutPath(const Costmap2D& costmap,
     kept.swap(next);
     if (!changed) break;
   }
-  std::vector<Point2D> out;
+  std::vector<Point2> out;
   out.reserve(kept.size());
   for (int k : kept) out.push_back(raw[k]);
   return out;
 }
 
-std::vector<Point2D> ResamplePolyline(const std::vector<Point2D>& points,
+std::vector<Point2> ResamplePolyline(const std::vector<Point2>& points,
                                       double spacing) {
   if (points.size() < 2 || !(spacing > 0.0)) return points;
-  std::vector<Point2D> out;
+  std::vector<Point2> out;
   out.push_back(points[0]);
   for (size_t i = 1; i < points.size(); ++i) {
-    const Point2D& a = points[i - 1];
-    const Point2D& b = points[i];
+    const Point2& a = points[i - 1];
+    const Point2& b = points[i];
     const double len = std::hypot(b.x - a.x, b.y - a.y);
     const int pieces = std::max(1, static_cast<int>(std::ceil(len / spacing - 1e-9)));
     for (int k = 1; k < pieces; ++k) {
@@ -156,7 +156,7 @@ std::vector<Point2D> ResamplePolyline(const std::vector<Point2D>& points,
   return out;
 }
 
-double PolylineLength(const std::vector<Point2D>& points) {
+double PolylineLength(const std::vector<Point2>& points) {
   double len = 0.0;
   for (size_t i = 1; i < points.size(); ++i) {
     len += std::hypot(points[i].x - points[i - 1].x, points[i].y - points[i - 1].y);
@@ -172,8 +172,8 @@ double PathLength(const Path& path) {
   return len;
 }
 
-Path MakePathPoses(const std::vector<Point2D>& points, double start_yaw,
-                   const Pose2D& goal, int orientation_mode) {
+Path MakePathPoses(const std::vector<Point2>& points, double start_yaw,
+                   const Pose2& goal, int orientation_mode) {
   Path path(points.size());
   const size_t n = points.size();
   if (n == 0) return path;

@@ -137,11 +137,11 @@ std::string FormatXY(double x, double y) {
   return buf;
 }
 
-PlanEndpoints ResolveEndpoints(const Costmap2D& costmap, const Pose2D& start,
-                               const Pose2D& goal,
+PlanEndpoints ResolveEndpoints(const Costmap2D& costmap, const Pose2& start,
+                               const Pose2& goal,
                                const GlobalPlannerOptions& options) {
   using Code = PlanningError::Code;
-  if (!amcl::IsFinite(start) || !amcl::IsFinite(goal)) {
+  if (!minibot3d_common::IsFinite(start) || !minibot3d_common::IsFinite(goal)) {
     throw PlanningError(Code::kInvalidInput,
                         "start " + FormatXY(start.x, start.y) + " yaw " +
                             Num(start.yaw) + " or goal " +

@@ -11,11 +11,13 @@
 #include <random>
 #include <vector>
 
-#include "minibot3d_sim/geometry2d.h"
+#include "minibot3d_common/geometry2d.h"
 #include "minibot3d_sim/robot_model.h"
 #include "minibot3d_sim/world_slice.h"
 
 namespace minibot3d_sim {
+
+using minibot3d_common::Pose2;
 
 class Lidar {
  public:

@@ -13,11 +13,16 @@
 
 #include <Eigen/Core>
 
-#include "minibot3d_sim/geometry2d.h"
+#include "minibot3d_common/geometry2d.h"
 #include "minibot3d_sim/robot_model.h"
 #include "minibot3d_sim/world.h"
 
 namespace minibot3d_sim {
+
+using minibot3d_common::NormalizeAngle;
+using minibot3d_common::Pose2;
+using minibot3d_common::TransformPoint;
+using minibot3d_common::Twist2;
 
 // The robot's body touching the world.
 struct Contact {

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "minibot3d_sim/geometry2d.h"
+#include "minibot3d_common/geometry2d.h"
 #include "minibot3d_sim/lidar.h"
 #include "minibot3d_sim/physics_backend.h"
 #include "minibot3d_sim/robot_model.h"
@@ -25,6 +25,9 @@
 #include "minibot3d_sim/world_slice.h"
 
 namespace minibot3d_sim {
+
+using minibot3d_common::Pose2;
+using minibot3d_common::Twist2;
 
 struct SimulatorOptions {
   std::string physics = "bullet";  // "bullet", "bullet_naive" or "kinematic"

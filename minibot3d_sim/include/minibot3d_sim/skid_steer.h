@@ -5,10 +5,14 @@
 
 #include <array>
 
-#include "minibot3d_sim/geometry2d.h"
+#include "minibot3d_common/geometry2d.h"
 #include "minibot3d_sim/robot_model.h"
 
 namespace minibot3d_sim {
+
+using minibot3d_common::Compose;
+using minibot3d_common::Pose2;
+using minibot3d_common::Twist2;
 
 struct SkidSteerGeometry {
   double wheel_separation = 0.0;  // distance between left and right wheel centres (m)

@@ -98,7 +98,7 @@ std::string FormatReport(const RelationsReport& report);
 //  - to `random_per_anchor` poses drawn uniformly (seeded, reproducible) among the poses up to
 //    `max_span` seconds after it (the larger-scale consistency, e.g. across a loop);
 //  - duplicates are dropped; relations come sorted by (t1, t2).
-// The relative poses are exact (Between(gt_j, gt_i)), unlike the paper's hand-aligned scans.
+// The relative poses are exact (Between(gt_i, gt_j)), unlike the paper's hand-aligned scans.
 struct MakeRelationsOptions {
   double every = 1.0;      // s
   double max_span = 10.0;  // s

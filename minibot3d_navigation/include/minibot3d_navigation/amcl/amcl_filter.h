@@ -159,7 +159,7 @@ struct UpdateResult {
 };
 
 struct PoseEstimate {
-  Pose2D mean;                                           // map frame
+  Pose2 mean;                                           // map frame
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  // x, y, yaw
   double weight = 0.0;    // probability mass of the chosen cluster
   int cluster_count = 0;  // number of hypotheses in the set
@@ -179,7 +179,7 @@ constexpr double kUnconfidentVarianceYaw = (kPi / 4) * (kPi / 4);  // rad^2
 // points are unexplained).  *beams_used (if given) gets the beam count; 0
 // beams give 0.
 double ExplainedFraction(const MapModel& map, const PreparedScan& scan,
-                         const Pose2D& pose, double hit_dist,
+                         const Pose2& pose, double hit_dist,
                          int* beams_used = nullptr);
 
 struct Confidence {
@@ -241,7 +241,7 @@ class AmclFilter {
   // drawn from N(mean, covariance).  Throws std::invalid_argument, leaving
   // the filter unchanged, if the mean is not finite or outside the map, or
   // the covariance is not finite, symmetric and positive semi-definite.
-  void SetPose(const Pose2D& mean, const Eigen::Matrix3d& covariance);
+  void SetPose(const Pose2& mean, const Eigen::Matrix3d& covariance);
 
   // max_particles particles uniform over free space (amcl's
   // global_localization service); with the global search available, the
@@ -274,7 +274,7 @@ class AmclFilter {
 
   // One filter step for a scan and the odometry pose of the robot base at
   // the scan's time stamp (see the header comment).
-  UpdateResult Update(const Pose2D& odom_pose, const LaserScan& scan);
+  UpdateResult Update(const Pose2& odom_pose, const LaserScan& scan);
 
   // Current pose estimate: heaviest cluster.  Always available (computed at
   // initialization and after every prediction / correction).
@@ -291,7 +291,7 @@ class AmclFilter {
   double InjectionProbability() const;
   // Odometry pose of the last applied update (valid after the first).
   bool has_odom_reference() const { return have_odom_; }
-  const Pose2D& odom_reference() const { return odom_ref_; }
+  const Pose2& odom_reference() const { return odom_ref_; }
 
   const AmclOptions& options() const { return options_; }
   const MapModel& map() const { return *map_; }
@@ -304,7 +304,7 @@ class AmclFilter {
   size_t MapMemoryBytes() const;
 
  private:
-  void SampleGaussian(const Pose2D& mean, const Eigen::Matrix3d& cov,
+  void SampleGaussian(const Pose2& mean, const Eigen::Matrix3d& cov,
                       const MapModel& map, std::vector<Particle>* out);
   void ResetAfterInitialization(int evidence_updates);
   // Multiplies weights by exp(log_likelihoods_) and normalises; updates
@@ -325,13 +325,13 @@ class AmclFilter {
   void UpdateConvergence();
   void UpdateEstimate();
   // After a correction: explained fraction, evidence, lost test.
-  void UpdateConfidence(bool motion_update, const Pose2D& odom_pose,
+  void UpdateConfidence(bool motion_update, const Pose2& odom_pose,
                         const LaserScan& scan);
   // Whether the robot at odom_pose sees from a new place: at least
   // update_min_d (in odometry) from every update counted in the current run
   // of evidence, or, for a laser with a blind sector wider than update_min_a,
   // turned by update_min_a from those within that distance.
-  bool IsNewView(const Pose2D& odom_pose, const LaserScan& scan) const;
+  bool IsNewView(const Pose2& odom_pose, const LaserScan& scan) const;
   // The look-alike check before a claim (see Confidence above).
   void Challenge(const LaserScan& scan);
   // Modes' second moment and the confidence floors -> claim_covariance.
@@ -351,7 +351,7 @@ class AmclFilter {
   PreparedScan scan_;
 
   bool have_odom_ = false;
-  Pose2D odom_ref_;
+  Pose2 odom_ref_;
   bool force_update_ = false;
   int resample_count_ = 0;
   // Augmented MCL averages, in log space (likelihoods of a scan with many
@@ -375,7 +375,7 @@ class AmclFilter {
   int challenges_left_ = 0;  // look-alike checks left before the next claim
   // Odometry poses of the updates that counted in the current run of
   // evidence (IsNewView).
-  std::vector<Pose2D> evidence_views_;
+  std::vector<Pose2> evidence_views_;
 };
 
 }  // namespace amcl

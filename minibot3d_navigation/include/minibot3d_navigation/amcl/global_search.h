@@ -47,11 +47,9 @@ namespace amcl {
 
 // minibot3d_slam's map (minibot3d_map_io's OccupancyGrid, what LoadMap returns) and amcl's:
 // the same cells, resolution and origin.
-minibot3d_slam::GridMap ToSlamMap(const OccupancyGrid& grid);
-OccupancyGrid FromSlamMap(const minibot3d_slam::GridMap& map);
 
 struct SearchCandidate {
-  Pose2D pose;          // robot base in the map frame
+  Pose2 pose;          // robot base in the map frame
   double score = 0.0;   // mean occupancy probability at the end points
 };
 

@@ -31,7 +31,7 @@ struct PoseBin {
   int iyaw;  // 0..kYawBins-1 (yaw in [-pi, pi) -> bins wrap around)
 };
 
-PoseBin BinOfPose(const Pose2D& pose);
+PoseBin BinOfPose(const Pose2& pose);
 
 // A unique 64-bit key for a bin (for sorting / hashing).  ix and iy are
 // clamped to +-2^20 bins (+-524 km), far beyond any map.

@@ -53,7 +53,7 @@ class MotionModel {
   // Moves every particle by the odometry increment from old_odom to new_odom
   // (both odometry-frame poses of the robot base), each with its own noise
   // sample.  Weights are left untouched; yaws are normalised to [-pi, pi).
-  virtual void SamplePoses(const Pose2D& old_odom, const Pose2D& new_odom,
+  virtual void SamplePoses(const Pose2& old_odom, const Pose2& new_odom,
                            std::mt19937_64* rng,
                            std::vector<Particle>* particles) const = 0;
 

@@ -17,23 +17,15 @@
 #include <random>
 #include <vector>
 
+#include "minibot3d_map_io/map_io.h"
 #include "minibot3d_navigation/amcl/types.h"
 
 namespace minibot3d_navigation {
 namespace amcl {
 
-// Same layout as nav_msgs/OccupancyGrid: cell (i, j) is data[j * width + i];
-// i grows along the map's x axis; the origin is the pose of the outer corner
-// of cell (0, 0).  Values: -1 unknown, 0 (free) .. 100 (occupied).
-struct OccupancyGrid {
-  double resolution = 0.05;  // metres per cell
-  double origin_x = 0.0;
-  double origin_y = 0.0;
-  double origin_yaw = 0.0;
-  int width = 0;
-  int height = 0;
-  std::vector<int8_t> data;
-};
+// The workspace's occupancy grid (minibot3d_map_io): nav_msgs/OccupancyGrid's
+// layout, values -1 unknown, 0 (free) .. 100 (occupied).
+using OccupancyGrid = minibot3d_map_io::OccupancyGrid;
 
 // Cell classification.  These are map_server's default thresholds
 // (free_thresh 0.196, occupied_thresh 0.65); for trinary maps (0/100/-1, as
@@ -53,7 +45,7 @@ class MapModel {
   int width() const { return width_; }
   int height() const { return height_; }
   double resolution() const { return resolution_; }
-  const Pose2D& origin() const { return origin_; }
+  const Pose2& origin() const { return origin_; }
   double max_occ_dist() const { return max_occ_dist_; }
   const std::vector<int>& free_cells() const { return free_cells_; }
 
@@ -71,9 +63,9 @@ class MapModel {
   // The "grid frame" is the map frame rotated/translated so that the grid is
   // axis-aligned with cell (0, 0)'s corner at the origin: cell (i, j) spans
   // [i*res, (i+1)*res) x [j*res, (j+1)*res).  Hot loops work in it so that
-  // origin_yaw costs one transform per particle, not one per beam.
-  Pose2D WorldToGridFrame(const Pose2D& world) const;
-  Pose2D GridFrameToWorld(const Pose2D& grid) const;
+  // origin_theta costs one transform per particle, not one per beam.
+  Pose2 WorldToGridFrame(const Pose2& world) const;
+  Pose2 GridFrameToWorld(const Pose2& grid) const;
 
   // Cell containing the world point; false (and *i, *j untouched) off-map.
   bool WorldToCell(double wx, double wy, int* i, int* j) const;
@@ -98,11 +90,11 @@ class MapModel {
   double CalcRangeGrid(double gx, double gy, double angle,
                        double max_range) const;
   // Same, from a world pose (x, y, yaw).
-  double CalcRange(const Pose2D& world_ray, double max_range) const;
+  double CalcRange(const Pose2& world_ray, double max_range) const;
 
   // A pose uniformly distributed over free space: a uniformly chosen free
   // cell, a uniform position inside it, a uniform yaw in [-pi, pi).
-  Pose2D SampleFreePose(std::mt19937_64* rng) const;
+  Pose2 SampleFreePose(std::mt19937_64* rng) const;
 
   // Heap bytes held (distance field, cell states, free list).
   size_t MemoryBytes() const;
@@ -117,7 +109,7 @@ class MapModel {
   int height_;
   double resolution_;
   double inv_resolution_;
-  Pose2D origin_;
+  Pose2 origin_;
   double cos_origin_;
   double sin_origin_;
   double max_occ_dist_;

@@ -25,7 +25,7 @@ struct PoseCluster {
   double weight = 0.0;  // sum of member weights / sum of all weights
   double injected_weight = 0.0;  // the part of `weight` on injected particles
   int particle_count = 0;
-  Pose2D mean;
+  Pose2 mean;
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  // x, y, yaw
 };
 

@@ -65,7 +65,7 @@ struct PreparedScan {
   std::vector<Beam> beams;  // subsampled, NaN readings already dropped
   double range_max = 0.0;   // effective
   double range_min = 0.0;   // effective
-  Pose2D laser_pose;        // in the base frame
+  Pose2 sensor_in_base;        // in the base frame
   int subsampled_count = 0;  // beams selected by laser_max_beams (incl. NaN)
   int nan_count = 0;         // of those, dropped as NaN
 };

@@ -20,7 +20,7 @@
 namespace minibot3d_navigation {
 namespace nav {
 
-using Footprint = std::vector<Point2D>;
+using Footprint = std::vector<Point2>;
 
 // Parses costmap_2d's string form "[[x0, y0], [x1, y1], ...]" (at least three
 // points, finite).  Throws std::invalid_argument naming the problem.
@@ -42,13 +42,13 @@ void FootprintRadii(const Footprint& footprint, double* inscribed,
                     double* circumscribed);
 
 // The footprint placed at `pose` (vertices in the pose's frame).
-Footprint TransformFootprint(const Footprint& footprint, const Pose2D& pose);
+Footprint TransformFootprint(const Footprint& footprint, const Pose2& pose);
 
 // Worst cost under the footprint's outline placed at `pose` (and the cell under
 // the centre).  Returns -1 if any of those cells is outside the costmap, else
 // 0..255 (254 = lethal: collision; 255 = unknown).
 int FootprintCost(const Costmap2D& costmap, const Footprint& footprint,
-                  const Pose2D& pose);
+                  const Pose2& pose);
 
 // Cells of a closed polygon's outline (Bresenham per edge), in map cells.
 // Used to mark the robot's own footprint and by FootprintCost.

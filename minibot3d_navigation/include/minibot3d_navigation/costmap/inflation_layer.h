@@ -68,7 +68,7 @@ class InflationLayer : public Layer {
   // Widens the bounds by inflation_radius (and by the previous cycle's
   // bounds, as costmap_2d); everything after a parameter, size or footprint
   // change.
-  void UpdateBounds(const Pose2D& robot, Bounds* bounds) override;
+  void UpdateBounds(const Pose2& robot, Bounds* bounds) override;
   void UpdateCosts(const CellBounds& cells, Costmap2D* master) override;
   void Reset() override { need_reinflation_ = true; }
 

@@ -131,7 +131,7 @@ class Layer {
     (void)new_origin_x;
     (void)new_origin_y;
   }
-  virtual void UpdateBounds(const Pose2D& robot, Bounds* bounds) = 0;
+  virtual void UpdateBounds(const Pose2& robot, Bounds* bounds) = 0;
   virtual void UpdateCosts(const CellBounds& cells, Costmap2D* master) = 0;
   virtual void Reset() = 0;
 };

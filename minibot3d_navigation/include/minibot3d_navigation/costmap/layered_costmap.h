@@ -66,7 +66,7 @@ class LayeredCostmap {
 
   // One update cycle at the robot's pose in the costmap frame (see the
   // header comment).  Throws std::invalid_argument for a non-finite pose.
-  void UpdateMap(const Pose2D& robot);
+  void UpdateMap(const Pose2& robot);
 
   // clear_costmaps: master to its default, every layer Reset(); the next
   // UpdateMap rebuilds the whole master (static map, re-inflated).
@@ -76,7 +76,7 @@ class LayeredCostmap {
   // layer forgets what lies outside the square of side `reset_distance`
   // centred on the robot, then UpdateMap(robot) runs so the master shows it
   // at once.  Throws std::invalid_argument for a negative or NaN distance.
-  void ClearExceptAround(const Pose2D& robot, double reset_distance);
+  void ClearExceptAround(const Pose2& robot, double reset_distance);
 
   const Costmap2D& costmap() const { return costmap_; }
   const Footprint& footprint() const { return footprint_; }

@@ -32,7 +32,6 @@
 #include <string>
 #include <vector>
 
-#include "minibot3d_navigation/amcl/types.h"
 #include "minibot3d_navigation/costmap/layer.h"
 
 namespace minibot3d_navigation {
@@ -40,9 +39,9 @@ namespace nav {
 
 // One sensor reading, already in the costmap's frame.
 struct Observation {
-  Point2D origin;                        // sensor position
-  std::vector<Point2D> hits;             // endpoints that clear up to and mark
-  std::vector<Point2D> clear_endpoints;  // endpoints that only clear (no return)
+  Point2 origin;                        // sensor position
+  std::vector<Point2> hits;             // endpoints that clear up to and mark
+  std::vector<Point2> clear_endpoints;  // endpoints that only clear (no return)
   double obstacle_range = 2.5;  // 0: marks nothing (a clearing-only source)
   double raytrace_range = 3.0;  // 0: clears nothing (a marking-only source)
 };
@@ -53,10 +52,10 @@ struct Observation {
 //   r == +inf and inf_is_valid           -> clear endpoint at range_max
 //   anything else (NaN, -inf, out of the sensor's limits) -> dropped
 // `sensor_pose` is the laser's pose in the costmap frame; beam k points at
-// sensor_pose.yaw + scan.angles[k].  scan.laser_pose is ignored (the caller
+// sensor_pose.yaw + scan.angles[k].  scan.sensor_in_base is ignored (the caller
 // has already composed it into sensor_pose).  Throws std::invalid_argument if
 // ranges and angles differ in length or the sensor pose is not finite.
-Observation ObservationFromScan(const amcl::LaserScan& scan, const Pose2D& sensor_pose,
+Observation ObservationFromScan(const LaserScan& scan, const Pose2& sensor_pose,
                                 double obstacle_range, double raytrace_range,
                                 bool inf_is_valid);
 
@@ -86,7 +85,7 @@ class ObstacleLayer : public Layer {
   void OnFootprintChanged(const Footprint& padded_footprint, double inscribed_radius,
                           double circumscribed_radius) override;
   void UpdateOrigin(double new_origin_x, double new_origin_y) override;
-  void UpdateBounds(const Pose2D& robot, Bounds* bounds) override;
+  void UpdateBounds(const Pose2& robot, Bounds* bounds) override;
   void UpdateCosts(const CellBounds& cells, Costmap2D* master) override;
   // Forgets all obstacles and pending observations.
   void Reset() override;
@@ -94,7 +93,7 @@ class ObstacleLayer : public Layer {
  private:
   void RaytraceFreespace(const Observation& obs, Bounds* bounds);
   void ClearRay(int x0, int y0, int x1, int y1, unsigned int max_cells, bool include_end);
-  void ClearFootprint(const Pose2D& robot, Bounds* bounds);
+  void ClearFootprint(const Pose2& robot, Bounds* bounds);
 
   bool track_unknown_space_;
   Costmap2D grid_;

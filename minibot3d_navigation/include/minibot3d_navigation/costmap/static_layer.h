@@ -22,7 +22,7 @@
 // and map coincide (as in costmap_2d, which looks the map up through tf,
 // this layer would need the map->odom transform; the node must not add a
 // static layer to an odom-frame rolling window unless it re-expresses the
-// map).  Maps with a rotated origin (origin_yaw != 0) are rejected, since
+// map).  Maps with a rotated origin (origin_theta != 0) are rejected, since
 // costmap_2d silently ignores the rotation.
 #ifndef MINIBOT3D_NAVIGATION_COSTMAP_STATIC_LAYER_H_
 #define MINIBOT3D_NAVIGATION_COSTMAP_STATIC_LAYER_H_
@@ -30,14 +30,12 @@
 #include <cstdint>
 #include <string>
 
-#include "minibot3d_navigation/amcl/occupancy_map.h"
 #include "minibot3d_navigation/costmap/costmap_options.h"
 #include "minibot3d_navigation/costmap/layer.h"
 
 namespace minibot3d_navigation {
 namespace nav {
 
-using OccupancyGrid = amcl::OccupancyGrid;
 
 class StaticLayer : public Layer {
  public:
@@ -59,7 +57,7 @@ class StaticLayer : public Layer {
 
   std::string name() const override { return "static_layer"; }
   // Requests the map's extent after a new map or a Reset().
-  void UpdateBounds(const Pose2D& robot, Bounds* bounds) override;
+  void UpdateBounds(const Pose2& robot, Bounds* bounds) override;
   void UpdateCosts(const CellBounds& cells, Costmap2D* master) override;
   // Keeps the map (costmap_2d re-subscribes and gets the same map back) and
   // requests a full rewrite at the next update.

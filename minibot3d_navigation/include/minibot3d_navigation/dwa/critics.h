@@ -68,14 +68,14 @@ namespace dwa {
 // Indices of the costmap cells covered by `footprint` at `pose` (interior,
 // outline and centre), for MapGrid's robot cells.
 void FootprintCells(const Costmap2D& costmap, const Footprint& footprint,
-                    const Pose2D& pose, std::vector<int>* cells);
+                    const Pose2& pose, std::vector<int>* cells);
 
 class PathDistCritic : public TrajectoryCritic {
  public:
   explicit PathDistCritic(const Footprint& footprint)
       : footprint_(footprint) {}
   std::string name() const override { return "PathDist"; }
-  bool Prepare(const Pose2D& pose, const Twist2D& velocity, const Path& plan,
+  bool Prepare(const Pose2& pose, const Twist2& velocity, const Path& plan,
                const Costmap2D& costmap) override;
   double Score(const Trajectory& traj) override;
   const MapGrid& grid() const { return grid_; }
@@ -92,22 +92,22 @@ class GoalDistCritic : public TrajectoryCritic {
   explicit GoalDistCritic(const Footprint& footprint)
       : footprint_(footprint) {}
   std::string name() const override { return "GoalDist"; }
-  bool Prepare(const Pose2D& pose, const Twist2D& velocity, const Path& plan,
+  bool Prepare(const Pose2& pose, const Twist2& velocity, const Path& plan,
                const Costmap2D& costmap) override;
   double Score(const Trajectory& traj) override;
   const MapGrid& grid() const { return grid_; }
   // The local goal cell's centre (valid after a successful Prepare).
-  Point2D local_goal() const { return local_goal_; }
+  Point2 local_goal() const { return local_goal_; }
   // Goal distance (cells) of the point `lookahead` metres in front of
   // `pose`; impossible_distance() if off the map.
-  double DistanceAhead(const Pose2D& pose, double lookahead) const;
+  double DistanceAhead(const Pose2& pose, double lookahead) const;
 
  private:
   Footprint footprint_;
   MapGrid grid_;
   std::vector<int> robot_cells_;
   const Costmap2D* costmap_ = nullptr;
-  Point2D local_goal_;
+  Point2 local_goal_;
 };
 
 class ObstacleCostCritic : public TrajectoryCritic {
@@ -115,7 +115,7 @@ class ObstacleCostCritic : public TrajectoryCritic {
   explicit ObstacleCostCritic(const Footprint& footprint)
       : footprint_(footprint) {}
   std::string name() const override { return "ObstacleCost"; }
-  bool Prepare(const Pose2D& pose, const Twist2D& velocity, const Path& plan,
+  bool Prepare(const Pose2& pose, const Twist2& velocity, const Path& plan,
                const Costmap2D& costmap) override;
   double Score(const Trajectory& traj) override;
   // Prepare without a plan (for checking a single command).
@@ -142,14 +142,14 @@ class ObstacleCostCritic : public TrajectoryCritic {
   // *band_depth (0..1) how far into the inscribed band the outline gets.
   int Check(const Trajectory& traj, double* collision_distance, double* band_depth) const;
   // Smallest distance (m) from the outline at `pose` to a lethal cell.
-  double Clearance(const Pose2D& pose) const;
+  double Clearance(const Pose2& pose) const;
   // Distance (m) from the footprint polygon at `pose` (or, with `centre`,
   // from the pose's centre) to the nearest lethal cell centre within reach of
   // the footprint (negative inside the polygon; infinity if none).
-  double ContinuousClearance(const Pose2D& pose, bool centre) const;
+  double ContinuousClearance(const Pose2& pose, bool centre) const;
   // ContinuousClearance of the rollouts' common start pose, remembered until
   // the pose or the costmap changes.
-  double StartClearance(const Pose2D& start) const;
+  double StartClearance(const Pose2& start) const;
 
   Footprint footprint_;
   const Costmap2D* costmap_ = nullptr;
@@ -163,7 +163,7 @@ class ObstacleCostCritic : public TrajectoryCritic {
   std::vector<float> lethal_distance_;
   double band_width_ = 0.0;
   mutable std::vector<std::pair<int, int>> outline_;
-  mutable Pose2D start_pose_;
+  mutable Pose2 start_pose_;
   mutable double start_clearance_ = 0.0;
   mutable bool start_clearance_valid_ = false;
 };
@@ -173,7 +173,7 @@ class OscillationCritic : public TrajectoryCritic {
   explicit OscillationCritic(double oscillation_reset_dist)
       : reset_dist_(oscillation_reset_dist) {}
   std::string name() const override { return "Oscillation"; }
-  bool Prepare(const Pose2D& pose, const Twist2D& velocity, const Path& plan,
+  bool Prepare(const Pose2& pose, const Twist2& velocity, const Path& plan,
                const Costmap2D& costmap) override;
   double Score(const Trajectory& traj) override;
   void Debrief(const Trajectory& chosen) override;
@@ -186,15 +186,15 @@ class OscillationCritic : public TrajectoryCritic {
 
  private:
   double reset_dist_;
-  Pose2D pose_;
+  Pose2 pose_;
   // In-place rotation memory (TrajectoryPlanner's rotating_*/stuck_*).
   bool rotated_pos_ = false, rotated_neg_ = false;
   bool forbid_pos_rot_ = false, forbid_neg_rot_ = false;
-  Pose2D rotation_anchor_;
+  Pose2 rotation_anchor_;
   // Direction memory: sign of the last non-zero vx commanded.
   int last_direction_ = 0;
   bool forbid_forward_ = false, forbid_backward_ = false;
-  Pose2D direction_anchor_;
+  Pose2 direction_anchor_;
 };
 
 }  // namespace dwa

@@ -106,9 +106,9 @@ class DwaPlanner : public LocalPlanner {
 
   std::string name() const override { return "dwa_local_planner"; }
   void Reset() override;
-  Twist2D ComputeVelocity(const Pose2D& pose, const Twist2D& velocity,
+  Twist2 ComputeVelocity(const Pose2& pose, const Twist2& velocity,
                           const Path& plan, const Costmap2D& costmap) override;
-  bool IsGoalReached(const Pose2D& pose, const Twist2D& velocity,
+  bool IsGoalReached(const Pose2& pose, const Twist2& velocity,
                      const Path& plan) override;
 
   const DwaOptions& options() const { return options_; }
@@ -119,42 +119,42 @@ class DwaPlanner : public LocalPlanner {
   // The pruned plan of the last cycle.
   const Path& pruned_plan() const { return pruned_; }
   // Local goal of the last cycle's goal-distance grid.
-  Point2D local_goal() const { return goal_critic_.local_goal(); }
+  Point2 local_goal() const { return goal_critic_.local_goal(); }
   const TrajectoryGenerator& generator() const { return generator_; }
 
  private:
-  void CheckInputs(const Pose2D& pose, const Twist2D& velocity,
+  void CheckInputs(const Pose2& pose, const Twist2& velocity,
                    const Path& plan, const Costmap2D& costmap) const;
-  void PrunePlan(const Pose2D& pose, const Path& plan,
+  void PrunePlan(const Pose2& pose, const Path& plan,
                  const Costmap2D& costmap);
-  bool Stopped(const Twist2D& velocity) const;
+  bool Stopped(const Twist2& velocity) const;
   // max(min_vel_x, |escape_vel|): the speed of the way out, and below which
   // the robot turns to the path on the spot at a quarter of
   // rotate_to_path_angle.
   double CreepSpeed() const;
   // The braking trajectory from `velocity` at the acceleration limits, with
   // the first period's braking command.
-  void GenerateBraking(const Pose2D& pose, const Twist2D& velocity,
+  void GenerateBraking(const Pose2& pose, const Twist2& velocity,
                        Trajectory* traj) const;
   // Braking command; its trajectory becomes last_trajectory().
-  Twist2D Brake(const Pose2D& pose, const Twist2D& velocity, Mode mode,
+  Twist2 Brake(const Pose2& pose, const Twist2& velocity, Mode mode,
                 const Costmap2D& costmap);
   // In-place rotation towards `target_yaw`, stopping within `tolerance`.
   // Returns false if that rotation collides (best_ then holds it).
-  bool RotateTowards(const Pose2D& pose, const Twist2D& velocity,
+  bool RotateTowards(const Pose2& pose, const Twist2& velocity,
                      double target_yaw, double tolerance,
-                     const Costmap2D& costmap, Twist2D* command);
+                     const Costmap2D& costmap, Twist2* command);
   // Angle from the heading to the first plan pose heading_lookahead or more
   // from the robot; NaN if that pose is off the costmap.
-  double PathHeadingError(const Pose2D& pose, const Costmap2D& costmap) const;
-  Twist2D FollowPath(const Pose2D& pose, const Twist2D& velocity,
+  double PathHeadingError(const Pose2& pose, const Costmap2D& costmap) const;
+  Twist2 FollowPath(const Pose2& pose, const Twist2& velocity,
                      const Costmap2D& costmap);
   // Scores `candidate_` into its cost: negative if illegal, or +infinity if
   // pruned (partial cost above `bound`).
   double Evaluate(double bound);
-  std::string Diagnose(const Pose2D& pose, const Costmap2D& costmap) const;
+  std::string Diagnose(const Pose2& pose, const Costmap2D& costmap) const;
   // "nearest obstacle 0.12 m ahead of the footprint (bearing 5 deg)".
-  std::string NearestObstacle(const Pose2D& pose,
+  std::string NearestObstacle(const Pose2& pose,
                               const Costmap2D& costmap) const;
 
   const DwaOptions options_;
@@ -172,13 +172,13 @@ class DwaPlanner : public LocalPlanner {
   CycleStats stats_;
 
   bool latched_ = false;
-  Pose2D latched_goal_;
+  Pose2 latched_goal_;
   bool rotating_to_goal_ = false;
   bool rotating_to_path_ = false;
   bool escaping_ = false;
-  Pose2D escape_pose_;
+  Pose2 escape_pose_;
   // Rotation on the spot since the robot last moved oscillation_reset_dist.
-  Pose2D spin_anchor_;
+  Pose2 spin_anchor_;
   double last_yaw_ = 0.0;
   double spun_in_place_ = 0.0;
 };

@@ -30,10 +30,10 @@ class LocalPlanner {
   virtual ~LocalPlanner() = default;
   virtual std::string name() const = 0;
   virtual void Reset() = 0;
-  virtual Twist2D ComputeVelocity(const Pose2D& pose, const Twist2D& velocity,
+  virtual Twist2 ComputeVelocity(const Pose2& pose, const Twist2& velocity,
                                   const Path& plan,
                                   const Costmap2D& costmap) = 0;
-  virtual bool IsGoalReached(const Pose2D& pose, const Twist2D& velocity,
+  virtual bool IsGoalReached(const Pose2& pose, const Twist2& velocity,
                              const Path& plan) = 0;
 };
 

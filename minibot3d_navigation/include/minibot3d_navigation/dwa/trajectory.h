@@ -49,15 +49,15 @@ enum class TrajectoryKind {
 const char* TrajectoryKindName(TrajectoryKind kind);
 
 struct Trajectory {
-  Twist2D command;  // the velocity command this trajectory simulates
+  Twist2 command;  // the velocity command this trajectory simulates
   TrajectoryKind kind = TrajectoryKind::kSampled;
   // The forward velocity the rollout starts from (the robot's, now).
   double start_vx = 0.0;
   // Rollout over sim_time; poses[0] is the start pose.
-  std::vector<Pose2D> poses;
+  std::vector<Pose2> poses;
   // Braking tail: the state after applying `command` for one control period,
   // then braking at the acceleration limits until stopped.
-  std::vector<Pose2D> braking_poses;
+  std::vector<Pose2> braking_poses;
   // Distance travelled before braking_poses.front() (metres, along the arc).
   double braking_start_distance = 0.0;
   // Total cost; negative = illegal (set by the planner from the critics).
@@ -69,7 +69,7 @@ struct Trajectory {
     braking_start_distance = 0.0;
     cost = -1.0;
   }
-  const Pose2D& end() const { return poses.back(); }
+  const Pose2& end() const { return poses.back(); }
 };
 
 // Bounds of the sampled velocities for one control cycle.
@@ -89,17 +89,17 @@ class TrajectoryGenerator {
   double sim_period() const { return sim_period_; }
 
   // The dynamic window around `current` (see the file comment).
-  VelocityWindow Window(const Twist2D& current) const;
+  VelocityWindow Window(const Twist2& current) const;
 
   // Fills `traj` (reusing its buffers) with the rollout and braking tail of
   // `command` from `start` at velocity `current`.
-  void Generate(const Pose2D& start, const Twist2D& current,
-                const Twist2D& command, TrajectoryKind kind,
+  void Generate(const Pose2& start, const Twist2& current,
+                const Twist2& command, TrajectoryKind kind,
                 Trajectory* traj) const;
 
   // Velocity after one control period of braking from `current` at the
   // acceleration limits (TrajectoryPlannerROS::stopWithAccLimits).
-  Twist2D BrakingCommand(const Twist2D& current) const;
+  Twist2 BrakingCommand(const Twist2& current) const;
 
   // v^2 / (2 a).
   static double StoppingDistance(double v, double acc) {
@@ -108,7 +108,7 @@ class TrajectoryGenerator {
 
   // One integration step of the unicycle at constant (v, w) for dt (heading
   // at the step's midpoint), exposed for tests and simulation.
-  static Pose2D Step(const Pose2D& p, double v, double w, double dt);
+  static Pose2 Step(const Pose2& p, double v, double w, double dt);
 
  private:
   DwaOptions options_;

@@ -33,7 +33,7 @@ class TrajectoryCritic {
   virtual std::string name() const = 0;
 
   // `plan` is the pruned plan in the costmap frame (non-empty).
-  virtual bool Prepare(const Pose2D& pose, const Twist2D& velocity,
+  virtual bool Prepare(const Pose2& pose, const Twist2& velocity,
                        const Path& plan, const Costmap2D& costmap) = 0;
 
   virtual double Score(const Trajectory& traj) = 0;

@@ -37,7 +37,6 @@
 #include <string>
 #include <vector>
 
-#include "minibot3d_navigation/amcl/occupancy_map.h"
 #include "minibot3d_navigation/nav_types.h"
 
 namespace minibot3d_navigation {
@@ -64,8 +63,8 @@ bool IsExploreOptionName(const std::string& name);
 std::vector<std::string> ExploreOptionNames();
 
 struct Frontier {
-  Point2D centroid;        // map frame
-  Point2D goal;            // where to drive to see it
+  Point2 centroid;        // map frame
+  Point2 goal;            // where to drive to see it
   double size = 0.0;       // m (cells x resolution)
   double distance = 0.0;   // path length from the robot to the goal, m
   int cells = 0;
@@ -87,13 +86,13 @@ class FrontierSearch {
   // `looked_at`: cells not to count as frontier (both from
   // ExplorationMemory).  Throws std::invalid_argument for a malformed grid
   // (size mismatch, non-positive resolution) or a robot pose off the grid.
-  FrontierSearchResult Find(const amcl::OccupancyGrid& grid, const Pose2D& robot,
-                            const std::vector<Point2D>& excluded,
-                            const std::vector<Point2D>& looked_at = {}) const;
+  FrontierSearchResult Find(const OccupancyGrid& grid, const Pose2& robot,
+                            const std::vector<Point2>& excluded,
+                            const std::vector<Point2>& looked_at = {}) const;
 
   // The frontier cells (centres) within look_radius of `viewpoint` with an
   // unknown 4-neighbour in its line of sight.  Throws like Find.
-  std::vector<Point2D> InSight(const amcl::OccupancyGrid& grid, const Point2D& viewpoint) const;
+  std::vector<Point2> InSight(const OccupancyGrid& grid, const Point2& viewpoint) const;
 
  private:
   ExploreOptions options_;
@@ -105,33 +104,33 @@ class ExplorationMemory {
   explicit ExplorationMemory(const ExploreOptions& options);
 
   // The robot reached `viewpoint`: it is not used again.
-  void Reached(const Point2D& viewpoint);
+  void Reached(const Point2& viewpoint);
   // `in_sight` (FrontierSearch::InSight of a reached viewpoint) stayed
   // frontier: those cells no longer count.
-  void LookedAt(const std::vector<Point2D>& in_sight);
+  void LookedAt(const std::vector<Point2>& in_sight);
   // move_base could not reach `goal` on `map`: excluded until the map round it
   // changes.  Returns the number of attempts made near it so far.
-  int Failed(const Point2D& goal, const amcl::OccupancyGrid& map);
+  int Failed(const Point2& goal, const OccupancyGrid& map);
   // Releases the unreachable goals whose surroundings changed on `map` and
   // that have attempts left; returns them.
-  std::vector<Point2D> Refresh(const amcl::OccupancyGrid& map);
-  std::vector<Point2D> Excluded() const;
-  const std::vector<Point2D>& looked_at() const { return looked_at_; }
+  std::vector<Point2> Refresh(const OccupancyGrid& map);
+  std::vector<Point2> Excluded() const;
+  const std::vector<Point2>& looked_at() const { return looked_at_; }
 
  private:
   struct Failure {
-    Point2D goal;
+    Point2 goal;
     std::vector<int8_t> window;  // cell kinds round the goal when it last failed
     double step = 0.0;           // m between the window's samples (that map's resolution)
     int attempts = 0;
     bool excluded = true;
   };
-  std::vector<int8_t> Window(const Point2D& centre, double step,
-                             const amcl::OccupancyGrid& map) const;
+  std::vector<int8_t> Window(const Point2& centre, double step,
+                             const OccupancyGrid& map) const;
 
   ExploreOptions options_;
-  std::vector<Point2D> visited_;
-  std::vector<Point2D> looked_at_;
+  std::vector<Point2> visited_;
+  std::vector<Point2> looked_at_;
   std::vector<Failure> failures_;
 };
 

@@ -50,7 +50,7 @@ enum class GoalStatus { kNone, kActive, kSucceeded, kAborted };
 const char* NavStateName(NavState state);
 
 struct CycleResult {
-  Twist2D cmd;                         // send this to the base
+  Twist2 cmd;                         // send this to the base
   GoalStatus status = GoalStatus::kNone;
   std::string message;                 // why it was aborted (or succeeded)
   bool new_plan = false;               // plan() changed this cycle
@@ -64,30 +64,30 @@ class NavigationExecutive {
                       LocalPlanner* local_planner, std::vector<RecoveryBehavior*> recoveries);
 
   // A new goal in the global frame replaces any current one (preemption).
-  void SetGoal(const Pose2D& goal, double time);
+  void SetGoal(const Pose2& goal, double time);
   // Drops the goal; the next Step returns a zero command and kNone.
   void Cancel();
 
   // One control cycle.  `global_to_local` is the pose of the global frame in
   // the local one (map in odom), used to hand the plan to the local planner.
-  CycleResult Step(const RobotState& state, const Pose2D& global_to_local);
+  CycleResult Step(const RobotState& state, const Pose2& global_to_local);
 
   NavState state() const { return state_; }
   bool active() const { return state_ != NavState::kIdle; }
-  const Pose2D& goal() const { return goal_; }
+  const Pose2& goal() const { return goal_; }
   const Path& plan() const { return plan_; }        // global frame
   const Path& local_plan() const { return local_plan_; }  // last plan handed down, local frame
   const std::string& last_error() const { return last_error_; }
   // Poses driven through (local frame, oldest first) and the remembered
   // blocked places (global frame) of the current goal.
-  const std::vector<Pose2D>& trail() const { return trail_; }
-  const std::vector<Point2D>& blocked() const { return blocked_; }
+  const std::vector<Pose2>& trail() const { return trail_; }
+  const std::vector<Point2>& blocked() const { return blocked_; }
 
  private:
   enum class Trigger { kPlanning, kControlling, kOscillation };
 
   bool TryPlan(const RobotState& state, double time);
-  void RecordTrail(const Pose2D& local_pose);
+  void RecordTrail(const Pose2& local_pose);
   void RememberBlocked(const RobotState& state);
   // The global costmap with the blocked discs made lethal (except round the
   // robot and the goal), in planning_costmap_.
@@ -101,7 +101,7 @@ class NavigationExecutive {
   std::vector<RecoveryBehavior*> recoveries_;
 
   NavState state_ = NavState::kIdle;
-  Pose2D goal_;
+  Pose2 goal_;
   Path plan_;
   Path local_plan_;
   std::string last_error_;
@@ -109,12 +109,12 @@ class NavigationExecutive {
   double last_valid_control_ = 0.0;
   double last_oscillation_reset_ = 0.0;
   double next_plan_time_ = 0.0;
-  Pose2D oscillation_pose_;
+  Pose2 oscillation_pose_;
   int planning_retries_ = 0;
   size_t recovery_index_ = 0;
-  Pose2D recovery_pose_;
-  std::vector<Pose2D> trail_;
-  std::vector<Point2D> blocked_;
+  Pose2 recovery_pose_;
+  std::vector<Pose2> trail_;
+  std::vector<Point2> blocked_;
   Costmap2D planning_costmap_;
   bool recovery_running_ = false;
   Trigger trigger_ = Trigger::kPlanning;

@@ -30,14 +30,14 @@ namespace nav {
 // What a recovery (and the executive) sees each cycle.
 struct RobotState {
   double time = 0.0;      // seconds, the simulator's clock
-  Pose2D global_pose;     // in the global costmap's frame (map)
-  Pose2D local_pose;      // in the local costmap's frame (odom)
-  Twist2D velocity;       // in the robot's frame
+  Pose2 global_pose;     // in the global costmap's frame (map)
+  Pose2 local_pose;      // in the local costmap's frame (odom)
+  Twist2 velocity;       // in the robot's frame
   const Costmap2D* global_costmap = nullptr;
   const Costmap2D* local_costmap = nullptr;
   // Poses the robot drove through, in the local frame, oldest first (the
   // executive records them; nullptr when nobody does).
-  const std::vector<Pose2D>* trail = nullptr;
+  const std::vector<Pose2>* trail = nullptr;
   // Set while recovering because the local planner found no command (not
   // because of oscillation or a planning failure).
   bool control_failed = false;
@@ -48,7 +48,7 @@ class RecoveryBehavior {
   virtual ~RecoveryBehavior() = default;
   virtual std::string name() const = 0;
   virtual void Start(const RobotState& state) = 0;
-  virtual bool Step(const RobotState& state, Twist2D* cmd) = 0;
+  virtual bool Step(const RobotState& state, Twist2* cmd) = 0;
   // After Step returned false: what it did and why it ended, for the log
   // ("" when there is nothing to say).
   virtual std::string outcome() const { return ""; }
@@ -61,7 +61,7 @@ class ClearCostmapRecovery : public RecoveryBehavior {
                        std::function<void(double)> clear);
   std::string name() const override { return name_; }
   void Start(const RobotState& state) override;
-  bool Step(const RobotState& state, Twist2D* cmd) override;
+  bool Step(const RobotState& state, Twist2* cmd) override;
 
  private:
   std::string name_;
@@ -85,7 +85,7 @@ class RotateRecovery : public RecoveryBehavior {
                  Footprint footprint);
   std::string name() const override { return name_; }
   void Start(const RobotState& state) override;
-  bool Step(const RobotState& state, Twist2D* cmd) override;
+  bool Step(const RobotState& state, Twist2* cmd) override;
 
  private:
   std::string name_;
@@ -135,23 +135,23 @@ class BackOutRecovery : public RecoveryBehavior {
   BackOutRecovery(std::string name, const BackOutOptions& options, Footprint footprint);
   std::string name() const override { return name_; }
   void Start(const RobotState& state) override;
-  bool Step(const RobotState& state, Twist2D* cmd) override;
+  bool Step(const RobotState& state, Twist2* cmd) override;
   std::string outcome() const override { return outcome_; }
   // The poses still to back through (for tests and logs).
-  const std::vector<Pose2D>& route() const { return route_; }
+  const std::vector<Pose2>& route() const { return route_; }
 
  private:
-  bool OnTrail(const Pose2D& pose) const;
-  bool CanTurnAt(const Costmap2D* costmap, const Pose2D& pose) const;
+  bool OnTrail(const Pose2& pose) const;
+  bool CanTurnAt(const Costmap2D* costmap, const Pose2& pose) const;
   // No lethal cell under the back half of the footprint at `pose`, its sides
   // moved in by one cell.
-  bool BackClear(const Costmap2D& costmap, const Pose2D& pose) const;
+  bool BackClear(const Costmap2D& costmap, const Pose2& pose) const;
   std::string name_;
   BackOutOptions options_;
   Footprint footprint_;
-  std::vector<Pose2D> route_;  // newest first
+  std::vector<Pose2> route_;  // newest first
   double route_length_ = 0.0;  // m along the route
-  Pose2D start_pose_;
+  Pose2 start_pose_;
   std::string outcome_;
   size_t next_ = 0;
   double start_time_ = 0.0;

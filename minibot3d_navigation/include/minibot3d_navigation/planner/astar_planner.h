@@ -62,13 +62,13 @@ class AStarPlanner : public GlobalPlanner {
 
   // Throws PlanningError (see ResolveEndpoints in planner_options.h, and
   // kNoPath naming start and goal when no path exists).
-  Path MakePlan(const Costmap2D& costmap, const Pose2D& start,
-                const Pose2D& goal) override;
+  Path MakePlan(const Costmap2D& costmap, const Pose2& start,
+                const Pose2& goal) override;
 
   // The grid path of the last successful plan (world points, before
   // smoothing; first/last are the exact start and goal positions, or the
   // substitute goal cell's centre).
-  const std::vector<Point2D>& last_raw_path() const { return raw_path_; }
+  const std::vector<Point2>& last_raw_path() const { return raw_path_; }
   // Cells expanded by the last search (for benchmarks).
   int last_expansions() const { return expansions_; }
 
@@ -136,7 +136,7 @@ class AStarPlanner : public GlobalPlanner {
   int expansions_ = 0;
 
   std::vector<int> cells_;
-  std::vector<Point2D> raw_path_;
+  std::vector<Point2> raw_path_;
 };
 
 }  // namespace nav

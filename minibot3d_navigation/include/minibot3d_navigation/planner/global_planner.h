@@ -21,8 +21,8 @@ class GlobalPlanner {
  public:
   virtual ~GlobalPlanner() = default;
   virtual std::string name() const = 0;
-  virtual Path MakePlan(const Costmap2D& costmap, const Pose2D& start,
-                        const Pose2D& goal) = 0;
+  virtual Path MakePlan(const Costmap2D& costmap, const Pose2& start,
+                        const Pose2& goal) = 0;
 };
 
 }  // namespace nav

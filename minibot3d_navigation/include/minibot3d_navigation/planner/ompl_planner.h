@@ -48,11 +48,11 @@ class OmplPlanner : public GlobalPlanner {
 
   std::string name() const override { return "ompl/" + options_.ompl_planner; }
 
-  Path MakePlan(const Costmap2D& costmap, const Pose2D& start,
-                const Pose2D& goal) override;
+  Path MakePlan(const Costmap2D& costmap, const Pose2& start,
+                const Pose2& goal) override;
 
   // Is the robot at `pose` valid under the rules above?
-  bool IsValid(const Costmap2D& costmap, const Pose2D& pose) const;
+  bool IsValid(const Costmap2D& costmap, const Pose2& pose) const;
 
   const GlobalPlannerOptions& options() const { return options_; }
 

@@ -34,22 +34,22 @@ namespace nav {
 // True if every cell whose interior the segment a-b crosses is on the map, traversable under
 // `options` and of cost <= max_cost (255 ranks above every other cost, so
 // max_cost = 255 admits unknown cells when allow_unknown is set).
-bool SegmentCostsAtMost(const Costmap2D& costmap, const Point2D& a,
-                        const Point2D& b, int max_cost,
+bool SegmentCostsAtMost(const Costmap2D& costmap, const Point2& a,
+                        const Point2& b, int max_cost,
                         const GlobalPlannerOptions& options);
 
 // The shortcut raw path (see the file comment); raw[k] must lie in the k-th
 // cell of the grid path (first and last may be the exact start and goal).
-std::vector<Point2D> ShortcutPath(const Costmap2D& costmap,
-                                  const std::vector<Point2D>& raw,
+std::vector<Point2> ShortcutPath(const Costmap2D& costmap,
+                                  const std::vector<Point2>& raw,
                                   const GlobalPlannerOptions& options);
 
 // Cuts every segment into equal pieces no longer than `spacing` (> 0),
 // keeping all input points.
-std::vector<Point2D> ResamplePolyline(const std::vector<Point2D>& points,
+std::vector<Point2> ResamplePolyline(const std::vector<Point2>& points,
                                       double spacing);
 
-double PolylineLength(const std::vector<Point2D>& points);
+double PolylineLength(const std::vector<Point2>& points);
 double PathLength(const Path& path);
 
 // Poses at `points` with yaw per options.orientation_mode (0 None: 0;
@@ -57,8 +57,8 @@ double PathLength(const Path& path);
 // goal.yaw in proportion to the distance travelled).  The last pose's yaw is
 // goal.yaw; if the last point equals goal's position, the last pose is `goal`
 // exactly.
-Path MakePathPoses(const std::vector<Point2D>& points, double start_yaw,
-                   const Pose2D& goal, int orientation_mode);
+Path MakePathPoses(const std::vector<Point2>& points, double start_yaw,
+                   const Pose2& goal, int orientation_mode);
 
 }  // namespace nav
 }  // namespace minibot3d_navigation

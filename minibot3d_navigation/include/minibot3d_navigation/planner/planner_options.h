@@ -108,8 +108,8 @@ struct PlanEndpoints {
 //   kGoalOffMap    goal outside the costmap;
 //   kGoalOccupied  goal cell not traversable and no traversable cell within
 //                  default_tolerance (names the goal, its cell and cost).
-PlanEndpoints ResolveEndpoints(const Costmap2D& costmap, const Pose2D& start,
-                               const Pose2D& goal,
+PlanEndpoints ResolveEndpoints(const Costmap2D& costmap, const Pose2& start,
+                               const Pose2& goal,
                                const GlobalPlannerOptions& options);
 
 // "(x, y)" with 3 decimals, for error messages.
