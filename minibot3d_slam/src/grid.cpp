@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <limits>
 
+#include "minibot3d_common/line_walker.h"
+
 namespace minibot3d_slam {
 
 const GridCell Grid::kUnknown{};
@@ -98,42 +100,31 @@ void Grid::MarkHit(int ix, int iy, double x, double y) {
 }
 
 void Grid::TraceRay(double x0, double y0, double x1, double y1, bool hit) {
-  int ix = CellX(x0), iy = CellY(y0);
+  const int ix = CellX(x0), iy = CellY(y0);
   const int ex = CellX(x1), ey = CellY(y1);
   Reserve(std::min(ix, ex), std::min(iy, ey), std::max(ix, ex), std::max(iy, ey));
-  // Bresenham over cells; the tile of the current cell is looked up (and made private) only when
-  // the line enters a new tile.
-  const int dx = std::abs(ex - ix), dy = -std::abs(ey - iy);
-  const int sx = ix < ex ? 1 : -1, sy = iy < ey ? 1 : -1;
-  int err = dx + dy;
+  // The tile of the current cell is looked up (and made private) only when the line enters a
+  // new tile.
   int cur_tx = std::numeric_limits<int>::min(), cur_ty = 0;
   Tile* tile = nullptr;
-  while (true) {
-    const int tx = ix >> kTileBits, ty = iy >> kTileBits;
+  for (minibot3d_common::LineWalker walk(ix, iy, ex, ey);; walk.Next()) {
+    const int x = walk.x(), y = walk.y();
+    const int tx = x >> kTileBits, ty = y >> kTileBits;
     if (tx != cur_tx || ty != cur_ty) {
       tile = MutableTile(tx, ty);
       cur_tx = tx;
       cur_ty = ty;
     }
-    GridCell* cell = &tile->cells[((iy & kTileMask) << kTileBits) | (ix & kTileMask)];
-    if (ix == ex && iy == ey) {
+    GridCell* cell = &tile->cells[((y & kTileMask) << kTileBits) | (x & kTileMask)];
+    if (walk.done()) {
       if (hit) {
-        Hit(cell, x1 * inv_resolution_ - (ix + 0.5), y1 * inv_resolution_ - (iy + 0.5));
+        Hit(cell, x1 * inv_resolution_ - (x + 0.5), y1 * inv_resolution_ - (y + 0.5));
       } else {
         Free(cell);
       }
       break;
     }
     Free(cell);
-    const int e2 = 2 * err;
-    if (e2 >= dy) {
-      err += dy;
-      ix += sx;
-    }
-    if (e2 <= dx) {
-      err += dx;
-      iy += sy;
-    }
   }
 }
 

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "minibot3d_common/line_walker.h"
+
 namespace minibot3d_navigation {
 namespace nav {
 namespace {
@@ -40,24 +42,10 @@ bool Peek(const std::string& text, size_t* pos, char c) {
   return *pos < text.size() && text[*pos] == c;
 }
 
-double PointSegmentDistance(const Point2& p, const Point2& a, const Point2& b) {
-  const double dx = b.x - a.x, dy = b.y - a.y;
-  const double len2 = dx * dx + dy * dy;
-  double t = len2 > 0.0 ? ((p.x - a.x) * dx + (p.y - a.y) * dy) / len2 : 0.0;
-  t = std::clamp(t, 0.0, 1.0);
-  return std::hypot(a.x + t * dx - p.x, a.y + t * dy - p.y);
-}
-
 void LineCells(int x0, int y0, int x1, int y1, std::vector<std::pair<int, int>>* cells) {
-  const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0);
-  const int sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
-  int err = dx + dy;
-  while (true) {
-    cells->emplace_back(x0, y0);
-    if (x0 == x1 && y0 == y1) break;
-    const int e2 = 2 * err;
-    if (e2 >= dy) { err += dy; x0 += sx; }
-    if (e2 <= dx) { err += dx; y0 += sy; }
+  for (minibot3d_common::LineWalker w(x0, y0, x1, y1);; w.Next()) {
+    cells->emplace_back(w.x(), w.y());
+    if (w.done()) break;
   }
 }
 
@@ -134,7 +122,7 @@ void FootprintRadii(const Footprint& footprint, double* inscribed, double* circu
   for (size_t i = 0; i < footprint.size(); ++i) {
     const Point2& a = footprint[i];
     const Point2& b = footprint[(i + 1) % footprint.size()];
-    min_d = std::min(min_d, PointSegmentDistance(origin, a, b));
+    min_d = std::min(min_d, minibot3d_common::PointSegmentDistance(origin, a, b));
     max_d = std::max(max_d, std::hypot(a.x, a.y));
   }
   if (footprint.empty()) min_d = 0.0;
@@ -190,21 +178,14 @@ int FootprintCost(const Costmap2D& costmap, const Footprint& footprint, const Po
       x1 = first_x;
       y1 = first_y;
     }
-    int x = x0, y = y0;
-    const int dx = std::abs(x1 - x), dy = -std::abs(y1 - y);
-    const int sx = x < x1 ? 1 : -1, sy = y < y1 ? 1 : -1;
-    int err = dx + dy;
-    while (true) {
-      if (!costmap.InBounds(x, y)) return -1;
-      const int v = costmap.cost(x, y);
+    for (minibot3d_common::LineWalker w(x0, y0, x1, y1);; w.Next()) {
+      if (!costmap.InBounds(w.x(), w.y())) return -1;
+      const int v = costmap.cost(w.x(), w.y());
       if (v == kLethalObstacle) return v;
       // Unknown (255) ranks below lethal: it is returned only if nothing on
       // the outline is lethal.
       if (v > worst) worst = v;
-      if (x == x1 && y == y1) break;
-      const int e2 = 2 * err;
-      if (e2 >= dy) { err += dy; x += sx; }
-      if (e2 <= dx) { err += dx; y += sy; }
+      if (w.done()) break;
     }
     x0 = x1;
     y0 = y1;

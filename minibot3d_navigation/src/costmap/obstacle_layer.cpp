@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "minibot3d_common/line_walker.h"
 #include "minibot3d_navigation/option_table.h"
 
 namespace minibot3d_navigation {
@@ -100,38 +101,24 @@ void ObstacleLayer::AddObservation(const Observation& obs) {
 
 void ObstacleLayer::ClearRay(int x0, int y0, int x1, int y1, unsigned int max_cells,
                              bool include_end) {
-  // costmap_2d's raytraceLine / bresenham2D, stepping over linear indices.
+  // costmap_2d's raytraceLine: the Bresenham line cut to max_cells of its length.
   const int size_x = grid_.size_x();
   const int dx = x1 - x0, dy = y1 - y0;
-  const unsigned int abs_dx = static_cast<unsigned int>(std::abs(dx));
-  const unsigned int abs_dy = static_cast<unsigned int>(std::abs(dy));
-  const int offset_dx = dx > 0 ? 1 : -1;
-  const int offset_dy = (dy > 0 ? 1 : -1) * size_x;
   const double dist = std::sqrt(static_cast<double>(dx) * dx + static_cast<double>(dy) * dy);
   const double scale = dist == 0.0 ? 1.0 : std::min(1.0, max_cells / dist);
-  unsigned int abs_da, abs_db;
-  int offset_a, offset_b;
-  if (abs_dx >= abs_dy) {
-    abs_da = abs_dx; abs_db = abs_dy; offset_a = offset_dx; offset_b = offset_dy;
-  } else {
-    abs_da = abs_dy; abs_db = abs_dx; offset_a = offset_dy; offset_b = offset_dx;
-  }
-  int error_b = static_cast<int>(abs_da / 2);
-  const unsigned int end = std::min(static_cast<unsigned int>(scale * abs_da), abs_da);
+  minibot3d_common::LineWalker walk(x0, y0, x1, y1);
+  const unsigned int steps = static_cast<unsigned int>(walk.length() - 1);
+  const unsigned int end = std::min(static_cast<unsigned int>(scale * steps), steps);
   uint8_t* data = grid_.mutable_data();
-  long offset = static_cast<long>(y0) * size_x + x0;  // NOLINT(runtime/int)
   for (unsigned int i = 0; i < end; ++i) {
-    data[offset] = kFreeSpace;
-    offset += offset_a;
-    error_b += static_cast<int>(abs_db);
-    if (static_cast<unsigned int>(error_b) >= abs_da) {
-      offset += offset_b;
-      error_b -= static_cast<int>(abs_da);
-    }
+    data[static_cast<long>(walk.y()) * size_x + walk.x()] = kFreeSpace;  // NOLINT(runtime/int)
+    walk.Next();
   }
   // The cell reached after `end` steps: the hit cell itself (kept) unless the
   // ray was cut short by raytrace_range or by the grid's edge.
-  if (end < abs_da || include_end) data[offset] = kFreeSpace;
+  if (end < steps || include_end) {
+    data[static_cast<long>(walk.y()) * size_x + walk.x()] = kFreeSpace;  // NOLINT(runtime/int)
+  }
 }
 
 void ObstacleLayer::RaytraceFreespace(const Observation& obs, Bounds* bounds) {

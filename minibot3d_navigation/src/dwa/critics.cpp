@@ -17,28 +17,6 @@ std::string Xy(double x, double y) {
   return os.str();
 }
 
-bool InsidePolygon(const Footprint& poly, double x, double y) {
-  bool inside = false;
-  const size_t n = poly.size();
-  for (size_t i = 0, j = n - 1; i < n; j = i++) {
-    const Point2& a = poly[i];
-    const Point2& b = poly[j];
-    if ((a.y > y) != (b.y > y) &&
-        x < (b.x - a.x) * (y - a.y) / (b.y - a.y) + a.x) {
-      inside = !inside;
-    }
-  }
-  return inside;
-}
-
-double PointSegmentDistance(double x, double y, const Point2& a, const Point2& b) {
-  const double dx = b.x - a.x, dy = b.y - a.y;
-  const double len2 = dx * dx + dy * dy;
-  double t = len2 > 0.0 ? ((x - a.x) * dx + (y - a.y) * dy) / len2 : 0.0;
-  t = std::clamp(t, 0.0, 1.0);
-  return std::hypot(x - (a.x + t * dx), y - (a.y + t * dy));
-}
-
 // Length of the polyline poses[0..index].
 double ArcLength(const std::vector<Pose2>& poses, size_t index) {
   double len = 0.0;
@@ -87,7 +65,7 @@ void FootprintCells(const Costmap2D& costmap, const Footprint& footprint,
     for (int mx = mx0; mx <= mx1; ++mx) {
       double wx, wy;
       costmap.MapToWorld(mx, my, &wx, &wy);
-      if (InsidePolygon(poly, wx, wy)) cells->push_back(costmap.Index(mx, my));
+      if (minibot3d_common::PointInPolygon(poly, wx, wy)) cells->push_back(costmap.Index(mx, my));
     }
   }
   std::vector<std::pair<int, int>> outline;
@@ -287,9 +265,9 @@ double ObstacleCostCritic::ContinuousClearance(const Pose2& pose, bool centre) c
       }
       double d = std::numeric_limits<double>::infinity();
       for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-        d = std::min(d, PointSegmentDistance(wx, wy, poly[j], poly[i]));
+        d = std::min(d, minibot3d_common::PointSegmentDistance(Point2{wx, wy}, poly[j], poly[i]));
       }
-      nearest = std::min(nearest, InsidePolygon(poly, wx, wy) ? -d : d);
+      nearest = std::min(nearest, minibot3d_common::PointInPolygon(poly, wx, wy) ? -d : d);
     }
   }
   return nearest;

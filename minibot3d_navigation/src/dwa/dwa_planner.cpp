@@ -32,30 +32,15 @@ bool SameGoal(const Pose2& a, const Pose2& b) {
          std::fabs(AngleDiff(a.yaw, b.yaw)) < 1e-6;
 }
 
-double SegmentDistance(double px, double py, const Point2& a,
-                       const Point2& b) {
-  const double dx = b.x - a.x, dy = b.y - a.y;
-  const double len2 = dx * dx + dy * dy;
-  double t = len2 > 0.0 ? ((px - a.x) * dx + (py - a.y) * dy) / len2 : 0.0;
-  t = std::clamp(t, 0.0, 1.0);
-  return std::hypot(a.x + t * dx - px, a.y + t * dy - py);
-}
-
 // Distance from point (px, py) in the robot frame to the footprint polygon
 // (0 inside).
 double FootprintDistance(const Footprint& fp, double px, double py) {
-  bool inside = false;
+  if (minibot3d_common::PointInPolygon(fp, px, py)) return 0.0;
   double d = kInf;
   for (size_t i = 0, j = fp.size() - 1; i < fp.size(); j = i++) {
-    const Point2& a = fp[i];
-    const Point2& b = fp[j];
-    if ((a.y > py) != (b.y > py) &&
-        px < (b.x - a.x) * (py - a.y) / (b.y - a.y) + a.x) {
-      inside = !inside;
-    }
-    d = std::min(d, SegmentDistance(px, py, a, b));
+    d = std::min(d, minibot3d_common::PointSegmentDistance(Point2{px, py}, fp[i], fp[j]));
   }
-  return inside ? 0.0 : d;
+  return d;
 }
 
 }  // namespace

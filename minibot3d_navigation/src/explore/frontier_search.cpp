@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "minibot3d_common/line_walker.h"
 #include "minibot3d_navigation/option_table.h"
 
 namespace minibot3d_navigation {
@@ -77,23 +78,12 @@ std::vector<uint8_t> FrontierCells(const std::vector<uint8_t>& kind, int w, int 
 
 // True when every cell strictly between cells a and b (Bresenham) is free.
 bool LineOfSight(int a, int b, int w, const std::vector<uint8_t>& kind) {
-  int x0 = a % w, y0 = a / w;
-  const int x1 = b % w, y1 = b / w;
-  const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0);
-  const int sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
-  int err = dx + dy;
+  minibot3d_common::LineWalker walk(a % w, a / w, b % w, b / w);
+  if (walk.done()) return true;
   while (true) {
-    const int e2 = 2 * err;
-    if (e2 >= dy) {
-      err += dy;
-      x0 += sx;
-    }
-    if (e2 <= dx) {
-      err += dx;
-      y0 += sy;
-    }
-    if (x0 == x1 && y0 == y1) return true;
-    if (kind[y0 * w + x0] != 0) return false;
+    walk.Next();
+    if (walk.done()) return true;
+    if (kind[walk.y() * w + walk.x()] != 0) return false;
   }
 }
 
