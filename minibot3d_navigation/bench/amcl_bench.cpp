@@ -3,7 +3,7 @@
 // clustering) for 500 / 2,000 / 10,000 particles on a 10 m x 8 m map with
 // 5 cm cells; the three sensor models alone; the per-map precomputation; and
 // the memory the filter holds per particle (counter "bytes_per_particle");
-// global localization's map-wide search (GlobalSearch, minibot3d_slam's
+// global localization's map-wide search (GlobalSearch, minibot3d_scan_matching's
 // correlative search) on a synthetic 54 m x 59 m office floor and on the
 // shipped office world's map (maps/office.yaml, 2,775 m^2 free; the
 // environment variable OFFICE_MAP overrides its path).
@@ -21,7 +21,7 @@
 #include "minibot3d_map_io/map_io.h"
 #include "minibot3d_navigation/amcl/amcl_filter.h"
 #include "minibot3d_navigation/amcl/global_search.h"
-#include "synthetic_building.h"  // minibot3d_slam/test: the search's own test floors
+#include "minibot3d_testing/synthetic_building.h"
 
 namespace minibot3d_navigation {
 namespace amcl {
@@ -171,8 +171,8 @@ BENCHMARK(BM_MapPrecompute)->Arg(10)->Arg(100)->Unit(benchmark::kMillisecond);
 // best candidate was within 0.3 m of the truth.  The budget is raised so the
 // search is built whatever the prediction says.
 void BM_GlobalSearchOffice(benchmark::State& state) {
-  namespace tw = minibot3d_slam::testing_world;
-  std::vector<minibot3d_slam::Pose2> rooms;
+  namespace tw = minibot3d_testing;
+  std::vector<Pose2> rooms;
   const tw::World world = tw::OfficeBuilding(54.0, 59.0, 1, &rooms);
   const OccupancyGrid grid = tw::Rasterize(world, 0.0, 0.0, 54.0, 59.0);
   AmclOptions o;
@@ -183,8 +183,8 @@ void BM_GlobalSearchOffice(benchmark::State& state) {
   int right = 0, runs = 0;
   for (auto _ : state) {
     state.PauseTiming();
-    const minibot3d_slam::Pose2 truth = rooms[(k++ * 7) % rooms.size()];
-    const minibot3d_slam::LaserScan s = tw::FullScan(world, truth, 360, 12.0);
+    const Pose2 truth = rooms[(k++ * 7) % rooms.size()];
+    const LaserScan s = tw::FullScan(world, truth, 360, 12.0);
     LaserScan scan;
     scan.range_min = s.range_min;
     scan.range_max = s.range_max;

@@ -1,4 +1,4 @@
-// amcl: ROS 1 node wrapping the ROS-free AMCL core (minibot3d_amcl_core), a
+// amcl: ROS 1 node wrapping the ROS-free AMCL core (minibot3d_amcl), a
 // drop-in for the navigation stack's amcl: same parameters (private
 // namespace), topics (scan, map, initialpose -> amcl_pose, particlecloud, tf
 // map -> odom) and services (global_localization, request_nomotion_update,

@@ -75,13 +75,18 @@
 #include <vector>
 
 #include "grid.h"
-#include "minibot3d_slam/correlative_search.h"
+#include "minibot3d_scan_matching/correlative_search.h"
 #include "minibot3d_slam/gmapping_options.h"
 #include "minibot3d_slam/types.h"
 #include "pose_graph.h"
 #include "scan_matcher.h"
 
 namespace minibot3d_slam {
+
+using minibot3d_scan_matching::CheckCorrelativeSearchOptions;
+using minibot3d_scan_matching::CorrelativeMatch;
+using minibot3d_scan_matching::CorrelativeSearch;
+using minibot3d_scan_matching::CorrelativeSearchOptions;
 
 struct LoopConstraint {
   int from = 0, to = 0;  // submap's first node, current node

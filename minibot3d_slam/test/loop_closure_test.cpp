@@ -12,12 +12,12 @@
 
 #include "loop_closer.h"
 #include "minibot3d_slam/rbpf_slam.h"
-#include "synthetic_world.h"
+#include "minibot3d_testing/synthetic_world.h"
 
 namespace minibot3d_slam {
 namespace {
 
-using testing_world::World;
+using minibot3d_testing::World;
 
 // Moves every wall off the 5 cm cell boundaries, as real walls are.
 void ShiftOffCellBoundaries(World* w) {

@@ -11,13 +11,13 @@
 
 #include "parallel_for.h"
 #include "resampling.h"
-#include "synthetic_world.h"
+#include "minibot3d_testing/synthetic_world.h"
 
 namespace minibot3d_slam {
 namespace {
 
-using testing_world::Office;
-using testing_world::World;
+using minibot3d_testing::Office;
+using minibot3d_testing::World;
 
 TEST(ResamplingTest, DominantParticleIsCopiedEverywhere) {
   std::vector<double> w(20, 1e-9);

@@ -8,13 +8,13 @@
 #include <limits>
 #include <vector>
 
-#include "synthetic_world.h"
+#include "minibot3d_testing/synthetic_world.h"
 
 namespace minibot3d_slam {
 namespace {
 
-using testing_world::Office;
-using testing_world::World;
+using minibot3d_testing::Office;
+using minibot3d_testing::World;
 
 // A map of the office built from scans at a few known poses.
 Grid MappedOffice(const ScanMatcher& matcher, const World& world) {

@@ -4,7 +4,9 @@
 #include <string>
 #include <vector>
 
-#include "minibot3d_navigation/option_table.h"
+#include "minibot3d_common/options.h"
+
+namespace options = minibot3d_common::options;
 
 namespace minibot3d_navigation {
 namespace amcl {

@@ -5,13 +5,13 @@
 #include <ctime>
 #include <sstream>
 
-#include "minibot3d_slam/correlative_search.h"
+#include "minibot3d_scan_matching/correlative_search.h"
 
 namespace minibot3d_navigation {
 namespace amcl {
 namespace {
 
-namespace slam = minibot3d_slam;
+namespace scan_matching = minibot3d_scan_matching;
 
 double ThreadCpuSeconds() {
   timespec t{};
@@ -19,9 +19,9 @@ double ThreadCpuSeconds() {
   return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
-slam::CorrelativeSearchOptions SearchOptions(const AmclOptions& o) {
-  slam::CorrelativeSearchOptions s;
-  s.linear_search_window = slam::CorrelativeSearchOptions::kWholeMap;
+scan_matching::CorrelativeSearchOptions SearchOptions(const AmclOptions& o) {
+  scan_matching::CorrelativeSearchOptions s;
+  s.linear_search_window = scan_matching::CorrelativeSearchOptions::kWholeMap;
   s.angular_search_window = kPi;  // full circle
   s.angular_step = o.global_search_angular_step;
   s.branch_and_bound_depth = o.global_search_depth;
@@ -56,7 +56,7 @@ GlobalSearch::GlobalSearch(const OccupancyGrid& grid,
     fallback_reason_ = os.str();
     return;
   }
-  search_.reset(new slam::CorrelativeSearch(grid, SearchOptions(options)));
+  search_.reset(new scan_matching::CorrelativeSearch(grid, SearchOptions(options)));
 }
 
 GlobalSearch::~GlobalSearch() = default;
@@ -100,17 +100,17 @@ std::vector<SearchCandidate> GlobalSearch::Search(const LaserScan& scan,
   }
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = ThreadCpuSeconds();
-  slam::CorrelativeSearchOptions so = SearchOptions(options_);
+  scan_matching::CorrelativeSearchOptions so = SearchOptions(options_);
   if (max_candidates > 0) so.max_candidates = max_candidates;
-  const std::vector<slam::CorrelativeMatch> matches =
-      search_->SearchAll(points, slam::Pose2{}, so);
+  const std::vector<scan_matching::CorrelativeMatch> matches =
+      search_->SearchAll(points, Pose2{}, so);
   if (seconds != nullptr) {
     *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() -
                                              start)
                    .count();
   }
   if (cpu_seconds != nullptr) *cpu_seconds = ThreadCpuSeconds() - cpu_start;
-  for (const slam::CorrelativeMatch& m : matches) {
+  for (const scan_matching::CorrelativeMatch& m : matches) {
     out.push_back({{m.pose.x, m.pose.y, NormalizeAngle(m.pose.yaw)},
                    m.score});
   }

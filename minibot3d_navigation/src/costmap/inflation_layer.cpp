@@ -11,7 +11,9 @@
 #include <arm_neon.h>
 #endif
 
-#include "minibot3d_navigation/option_table.h"
+#include "minibot3d_common/options.h"
+
+namespace options = minibot3d_common::options;
 
 namespace minibot3d_navigation {
 namespace nav {

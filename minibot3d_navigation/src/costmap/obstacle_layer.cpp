@@ -7,7 +7,9 @@
 #include <stdexcept>
 
 #include "minibot3d_common/line_walker.h"
-#include "minibot3d_navigation/option_table.h"
+#include "minibot3d_common/options.h"
+
+namespace options = minibot3d_common::options;
 
 namespace minibot3d_navigation {
 namespace nav {

@@ -1,7 +1,7 @@
 // Map-wide scan search that seeds global localization: the branch-and-bound
-// correlative scan matcher of minibot3d_slam (Olson, "Real-time correlative
+// correlative scan matcher of minibot3d_scan_matching (Olson, "Real-time correlative
 // scan matching", ICRA 2009; Hess et al., "Real-Time Loop Closure in 2D LIDAR
-// SLAM", ICRA 2016 -- see minibot3d_slam/correlative_search.h), shared with
+// SLAM", ICRA 2016 -- see minibot3d_scan_matching/correlative_search.h), shared with
 // SLAM loop closure, run over every cell and every heading of the AMCL map.
 //
 // 5,000 uniform particles cannot cover a building's free space times 360
@@ -36,17 +36,13 @@
 #include "minibot3d_navigation/amcl/amcl_options.h"
 #include "minibot3d_navigation/amcl/occupancy_map.h"
 #include "minibot3d_navigation/amcl/types.h"
-#include "minibot3d_slam/types.h"
 
-namespace minibot3d_slam {
+namespace minibot3d_scan_matching {
 class CorrelativeSearch;
 }
 
 namespace minibot3d_navigation {
 namespace amcl {
-
-// minibot3d_slam's map (minibot3d_map_io's OccupancyGrid, what LoadMap returns) and amcl's:
-// the same cells, resolution and origin.
 
 struct SearchCandidate {
   Pose2 pose;          // robot base in the map frame
@@ -83,7 +79,7 @@ class GlobalSearch {
  private:
   AmclOptions options_;
   double map_range_ = 0.0;  // laser_max_range or the scan's
-  std::unique_ptr<minibot3d_slam::CorrelativeSearch> search_;
+  std::unique_ptr<minibot3d_scan_matching::CorrelativeSearch> search_;
   std::string fallback_reason_;
   double predicted_seconds_ = 0.0;
 };

@@ -1,16 +1,21 @@
 // Test helper: a 2-D world of wall segments and an ideal laser ray-cast against it, to build
-// scans with known ground truth for the SLAM tests.
-#ifndef MINIBOT3D_SLAM_TEST_SYNTHETIC_WORLD_H_
-#define MINIBOT3D_SLAM_TEST_SYNTHETIC_WORLD_H_
+// scans with known ground truth for the SLAM, scan matching and localization tests.
+#ifndef MINIBOT3D_TESTING_SYNTHETIC_WORLD_H_
+#define MINIBOT3D_TESTING_SYNTHETIC_WORLD_H_
 
 #include <cmath>
 #include <limits>
 #include <vector>
 
-#include "minibot3d_slam/types.h"
+#include "minibot3d_common/geometry2d.h"
+#include "minibot3d_common/laser_scan.h"
+#include "minibot3d_map_io/map_io.h"
 
-namespace minibot3d_slam {
-namespace testing_world {
+namespace minibot3d_testing {
+
+using minibot3d_common::LaserScan;
+using minibot3d_common::Pose2;
+using GridMap = minibot3d_map_io::OccupancyGrid;
 
 struct Segment {
   double x0, y0, x1, y1;
@@ -79,7 +84,6 @@ inline World Office() {
   return w;
 }
 
-}  // namespace testing_world
-}  // namespace minibot3d_slam
+}  // namespace minibot3d_testing
 
-#endif  // MINIBOT3D_SLAM_TEST_SYNTHETIC_WORLD_H_
+#endif  // MINIBOT3D_TESTING_SYNTHETIC_WORLD_H_

@@ -1,18 +1,16 @@
 // Test and benchmark helper: bigger synthetic worlds than synthetic_world.h's Office — an office
 // building of rooms along corridors, two identical rooms — and their occupancy grids.
-#ifndef MINIBOT3D_SLAM_TEST_SYNTHETIC_BUILDING_H_
-#define MINIBOT3D_SLAM_TEST_SYNTHETIC_BUILDING_H_
+#ifndef MINIBOT3D_TESTING_SYNTHETIC_BUILDING_H_
+#define MINIBOT3D_TESTING_SYNTHETIC_BUILDING_H_
 
 #include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
 
-#include "minibot3d_slam/types.h"
-#include "synthetic_world.h"
+#include "minibot3d_testing/synthetic_world.h"
 
-namespace minibot3d_slam {
-namespace testing_world {
+namespace minibot3d_testing {
 
 // Walls are shifted off the cell boundaries of a 5 cm grid, as in Office().
 constexpr double kWallShiftX = 0.0137, kWallShiftY = -0.0213;
@@ -150,7 +148,6 @@ inline LaserScan FullScan(const World& world, const Pose2& pose, int n = 360,
   return world.Scan(pose, n, 2.0 * M_PI * (n - 1) / n, range_max);
 }
 
-}  // namespace testing_world
-}  // namespace minibot3d_slam
+}  // namespace minibot3d_testing
 
-#endif  // MINIBOT3D_SLAM_TEST_SYNTHETIC_BUILDING_H_
+#endif  // MINIBOT3D_TESTING_SYNTHETIC_BUILDING_H_

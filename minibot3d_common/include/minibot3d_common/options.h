@@ -12,8 +12,8 @@
 //
 // Text parsing follows rosparam's YAML: numbers, integers, true/false.
 // Lists (std::vector<std::string>) are comma-separated.
-#ifndef MINIBOT3D_NAVIGATION_OPTION_TABLE_H_
-#define MINIBOT3D_NAVIGATION_OPTION_TABLE_H_
+#ifndef MINIBOT3D_COMMON_OPTIONS_H_
+#define MINIBOT3D_COMMON_OPTIONS_H_
 
 #include <cerrno>
 #include <cstdlib>
@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-namespace minibot3d_navigation {
+namespace minibot3d_common {
 namespace options {
 
 inline std::string Trim(const std::string& s) {
@@ -205,6 +205,6 @@ class Problems {
 };
 
 }  // namespace options
-}  // namespace minibot3d_navigation
+}  // namespace minibot3d_common
 
-#endif  // MINIBOT3D_NAVIGATION_OPTION_TABLE_H_
+#endif  // MINIBOT3D_COMMON_OPTIONS_H_

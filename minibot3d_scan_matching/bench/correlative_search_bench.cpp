@@ -9,7 +9,7 @@
 // angular_search_window = π, and print the median and worst Search and SearchAll (5 candidates)
 // times, how many scans were found within a cell and an angular step, and the work done.
 // Scans on a YAML map are ray-cast in its grid (an occupied cell ends a beam); on the synthetic
-// floors (50 m × 50 m and 54 m × 59 m, OfficeBuilding in test/synthetic_building.h) in the walls.
+// floors (50 m × 50 m and 54 m × 59 m, OfficeBuilding in minibot3d_testing/synthetic_building.h) in the walls.
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -21,15 +21,15 @@
 #include <string>
 #include <vector>
 
-#include "minibot3d_slam/correlative_search.h"
-#include "minibot3d_slam/map_files.h"
-#include "synthetic_building.h"
+#include "minibot3d_map_io/map_io.h"
+#include "minibot3d_scan_matching/correlative_search.h"
+#include "minibot3d_testing/synthetic_building.h"
 
-using minibot3d_slam::CorrelativeSearch;
-using minibot3d_slam::CorrelativeSearchOptions;
-using minibot3d_slam::GridMap;
-using minibot3d_slam::LaserScan;
-using minibot3d_slam::Pose2;
+using minibot3d_scan_matching::CorrelativeSearch;
+using minibot3d_scan_matching::CorrelativeSearchOptions;
+using minibot3d_scan_matching::GridMap;
+using minibot3d_common::LaserScan;
+using minibot3d_common::Pose2;
 
 namespace {
 
@@ -127,7 +127,7 @@ void Run(const std::string& name, const GridMap& map,
     do {
       truth = Pose2{ux(rng), uy(rng), ua(rng)};
       if (!Clear(map, truth.x, truth.y, 0.3)) continue;
-      points = minibot3d_slam::ScanToPoints(scan_at(truth));
+      points = minibot3d_scan_matching::ScanToPoints(scan_at(truth));
       d = 0.0;
       for (const auto& p : points) d = std::max(d, p.norm());
     } while (d < 2.0);
@@ -155,12 +155,12 @@ void Run(const std::string& name, const GridMap& map,
     if (best) {
       scores.push_back(best->score);
       if (std::hypot(best->pose.x - truth.x, best->pose.y - truth.y) <= 0.3 &&
-          std::fabs(minibot3d_slam::NormalizeAngle(best->pose.yaw - truth.yaw)) <= 0.05) {
+          std::fabs(minibot3d_common::NormalizeAngle(best->pose.yaw - truth.yaw)) <= 0.05) {
         ++right_place;
       }
       if (std::fabs(best->pose.x - truth.x) <= map.resolution &&
           std::fabs(best->pose.y - truth.y) <= map.resolution &&
-          std::fabs(minibot3d_slam::NormalizeAngle(best->pose.yaw - truth.yaw)) <= step) {
+          std::fabs(minibot3d_common::NormalizeAngle(best->pose.yaw - truth.yaw)) <= step) {
         ++found;
       } else if (settings.verbose) {
         CorrelativeSearchOptions local = options;
@@ -236,14 +236,14 @@ int main(int argc, char** argv) {
     if (synthetic) {
       for (const auto& size : {std::pair<double, double>{50.0, 50.0}, {54.0, 59.0}}) {
         const auto world =
-            minibot3d_slam::testing_world::OfficeBuilding(size.first, size.second, 1);
+            minibot3d_testing::OfficeBuilding(size.first, size.second, 1);
         const GridMap map =
-            minibot3d_slam::testing_world::Rasterize(world, 0.0, 0.0, size.first, size.second);
+            minibot3d_testing::Rasterize(world, 0.0, 0.0, size.first, size.second);
         Run("office " + std::to_string(static_cast<int>(size.first)) + " m x " +
                 std::to_string(static_cast<int>(size.second)) + " m",
             map,
             [&](const Pose2& p) {
-              return minibot3d_slam::testing_world::FullScan(world, p, 360, settings.range);
+              return minibot3d_testing::FullScan(world, p, 360, settings.range);
             },
             settings);
       }

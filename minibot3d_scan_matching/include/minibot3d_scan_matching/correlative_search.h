@@ -40,8 +40,8 @@
 // correlative_search_bench: a whole-map, full-circle Search for a 360-beam scan (30 m range) on a
 // 54 m × 59 m office floor takes ~0.4 s of CPU on the 2-core development machine (depth 7; 6 and
 // 8 are slower).
-#ifndef MINIBOT3D_SLAM_CORRELATIVE_SEARCH_H_
-#define MINIBOT3D_SLAM_CORRELATIVE_SEARCH_H_
+#ifndef MINIBOT3D_SCAN_MATCHING_CORRELATIVE_SEARCH_H_
+#define MINIBOT3D_SCAN_MATCHING_CORRELATIVE_SEARCH_H_
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -50,9 +50,16 @@
 #include <stdexcept>
 #include <vector>
 
-#include "minibot3d_slam/types.h"
+#include "minibot3d_common/geometry2d.h"
+#include "minibot3d_common/laser_scan.h"
+#include "minibot3d_map_io/map_io.h"
 
-namespace minibot3d_slam {
+namespace minibot3d_scan_matching {
+
+using minibot3d_common::NormalizeAngle;
+using minibot3d_common::Pose2;
+using GridMap = minibot3d_map_io::OccupancyGrid;
+using minibot3d_common::LaserScan;
 
 struct CorrelativeSearchOptions {
   // Use as linear_search_window to search every cell of the map.
@@ -174,6 +181,6 @@ class CorrelativeSearch {
   std::vector<Level> levels_;
 };
 
-}  // namespace minibot3d_slam
+}  // namespace minibot3d_scan_matching
 
-#endif  // MINIBOT3D_SLAM_CORRELATIVE_SEARCH_H_
+#endif  // MINIBOT3D_SCAN_MATCHING_CORRELATIVE_SEARCH_H_

@@ -1,11 +1,11 @@
-#include "minibot3d_slam/correlative_search.h"
+#include "minibot3d_scan_matching/correlative_search.h"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
 
-namespace minibot3d_slam {
+namespace minibot3d_scan_matching {
 
 namespace {
 
@@ -539,4 +539,4 @@ double CorrelativeSearch::Score(const std::vector<Eigen::Vector2d>& points,
   return sum / (100.0 * points.size());
 }
 
-}  // namespace minibot3d_slam
+}  // namespace minibot3d_scan_matching

@@ -1,6 +1,6 @@
 // correlative_search: branch and bound finds exactly the brute-force maximum; a scan is found
 // anywhere in a building; look-alike places are all reported; bad options are named.
-#include "minibot3d_slam/correlative_search.h"
+#include "minibot3d_scan_matching/correlative_search.h"
 
 #include <gtest/gtest.h>
 
@@ -9,17 +9,18 @@
 #include <string>
 #include <vector>
 
-#include "synthetic_building.h"
-#include "synthetic_world.h"
+#include "minibot3d_testing/synthetic_building.h"
+#include "minibot3d_testing/synthetic_world.h"
 
-namespace minibot3d_slam {
+namespace minibot3d_scan_matching {
 namespace {
 
-using testing_world::FullScan;
-using testing_world::OfficeBuilding;
-using testing_world::Rasterize;
-using testing_world::TwinRooms;
-using testing_world::World;
+using minibot3d_common::LaserScan;
+using minibot3d_testing::FullScan;
+using minibot3d_testing::OfficeBuilding;
+using minibot3d_testing::Rasterize;
+using minibot3d_testing::TwinRooms;
+using minibot3d_testing::World;
 
 // A small random map: unknown, free and occupied cells and some grey levels, in blobs.
 GridMap RandomMap(std::mt19937* rng, int width, int height) {
@@ -162,7 +163,7 @@ TEST(CorrelativeSearchTest, FindsAScanAnywhereInABuilding) {
 }
 
 TEST(CorrelativeSearchTest, LocalWindowForLoopClosure) {
-  const World world = testing_world::Office();
+  const World world = minibot3d_testing::Office();
   const GridMap map = Rasterize(world, -6.0, -4.0, 6.0, 4.0);
   CorrelativeSearchOptions options;  // defaults: ±7 m, ±30°
   const CorrelativeSearch search(map, options);
@@ -280,4 +281,4 @@ TEST(CorrelativeSearchTest, BadOptionsAreNamed) {
 }
 
 }  // namespace
-}  // namespace minibot3d_slam
+}  // namespace minibot3d_scan_matching
