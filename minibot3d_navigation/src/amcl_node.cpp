@@ -26,8 +26,6 @@
 #include <nav_msgs/GetMap.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
-
-#include "minibot3d_lockstep/participant.h"
 #include <sensor_msgs/LaserScan.h>
 #include <std_msgs/Float32MultiArray.h>
 #include <std_srvs/Empty.h>
@@ -41,18 +39,19 @@
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
+#include "minibot3d_lockstep/participant.h"
 #include "minibot3d_navigation/amcl/amcl_filter.h"
 #include "minibot3d_navigation/amcl/amcl_options.h"
-#include "ros_util.h"
+#include "minibot3d_ros/conversions.h"
+#include "minibot3d_ros/params.h"
 
 namespace amcl = minibot3d_navigation::amcl;
 
 namespace {
 
-using minibot3d_navigation::ros_util::GridFromMsg;
-using minibot3d_navigation::ros_util::PoseFromTf;
-using minibot3d_navigation::ros_util::TfFromPose;
-using minibot3d_navigation::ros_util::XmlToText;
+using minibot3d_ros::GridFromMsg;
+using minibot3d_ros::PoseFromTf;
+using minibot3d_ros::TfFromPose;
 
 class AmclNode {
  public:
@@ -70,42 +69,20 @@ class AmclNode {
 
   bool Spin() { return lockstep_.Spin(); }
 
-  // Reads and validates the parameters; false (after ROS_FATAL) on error.
+  // Reads and validates the parameters (every bad one named); false (after ROS_FATAL) on error.
   bool Configure() {
-    for (const std::string& name : amcl::AmclOptionNames()) {
-      if (!pnh_.hasParam(name)) continue;
-      XmlRpc::XmlRpcValue v;
-      pnh_.getParam(name, v);
-      std::string text;
-      try {
-        if (!XmlToText(v, &text)) throw std::invalid_argument("unsupported type");
-        amcl::SetAmclOption(name, text, &options_);
-      } catch (const std::invalid_argument& e) {
-        ROS_FATAL("amcl: bad parameter ~%s: %s", name.c_str(), e.what());
-        return false;
-      }
-    }
+    minibot3d_ros::ParamReport report = minibot3d_ros::LoadTable(pnh_, amcl::AmclOptionTable(), &options_);
+    report.Also(minibot3d_ros::LoadTable(pnh_, amcl::AmclNodeOptionTable(), &node_));
     try {
+      report.ThrowIfBad();
       amcl::ValidateAmclOptions(options_);
+      amcl::ValidateAmclNodeOptions(node_);
     } catch (const std::invalid_argument& e) {
       ROS_FATAL("amcl: %s", e.what());
       return false;
     }
-    pnh_.param<std::string>("base_frame_id", base_frame_, "base_link");
-    pnh_.param<std::string>("odom_frame_id", odom_frame_, "odom");
-    pnh_.param<std::string>("global_frame_id", global_frame_, "map");
-    pnh_.param("use_map_topic", use_map_topic_, false);
-    pnh_.param("first_map_only", first_map_only_, false);
-    pnh_.param("tf_broadcast", tf_broadcast_, true);
-    double tol = 0.1;
-    pnh_.param("transform_tolerance", tol, tol);
-    if (!(tol >= 0.0) || !std::isfinite(tol)) {
-      ROS_FATAL("amcl: transform_tolerance=%g must be a finite value >= 0", tol);
-      return false;
-    }
-    transform_tolerance_ = ros::Duration(tol);
-    pnh_.param("save_pose_rate", save_pose_rate_, 0.5);
-    pnh_.param("gui_publish_rate", gui_publish_rate_, -1.0);
+    report.WarnUnknown("amcl");
+    transform_tolerance_ = ros::Duration(node_.transform_tolerance);
     return true;
   }
 
@@ -122,7 +99,7 @@ class AmclNode {
     initial_sub_ = nh_.subscribe("initialpose", 2, &AmclNode::OnInitialPose, this);
     scan_sub_.subscribe(nh_, "scan", 100);
     scan_filter_.reset(new tf2_ros::MessageFilter<sensor_msgs::LaserScan>(
-        scan_sub_, tf_buffer_, odom_frame_, 100, nh_));
+        scan_sub_, tf_buffer_, node_.odom_frame_id, 100, nh_));
     scan_filter_->registerCallback(&AmclNode::OnScan, this);
     scan_filter_->registerFailureCallback(
         [](const sensor_msgs::LaserScan::ConstPtr& s,
@@ -130,11 +107,11 @@ class AmclNode {
           ROS_WARN_THROTTLE(5.0, "amcl: no transform yet from scan frame '%s' at %.3f",
                             s->header.frame_id.c_str(), s->header.stamp.toSec());
         });
-    if (save_pose_rate_ > 0.0) {
-      save_timer_ = nh_.createWallTimer(ros::WallDuration(1.0 / save_pose_rate_),
+    if (node_.save_pose_rate > 0.0) {
+      save_timer_ = nh_.createWallTimer(ros::WallDuration(1.0 / node_.save_pose_rate),
                                         &AmclNode::SavePose, this);
     }
-    if (use_map_topic_) {
+    if (node_.use_map_topic) {
       map_sub_ = nh_.subscribe("map", 1, &AmclNode::OnMap, this);
       ROS_INFO("amcl: waiting for a map on %s", map_sub_.getTopic().c_str());
     } else {
@@ -157,14 +134,14 @@ class AmclNode {
   }
 
   void OnMap(const nav_msgs::OccupancyGrid::ConstPtr& msg) {
-    if (first_map_only_ && filter_) return;
+    if (node_.first_map_only && filter_) return;
     HandleMap(*msg);
   }
 
   void HandleMap(const nav_msgs::OccupancyGrid& msg) {
-    if (!msg.header.frame_id.empty() && msg.header.frame_id != global_frame_) {
+    if (!msg.header.frame_id.empty() && msg.header.frame_id != node_.global_frame_id) {
       ROS_WARN("amcl: map frame '%s' differs from global_frame_id '%s'",
-               msg.header.frame_id.c_str(), global_frame_.c_str());
+               msg.header.frame_id.c_str(), node_.global_frame_id.c_str());
     }
     const amcl::OccupancyGrid grid = GridFromMsg(msg);
     try {
@@ -200,10 +177,10 @@ class AmclNode {
     if (it == laser_poses_.end()) {
       geometry_msgs::TransformStamped t;
       try {
-        t = tf_buffer_.lookupTransform(base_frame_, frame, ros::Time(0));
+        t = tf_buffer_.lookupTransform(node_.base_frame_id, frame, ros::Time(0));
       } catch (const tf2::TransformException& e) {
         ROS_WARN_THROTTLE(5.0, "amcl: no transform from base frame '%s' to scan frame '%s': %s",
-                          base_frame_.c_str(), frame.c_str(), e.what());
+                          node_.base_frame_id.c_str(), frame.c_str(), e.what());
         return false;
       }
       tf2::Transform tr;
@@ -230,10 +207,10 @@ class AmclNode {
     if (!LaserPose(msg->header.frame_id, &scan.sensor_in_base, &flipped)) return;
     geometry_msgs::TransformStamped odom_base;
     try {
-      odom_base = tf_buffer_.lookupTransform(odom_frame_, base_frame_, msg->header.stamp);
+      odom_base = tf_buffer_.lookupTransform(node_.odom_frame_id, node_.base_frame_id, msg->header.stamp);
     } catch (const tf2::TransformException& e) {
       ROS_WARN_THROTTLE(5.0, "amcl: no odometry (%s <- %s) at the scan time: %s",
-                        odom_frame_.c_str(), base_frame_.c_str(), e.what());
+                        node_.odom_frame_id.c_str(), node_.base_frame_id.c_str(), e.what());
       return;
     }
     tf2::Transform ob;
@@ -272,11 +249,11 @@ class AmclNode {
                   TfFromPose(filter_->odom_reference()).inverse();
       have_odom_tf_ = true;
     }
-    if (have_odom_tf_ && tf_broadcast_) {
+    if (have_odom_tf_ && node_.tf_broadcast) {
       geometry_msgs::TransformStamped t;
       t.header.stamp = msg->header.stamp + transform_tolerance_;
-      t.header.frame_id = global_frame_;
-      t.child_frame_id = odom_frame_;
+      t.header.frame_id = node_.global_frame_id;
+      t.child_frame_id = node_.odom_frame_id;
       t.transform = tf2::toMsg(map_odom_);
       tf_broadcaster_.sendTransform(t);
     }
@@ -286,7 +263,7 @@ class AmclNode {
     const amcl::PoseEstimate& e = filter_->estimate();
     geometry_msgs::PoseWithCovarianceStamped p;
     p.header.stamp = stamp;
-    p.header.frame_id = global_frame_;
+    p.header.frame_id = node_.global_frame_id;
     p.pose.pose.position.x = e.mean.x;
     p.pose.pose.position.y = e.mean.y;
     tf2::Quaternion q;
@@ -342,7 +319,7 @@ class AmclNode {
     std::ostringstream os;
     geometry_msgs::PoseArray a;
     a.header.stamp = stamp;
-    a.header.frame_id = global_frame_;
+    a.header.frame_id = node_.global_frame_id;
     for (const amcl::SearchCandidate& c : s.candidates) {
       os << " (" << c.pose.x << ", " << c.pose.y << ", " << c.pose.yaw << ": " << c.score << ")";
       a.poses.push_back(PoseMsg(c.pose));
@@ -361,14 +338,14 @@ class AmclNode {
 
   void PublishCloud(const ros::Time& stamp, bool force) {
     // Throttled on sim time (the scan's stamp), as ROS amcl does: the same clouds in every run.
-    if (!force && gui_publish_rate_ > 0.0 && !last_cloud_.isZero() && stamp >= last_cloud_ &&
-        (stamp - last_cloud_).toSec() < 1.0 / gui_publish_rate_) {
+    if (!force && node_.gui_publish_rate > 0.0 && !last_cloud_.isZero() && stamp >= last_cloud_ &&
+        (stamp - last_cloud_).toSec() < 1.0 / node_.gui_publish_rate) {
       return;
     }
     last_cloud_ = stamp;
     geometry_msgs::PoseArray a;
     a.header.stamp = stamp;
-    a.header.frame_id = global_frame_;
+    a.header.frame_id = node_.global_frame_id;
     a.poses.resize(filter_->particles().size());
     for (size_t k = 0; k < a.poses.size(); ++k) {
       a.poses[k] = PoseMsg(filter_->particles()[k].pose);
@@ -393,19 +370,19 @@ class AmclNode {
     }
     tf2::Transform pose;
     tf2::fromMsg(msg->pose.pose, pose);
-    const std::string frame = msg->header.frame_id.empty() ? global_frame_ : msg->header.frame_id;
+    const std::string frame = msg->header.frame_id.empty() ? node_.global_frame_id : msg->header.frame_id;
     double rot = 0.0;
-    if (frame != global_frame_) {
+    if (frame != node_.global_frame_id) {
       try {
         geometry_msgs::TransformStamped t =
-            lockstep_.LookupTransform(tf_buffer_, global_frame_, frame, msg->header.stamp, 0.5);
+            lockstep_.LookupTransform(tf_buffer_, node_.global_frame_id, frame, msg->header.stamp, 0.5);
         tf2::Transform tr;
         tf2::fromMsg(t.transform, tr);
         pose = tr * pose;
         rot = tf2::getYaw(tr.getRotation());
       } catch (const tf2::TransformException& e) {
         ROS_WARN("amcl: initial pose in frame '%s' cannot be transformed into '%s': %s",
-                 frame.c_str(), global_frame_.c_str(), e.what());
+                 frame.c_str(), node_.global_frame_id.c_str(), e.what());
         return;
       }
     }
@@ -478,10 +455,8 @@ class AmclNode {
   tf2_ros::TransformBroadcaster tf_broadcaster_;
 
   amcl::AmclOptions options_;
-  std::string base_frame_, odom_frame_, global_frame_;
-  bool use_map_topic_ = false, first_map_only_ = false, tf_broadcast_ = true;
+  amcl::AmclNodeOptions node_;
   ros::Duration transform_tolerance_;
-  double save_pose_rate_ = 0.5, gui_publish_rate_ = -1.0;
 
   std::unique_ptr<amcl::AmclFilter> filter_;
   std::map<std::string, LaserMount> laser_poses_;

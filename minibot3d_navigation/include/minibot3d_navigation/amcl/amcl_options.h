@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "minibot3d_common/options.h"
 #include "minibot3d_navigation/amcl/types.h"
 
 namespace minibot3d_navigation {
@@ -149,6 +150,27 @@ bool IsAmclOptionName(const std::string& name);
 
 // All option names, in declaration order.
 std::vector<std::string> AmclOptionNames();
+
+// The table behind the three functions above (names, parsing, the docs' reference).
+const minibot3d_common::options::OptionTable<AmclOptions>& AmclOptionTable();
+
+// The amcl node's own parameters (frames, tf, map source), ROS amcl's names and defaults.
+struct AmclNodeOptions {
+  std::string base_frame_id = "base_link";
+  std::string odom_frame_id = "odom";
+  std::string global_frame_id = "map";
+  bool use_map_topic = false;
+  bool first_map_only = false;
+  bool tf_broadcast = true;
+  double transform_tolerance = 0.1;  // s
+  double save_pose_rate = 0.5;       // Hz
+  double gui_publish_rate = -1.0;    // Hz
+};
+
+const minibot3d_common::options::OptionTable<AmclNodeOptions>& AmclNodeOptionTable();
+
+// Throws std::invalid_argument naming every bad value.
+void ValidateAmclNodeOptions(const AmclNodeOptions& options);
 
 }  // namespace amcl
 }  // namespace minibot3d_navigation
