@@ -104,7 +104,7 @@ def test_install_space_holds_what_a_user_needs(install):
                  'minibot3d_slam/map_saver', 'minibot3d_slam/map_server',
                  'minibot3d_navigation/amcl', 'minibot3d_navigation/move_base',
                  'minibot3d_navigation/explore', 'minibot3d_navigation/simple_navi_goals.py',
-                 'minibot3d_navigation/tune_planner', 'minibot3d_teleop/diff_wheeled_robot_key']:
+                 'minibot3d_tuning/tune_planner', 'minibot3d_teleop/diff_wheeled_robot_key']:
         assert os.access(os.path.join(lib, path), os.X_OK), path
 
 

@@ -151,7 +151,7 @@ echo "== Trajectory-planner tuning: the seed's six settings x 3 repeats"
 echo "   (min_vel_x {0.01, 0.1} x max_vel_x {0.1, 0.5, 1.0}, the long route, --jobs 2)"
 rm -rf build/bench/tune
 start=$SECONDS
-/usr/bin/python3 minibot3d_navigation/scripts/tune_planner --out build/bench/tune --no-progress \
+/usr/bin/python3 minibot3d_tuning/scripts/tune_planner --out build/bench/tune --no-progress \
   || echo "tune_planner: not every setting reached the goal without a collision (see the table)"
 echo "wall time of the study: $((SECONDS - start)) s; plots: build/bench/tune/*.png"
 
@@ -159,7 +159,7 @@ echo "== tune_planner on lock-step time: the same trials at real-time factor 1 a
 echo "   (min_vel_x 0.1, max_vel_x {0.5, 1.0}, 2 noise seeds each; the results must be identical)"
 for rtf in 1 0; do
   rm -rf "build/bench/tune_rtf$rtf"
-  /usr/bin/python3 minibot3d_navigation/scripts/tune_planner --out "build/bench/tune_rtf$rtf" \
+  /usr/bin/python3 minibot3d_tuning/scripts/tune_planner --out "build/bench/tune_rtf$rtf" \
     --no-progress --rtf "$rtf" --repeats 2 --set min_vel_x=0.1 --set max_vel_x=0.5,1.0 \
     || echo "tune_planner at RTF $rtf: not every trial reached the goal (see build/bench/tune_rtf$rtf)"
 done

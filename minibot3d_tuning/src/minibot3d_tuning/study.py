@@ -1,5 +1,5 @@
 """Trials and studies: one trial = one headless stack (simulator + map_server + amcl + move_base,
-amcl_navigation.launch) on its own ROS master port, driven through the route by driver.py.
+amcl_navigation.launch) on a ROS master of its own, driven through the route by driver.py.
 
 By default the stack runs on lock-step time (lockstep:=true): the simulator advances sim time only
 once amcl, move_base and the driver (all listed in lockstep_participants, so all three join before
@@ -30,6 +30,8 @@ import sys
 import threading
 import time
 from concurrent import futures
+
+from minibot3d_testing import CoreError
 
 from . import DRIVER_NODE, metrics, params, processes
 
@@ -113,10 +115,10 @@ class TrialSpec(object):
 LOCKSTEP_PARTICIPANTS = ['/amcl', '/move_base', '/' + DRIVER_NODE]
 
 
-def stack_command(setup, spec, port, trajectory_planner_yaml, move_base_params_yaml):
-    """roslaunch command line of a trial's stack."""
+def stack_command(setup, spec, trajectory_planner_yaml, move_base_params_yaml):
+    """roslaunch command line of a trial's stack (run with the trial's ROS_MASTER_URI)."""
     sx, sy, syaw = setup.start.split(',')
-    cmd = ['roslaunch', '-p', str(port), 'minibot3d_navigation', 'amcl_navigation.launch',
+    cmd = ['roslaunch', 'minibot3d_navigation', 'amcl_navigation.launch',
            'world:=%s' % setup.world, 'map_file:=%s' % setup.map_yaml,
            'x:=%s' % sx, 'y:=%s' % sy, 'yaw:=%s' % syaw,
            'real_time_factor:=%g' % setup.rtf, 'seed:=%d' % spec.seed,
@@ -131,7 +133,7 @@ def stack_command(setup, spec, port, trajectory_planner_yaml, move_base_params_y
 
 def driver_command(setup, trial_dir):
     """Command line of a trial's driver (driver.py, run with the trial's ROS_MASTER_URI)."""
-    return [sys.executable, '-m', 'minibot3d_navigation.tuning.driver', '--dir=' + trial_dir,
+    return [sys.executable, '-m', 'minibot3d_tuning.driver', '--dir=' + trial_dir,
             '--start=' + setup.start, '--goals=' + setup.goals, '--timeout=%g' % setup.timeout,
             '--ready-timeout=%g' % setup.ready_timeout,
             '--lockstep' if setup.lockstep else '--no-lockstep']
@@ -143,22 +145,14 @@ DRIVER_DROPPED = 4
 
 
 def run_trial(setup, spec, registry, stop, attempts=3):
-    """Runs one trial; returns its results.csv row, or raises Interrupted.  A stack that could
-    not start because its master port was taken in the meantime (the port is chosen free, then
-    bound by roslaunch a moment later) is retried on a new port; so is a trial whose driver the
-    simulator dropped from the lock-step loop (a lock-step trial's figures do not depend on how
-    often it was tried)."""
+    """Runs one trial; returns its results.csv row, or raises Interrupted.  A trial whose driver
+    the simulator dropped from the lock-step loop is run again (a lock-step trial's figures do not
+    depend on how often it was tried)."""
     for attempt in range(attempts):
         row, driver_status = _run_trial_once(setup, spec, registry, stop)
-        log = os.path.join(setup.out_dir, 'trials', spec.name, 'stack.log')
-        port_taken = False
-        if row['status'] == 'error' and os.path.exists(log):
-            with open(log, errors='replace') as f:
-                port_taken = 'Address already in use' in f.read()
-        dropped = row['status'] == 'error' and driver_status == DRIVER_DROPPED
-        if not (port_taken or dropped):
+        if not (row['status'] == 'error' and driver_status == DRIVER_DROPPED):
             return row
-        if dropped and attempt + 1 < attempts:
+        if attempt + 1 < attempts:
             from tqdm import tqdm
             tqdm.write('%s r%d: %s; running it again' % (settings_slug(spec.settings), spec.repeat,
                                                           row['reason']), file=sys.stderr)
@@ -175,36 +169,40 @@ def _run_trial_once(setup, spec, registry, stop):
     tp_yaml, mb_yaml = params.write_trial_files(
         spec.settings, setup.resolved, setup.base_trajectory_planner,
         setup.base_move_base_params, trial_dir)
-    port = processes.free_port()
-    env = dict(os.environ)
-    env.pop('ROS_HOSTNAME', None)
-    env.update(ROS_MASTER_URI='http://127.0.0.1:%d' % port, ROS_IP='127.0.0.1',
-               ROS_LOG_DIR=os.path.join(trial_dir, 'ros_log'))
+    ros_log = os.path.join(trial_dir, 'ros_log')
+    env = dict(os.environ, ROS_LOG_DIR=ros_log)
     env[processes.MARKER] = setup.out_dir
-    here = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    # The driver runs as `python3 -m minibot3d_tuning.driver`, also from the source tree.
+    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     env['PYTHONPATH'] = os.pathsep.join([here] + [p for p in env.get('PYTHONPATH', '').split(
         os.pathsep) if p])
-    launch = stack_command(setup, spec, port, tp_yaml, mb_yaml)
+    launch = stack_command(setup, spec, tp_yaml, mb_yaml)
     drive = driver_command(setup, trial_dir)
     wall0 = time.monotonic()
-    stack = processes.Group(launch, env, os.path.join(trial_dir, 'stack.log'), registry)
-    driver = None
+    core = stack = driver = None
     overran = stack_died = False
+    no_master = None
     try:
-        driver = processes.Group(drive, env, os.path.join(trial_dir, 'driver.log'), registry)
+        core = processes.Core(env, ros_log, registry)
+        core.start()
+        stack = processes.Group(launch, core.env, os.path.join(trial_dir, 'stack.log'), registry)
+        driver = processes.Group(drive, core.env, os.path.join(trial_dir, 'driver.log'),
+                                 registry)
         deadline = wall0 + setup.wall_budget()
         while driver.wait(0.5) is None:
             if stop.is_set():
                 raise Interrupted()
-            if stack.proc.poll() is not None:
+            if not stack.running():
                 stack_died = True
                 driver.wait(5.0)
                 break
             if time.monotonic() > deadline:
                 overran = True
                 break
+    except CoreError as e:
+        no_master = str(e)
     finally:
-        for g in (driver, stack):
+        for g in (driver, stack, core):
             if g is not None:
                 g.stop()
     wall = time.monotonic() - wall0
@@ -232,6 +230,8 @@ def _run_trial_once(setup, spec, registry, stop):
     elif overran:
         row.update(status='timeout', reason='killed: no result within the wall budget of '
                    '%.0f s' % setup.wall_budget())
+    elif no_master:
+        row.update(status='error', reason=no_master)
     else:
         why = 'the stack exited' if stack_died else 'the driver gave up'
         said = _driver_said(trial_dir)

@@ -8,7 +8,7 @@ Modules, from the bottom up:
              goals, records the true trajectory
   study      trials, results.csv (atomic, resumable), the grid runner and the Optuna search
   report     the Markdown table and the PNG plots
-  cli        `rosrun minibot3d_navigation tune_planner`
+  cli        `rosrun minibot3d_tuning tune_planner`
 """
 
 # The driver's node name: the stack lists it in lockstep_participants (study), the driver takes it.

@@ -1,4 +1,4 @@
-"""rosrun minibot3d_navigation tune_planner: the seed's trajectory-planner tuning experiment as a
+"""rosrun minibot3d_tuning tune_planner: the seed's trajectory-planner tuning experiment as a
 reproducible study.  Every trial is a full headless stack (simulator + map_server + amcl +
 move_base) on its own ROS master port, on lock-step time as fast as it goes (--rtf 0; the same
 command gives the same times), driven through a route.

@@ -3,7 +3,7 @@ until the stack is ready, sends the goals one after the other with actionlib, re
 trajectory itself, and writes trajectory.csv then result.json (each atomically: temp file +
 rename, and only once the run is over) into the trial directory.
 
-  python3 -m minibot3d_navigation.tuning.driver --dir=TRIAL_DIR --start=X,Y,YAW
+  python3 -m minibot3d_tuning.driver --dir=TRIAL_DIR --start=X,Y,YAW
       --goals="x,y[,yaw] ..." --timeout=SIM_S [--ready-timeout=WALL_S] [--lockstep|--no-lockstep]
 
 The node is /tune_planner_driver (tuning.DRIVER_NODE).  Under lock-step time (/use_lockstep, which
@@ -48,7 +48,7 @@ from move_base_msgs.msg import MoveBaseAction, MoveBaseActionResult, MoveBaseGoa
 from nav_msgs.msg import Odometry
 from nav_msgs.srv import GetPlan
 
-from minibot3d_navigation.tuning import DRIVER_NODE as NODE_NAME  # in lockstep_participants
+from minibot3d_tuning import DRIVER_NODE as NODE_NAME  # in lockstep_participants
 
 DROPPED = 4  # exit status: dropped from the lock-step loop (study.DRIVER_DROPPED)
 RECORD_PERIOD = 0.05  # sim s between recorded poses

@@ -14,7 +14,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOOL = os.path.join(HERE, '..', 'scripts', 'tune_planner')
 sys.path.insert(0, os.path.join(HERE, '..', 'src'))
-from minibot3d_navigation.tuning import processes  # noqa: E402
+from minibot3d_tuning import processes  # noqa: E402
 
 SHORT_ROUTE = ['--start=-3,-1.5,0', '--goals=-2.1,0.6']  # through the living-room opening, ~2.5 m
 

@@ -20,7 +20,7 @@ import pytest
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOOL = os.path.join(HERE, '..', 'scripts', 'tune_planner')
 sys.path.insert(0, os.path.join(HERE, '..', 'src'))
-from minibot3d_navigation.tuning import processes  # noqa: E402
+from minibot3d_tuning import processes  # noqa: E402
 
 SHORT_ROUTE = ['--start=-3,-1.5,0', '--goals=-2.1,0.6']  # through the living-room opening, ~2.5 m
 TRIALS = 4  # the study's target, counted over both workers (tune_planner --trials)
@@ -183,7 +183,7 @@ OPEN_STUDY = '''
 import sys
 sys.path.insert(0, sys.argv[1])
 import optuna
-from minibot3d_navigation.tuning import study
+from minibot3d_tuning import study
 optuna.logging.set_verbosity(optuna.logging.WARNING)
 study.open_study(optuna, 'race', sys.argv[2], optuna.samplers.RandomSampler(seed=1))
 '''

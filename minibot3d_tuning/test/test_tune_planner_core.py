@@ -11,7 +11,7 @@ import pytest
 import yaml
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'src'))
-from minibot3d_navigation.tuning import (  # noqa: E402
+from minibot3d_tuning import (  # noqa: E402
     DRIVER_NODE, cli, metrics, params, report, study)
 
 NAMES = params.parse_parameter_names('\n'.join([
@@ -225,21 +225,21 @@ def test_trials_run_on_lockstep_time_as_fast_as_possible_by_default():
 def test_stack_requests_lockstep_with_the_driver_as_a_participant(tmp_path):
     setup = _setup(tmp_path)
     spec = study.TrialSpec({'max_vel_x': 0.5}, 1, setup)
-    cmd = study.stack_command(setup, spec, 11311, 'tp.yaml', 'mb.yaml')
-    assert cmd[:5] == ['roslaunch', '-p', '11311', 'minibot3d_navigation', 'amcl_navigation.launch']
-    args = dict(a.split(':=', 1) for a in cmd[5:])
+    cmd = study.stack_command(setup, spec, 'tp.yaml', 'mb.yaml')
+    assert cmd[:3] == ['roslaunch', 'minibot3d_navigation', 'amcl_navigation.launch']
+    args = dict(a.split(':=', 1) for a in cmd[3:])
     assert args['lockstep'] == 'true' and args['real_time_factor'] == '0'
     # Every participant is listed, so sim time starts only once all have joined: the driver under
     # the very name it takes.
     assert args['lockstep_participants'].split() == ['/amcl', '/move_base', '/' + DRIVER_NODE]
     drive = study.driver_command(setup, str(tmp_path))
-    assert drive[1:3] == ['-m', 'minibot3d_navigation.tuning.driver'] and '--lockstep' in drive
-    from minibot3d_navigation.tuning import driver
+    assert drive[1:3] == ['-m', 'minibot3d_tuning.driver'] and '--lockstep' in drive
+    from minibot3d_tuning import driver
     assert driver.NODE_NAME == DRIVER_NODE
     assert setup.wall_budget() < 1e4  # rtf 0 is not a division by zero
 
     free = _setup(tmp_path, rtf=3.0, lockstep=False)
-    args = dict(a.split(':=', 1) for a in study.stack_command(free, spec, 1, 'a', 'b')[5:])
+    args = dict(a.split(':=', 1) for a in study.stack_command(free, spec, 'a', 'b')[3:])
     assert args['lockstep'] == 'false' and 'lockstep_participants' not in args
     assert args['real_time_factor'] == '3'
     assert '--no-lockstep' in study.driver_command(free, str(tmp_path))
@@ -248,7 +248,7 @@ def test_stack_requests_lockstep_with_the_driver_as_a_participant(tmp_path):
 
 
 def test_a_trial_whose_driver_was_dropped_from_the_loop_is_run_again(tmp_path, monkeypatch):
-    from minibot3d_navigation.tuning import driver
+    from minibot3d_tuning import driver
     assert driver.DROPPED == study.DRIVER_DROPPED
     setup = _setup(tmp_path)
     spec = study.TrialSpec({'max_vel_x': 0.5}, 1, setup)
@@ -279,7 +279,7 @@ def test_driver_records_the_truth_itself_and_writes_whole_files(tmp_path, monkey
     import json
     from move_base_msgs.msg import MoveBaseActionResult
     from geometry_msgs.msg import PoseStamped
-    from minibot3d_navigation.tuning import driver
+    from minibot3d_tuning import driver
     import rospy
     rec = driver.Recorder()
     for i in range(0, 1001):  # 10 s of ground truth at 100 Hz, 0.5 m/s along x
@@ -319,7 +319,7 @@ def test_driver_records_the_truth_itself_and_writes_whole_files(tmp_path, monkey
 
 
 def test_driver_leaves_no_result_when_writing_fails(tmp_path, monkeypatch):
-    from minibot3d_navigation.tuning import driver
+    from minibot3d_tuning import driver
     _, route = driver.parse_route('0,0,0', '4,0')
     result, rows = driver.summarize(dict(status='reached', reason='', goals_reached=1), route,
                                     [1.0], [(2.0, 3)], [(1.0, 0.0, 0.0, 0.0), (2.0, 1.0, 0.0, 0.0)],
@@ -337,7 +337,7 @@ def test_driver_does_not_record_with_rosbag():
     """The old driver read run.bag while `rosbag record` could still be writing run.bag.active."""
     import ast
     import inspect
-    from minibot3d_navigation.tuning import driver
+    from minibot3d_tuning import driver
     source = inspect.getsource(driver)
     imported = set()
     for node in ast.walk(ast.parse(source)):
