@@ -6,12 +6,14 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 source tools/ros_env.sh
 out=build/bench/amcl && mkdir -p "$out"
 map=$(realpath maps/default_world.yaml)
-setsid roslaunch -p "$ROS_PORT" minibot3d_sim minibot3d_gazebo.launch x:=-3.0 y:=-1.5 yaw:=0 \
+ros_start_core
+setsid roslaunch minibot3d_sim minibot3d_gazebo.launch x:=-3.0 y:=-1.5 yaw:=0 \
   real_time_factor:=5 > "$out/sim.log" 2>&1 &
 sim=$!
-trap 'kill -INT -- -$sim 2>/dev/null; kill -INT -- -${amcl:-0} 2>/dev/null; wait 2>/dev/null' EXIT
-wait_for_master 60
-setsid roslaunch -p "$ROS_PORT" --wait minibot3d_navigation amcl_bench_stack.launch map:="$map" \
+amcl=
+trap 'ros_stop_groups "$amcl" "$sim"; ros_stop_core' EXIT
+ros_wait_launch 60
+setsid roslaunch minibot3d_navigation amcl_bench_stack.launch map:="$map" \
   > "$out/amcl.log" 2>&1 &
 amcl=$!
 /usr/bin/python3 tools/amcl_bench.py --map "$map" --laps 3 \

@@ -30,16 +30,17 @@ echo "== simulator node (ROS, real_time_factor 0): a constant arc (0.2 m/s, 0.4 
 echo "   default world with all topics published (odom/tf/joint_states/ground truth 100 Hz,"
 echo "   /clock 200 Hz, /scan 10 Hz) and robot_state_publisher running; 3 runs each"
 for physics in kinematic kinematic kinematic bullet bullet bullet; do
-  setsid roslaunch -p "$ROS_PORT" minibot3d_sim minibot3d_gazebo.launch physics:="$physics" \
+  ros_start_core
+  setsid roslaunch minibot3d_sim minibot3d_gazebo.launch physics:="$physics" \
     real_time_factor:=0 x:=-2.6 y:=-2.1 yaw:=0 cmd_timeout:=1000000 > build/bench/node_$physics.log 2>&1 &
   pid=$!
-  wait_for_master 60
+  ros_wait_launch 60
   rostopic pub /cmd_vel geometry_msgs/Twist '{linear: {x: 0.2}, angular: {z: 0.4}}' > /dev/null 2>&1 &
   pub=$!
   /usr/bin/python3 tools/measure_node_rtf.py "physics=$physics" --warmup 10 --span 600 || true
   kill "$pub" 2>/dev/null || true
-  kill -INT -- -"$pid" 2>/dev/null || true
-  wait "$pid" 2>/dev/null || true
+  ros_stop_groups "$pid"
+  ros_stop_core
 done
 
 tools/lockstep_bench.sh
@@ -74,8 +75,8 @@ for spec in "default||" "arena|minibot3d_sim/worlds/arena.world|" \
   IFS='|' read -r name world_arg env_args <<< "$spec"
   echo "-- $name"
   # shellcheck disable=SC2086
-  env $env_args DEMO_OUT="build/bench/demo_$name" ROS_PORT="$(ros_free_port)" \
-    tools/demo.sh $world_arg > "build/bench/demo_$name.txt" 2>&1 || true
+  env $env_args DEMO_OUT="build/bench/demo_$name" tools/demo.sh $world_arg \
+    > "build/bench/demo_$name.txt" 2>&1 || true
   sed -n '/== make demo summary/,$p' "build/bench/demo_$name.txt" | grep -v "^== make demo summary"
 done
 

@@ -24,14 +24,16 @@ costmap=$(mktemp /tmp/corridor_costmap.XXXXXX.yaml)
 launch_pid=""
 cleanup() {
   [ -n "$launch_pid" ] && kill -INT "$launch_pid" 2>/dev/null && wait "$launch_pid" 2>/dev/null
+  ros_stop_core
   rm -f "$costmap"
 }
 trap cleanup EXIT
+ros_start_core || exit 1
 if [ "$MODE" = explore ]; then
   read -r sx sy syaw <<< "${SPAWN:-3 19.5 0}"
   gx=0; gy=0
   range="${RANGE:-5 25}"
-  roslaunch -p "$ROS_PORT" minibot3d_navigation explore.launch \
+  roslaunch minibot3d_navigation explore.launch \
       world:="$PWD/minibot3d_sim/worlds/office.world" x:="$sx" y:="$sy" yaw:="$syaw" \
       lockstep:=true real_time_factor:=0 lockstep_clients:="/corridor_weave" ${LAUNCH_ARGS:-} \
       > "${OUT%.json}.launch.log" 2>&1 &
@@ -41,7 +43,7 @@ elif [ "$MODE" = office ]; then
   read -r sx sy syaw <<< "${SPAWN:-3 19.5 0}"
   read -r gx gy <<< "${GOAL:-27 19.5}"
   range="${RANGE:-5 25}"
-  roslaunch -p "$ROS_PORT" minibot3d_navigation amcl_navigation.launch \
+  roslaunch minibot3d_navigation amcl_navigation.launch \
       world:="$PWD/minibot3d_sim/worlds/office.world" map_file:="$PWD/maps/office.yaml" \
       x:="$sx" y:="$sy" yaw:="$syaw" lockstep:=true real_time_factor:=0 \
       lockstep_participants:="/amcl /move_base /corridor_weave" ${LAUNCH_ARGS:-} \
@@ -55,7 +57,7 @@ else
   sed -e 's/width: 24.0/width: 48.0/; s/height: 24.0/height: 48.0/' \
       -e 's/origin_x: -12.0/origin_x: -24.0/; s/origin_y: -12.0/origin_y: -24.0/' \
       minibot3d_bringup/config/global_costmap_mapless_params.yaml > "$costmap"
-  roslaunch -p "$ROS_PORT" minibot3d_navigation mapless_navigation.launch \
+  roslaunch minibot3d_navigation mapless_navigation.launch \
       world:="${WORLD:-$PWD/tools/worlds/corridor.world}" global_costmap_params:="$costmap" \
       x:="$sx" y:="$sy" yaw:="$syaw" lockstep:=true real_time_factor:=0 \
       lockstep_participants:="/move_base /corridor_weave" ${LAUNCH_ARGS:-} \
@@ -63,7 +65,7 @@ else
   frame=odom
 fi
 launch_pid=$!
-wait_for_master 30
+ros_wait_launch 30
 read -r x0 x1 <<< "$range"
 /usr/bin/python3 tools/corridor_weave.py "$gx" "$gy" "$OUT" --spawn "$sx" "$sy" "$syaw" \
     --frame "$frame" --from "$x0" --to "$x1" ${WEAVE_ARGS:-}

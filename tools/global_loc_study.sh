@@ -18,16 +18,6 @@ shift || true
 worlds=("$@")
 [ ${#worlds[@]} -gt 0 ] || worlds=(default arena)
 out=${OUT:-build/bench/global_loc} && mkdir -p "$out"
-# Stops a roslaunch started with setsid (its whole process group): SIGINT, then SIGKILL after 15 s.
-stop_group() {
-  kill -INT -- -"$1" 2>/dev/null || return 0
-  for _ in $(seq 30); do
-    kill -0 -- -"$1" 2>/dev/null || break
-    sleep 0.5
-  done
-  kill -KILL -- -"$1" 2>/dev/null || true
-  wait "$1" 2>/dev/null || true
-}
 for w in "${worlds[@]}"; do
   case "$w" in
     default) map=maps/default_world.yaml; spawn=(-3.0 -1.5 0.0) ;;
@@ -36,21 +26,22 @@ for w in "${worlds[@]}"; do
     *) echo "global_loc_study.sh: unknown world '$w' (default, arena, office)" >&2; exit 2 ;;
   esac
   map=$(realpath "$map")
-  setsid roslaunch -p "$ROS_PORT" minibot3d_sim minibot3d_gazebo.launch \
+  ros_start_core
+  setsid roslaunch minibot3d_sim minibot3d_gazebo.launch \
     world:="$(realpath minibot3d_sim/worlds/$w.world)" x:=${spawn[0]} y:=${spawn[1]} yaw:=${spawn[2]} \
     real_time_factor:=0 lockstep:=true lockstep_participants:="/amcl /global_loc_study" \
     > "$out/sim_$w.log" 2>&1 &
   sim=$!
   amcl=
-  trap 'stop_group $sim; [ -z "${amcl:-}" ] || stop_group $amcl' EXIT
-  wait_for_master 60
-  setsid roslaunch -p "$ROS_PORT" --wait minibot3d_navigation amcl_bench_stack.launch map:="$map" \
+  trap 'ros_stop_groups "$amcl" "$sim"; ros_stop_core' EXIT
+  ros_wait_launch 60  # amcl reads /use_lockstep, which the simulator's launch sets
+  setsid roslaunch minibot3d_navigation amcl_bench_stack.launch map:="$map" \
     x:=${spawn[0]} y:=${spawn[1]} yaw:=${spawn[2]} amcl_params:="${AMCL_PARAMS:-}" \
     > "$out/amcl_$w.log" 2>&1 &
   amcl=$!
   /usr/bin/python3 tools/global_loc_study.py --map "$map" --starts "$starts" --seed 1 \
     --spawn="${spawn[0]},${spawn[1]}"  --kidnaps "${KIDNAPS:-0}" --wanderer "${WANDERER:-sides}" --picture "$out/global_loc_$w.png" --picture-start "${PICTURE_START:-0}" ${TRACE:+--trace "$TRACE"} || true
-  stop_group "$amcl"
-  stop_group "$sim"
+  ros_stop_groups "$amcl" "$sim"
+  ros_stop_core
   trap - EXIT
 done

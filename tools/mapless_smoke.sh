@@ -17,19 +17,22 @@ mkdir -p "$OUT"
 indices=("$@")
 [ ${#indices[@]} -eq 0 ] && indices=(0 12 25 37 49)
 launch_pid=""
-cleanup() { [ -n "$launch_pid" ] && kill -INT "$launch_pid" 2>/dev/null && wait "$launch_pid" 2>/dev/null; }
+cleanup() {
+  [ -n "$launch_pid" ] && kill -INT "$launch_pid" 2>/dev/null && wait "$launch_pid" 2>/dev/null
+  launch_pid=""
+  ros_stop_core
+}
 trap cleanup EXIT
 
 for i in "${indices[@]}"; do
   name=$(printf 'clutter_%02d' "$i")
   world="minibot3d_sim/worlds/clutter/$name.world"
-  ROS_PORT=$(ros_free_port)
-  export ROS_MASTER_URI="http://127.0.0.1:${ROS_PORT}"
-  roslaunch -p "$ROS_PORT" minibot3d_navigation mapless_navigation.launch world:="$PWD/$world" \
+  ros_start_core || exit 1
+  roslaunch minibot3d_navigation mapless_navigation.launch world:="$PWD/$world" \
       lockstep:=true real_time_factor:=0 lockstep_participants:="/move_base /mapless_run" ${LAUNCH_ARGS:-} \
       > "$OUT/$name.launch.log" 2>&1 &
   launch_pid=$!
-  wait_for_master 30
+  ros_wait_launch 30
   start=$SECONDS
   if ! /usr/bin/python3 tools/mapless_run.py "minibot3d_sim/worlds/clutter/$name.json" \
       "$OUT/$name.json" --timeout "$TIMEOUT" > "$OUT/$name.run.log" 2>&1; then
@@ -37,5 +40,4 @@ for i in "${indices[@]}"; do
   fi
   grep "^$name gap" "$OUT/$name.run.log" | sed "s/\$/, $((SECONDS - start)) s wall/"
   cleanup
-  launch_pid=""
 done

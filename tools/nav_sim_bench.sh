@@ -7,9 +7,10 @@ source tools/ros_env.sh
 out=build/bench/nav && mkdir -p "$out"
 map=$(realpath maps/default_world.yaml)
 rtf="${NAV_BENCH_RTF:-4}"
-setsid roslaunch -p "$ROS_PORT" minibot3d_navigation amcl_navigation.launch \
+ros_start_core
+setsid roslaunch minibot3d_navigation amcl_navigation.launch \
   real_time_factor:="$rtf" map_file:="$map" > "$out/stack.log" 2>&1 &
 stack=$!
-trap 'kill -INT -- -$stack 2>/dev/null; wait 2>/dev/null' EXIT
-wait_for_master 60
+trap 'ros_stop_groups "$stack"; ros_stop_core' EXIT
+ros_wait_launch 60
 /usr/bin/python3 tools/nav_bench.py --map "$map" --goals "${NAV_BENCH_GOALS:-20}" --seed 1

@@ -10,17 +10,17 @@ source tools/ros_env.sh
 name=$1 world=$(realpath "$2") map=$(realpath "$3") x=$4 y=$5 yaw=$6 waypoints=$7 laps=${8:-1}
 out=build/bench/slam_$name
 rm -rf "$out" && mkdir -p "$out"
-setsid roslaunch -p "$ROS_PORT" minibot3d_sim minibot3d_gazebo.launch world:="$world" x:="$x" \
+ros_start_core
+setsid roslaunch minibot3d_sim minibot3d_gazebo.launch world:="$world" x:="$x" \
   y:="$y" yaw:="$yaw" real_time_factor:=10 > "$out/sim.log" 2>&1 &
 sim=$!
 rec=
 cleanup() {
-  [ -n "$rec" ] && kill -INT -- -"$rec" 2>/dev/null
-  kill -INT -- -"$sim" 2>/dev/null
-  wait 2>/dev/null
+  ros_stop_groups "$rec" "$sim"  # SIGINT first: rosbag record closes the bag
+  ros_stop_core
 }
 trap cleanup EXIT
-wait_for_master 60
+ros_wait_launch 60
 setsid rosbag record -q -O "$out/drive.bag" /scan /tf /tf_static > "$out/record.log" 2>&1 &
 rec=$!
 # rosbag record subscribes asynchronously: wait until it is connected to /scan.
