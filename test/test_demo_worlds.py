@@ -38,7 +38,6 @@ def summary_value(text, row):
 def test_demo_passes(world, tmp_path):
     args, extra = WORLDS[world]
     env = dict(os.environ, DEMO_OUT=str(tmp_path / 'out'), ROS_HOME=str(tmp_path), **extra)
-    env.pop('ROS_PORT', None)  # demo.sh picks its own master port
     # SIGINT at its default (a runner started in a script's background inherits it ignored, and
     # demo.sh stops its launches with SIGINT).
     try:
