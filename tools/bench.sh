@@ -37,25 +37,25 @@ for physics in kinematic kinematic kinematic bullet bullet bullet; do
   ros_wait_launch 60
   rostopic pub /cmd_vel geometry_msgs/Twist '{linear: {x: 0.2}, angular: {z: 0.4}}' > /dev/null 2>&1 &
   pub=$!
-  /usr/bin/python3 tools/measure_node_rtf.py "physics=$physics" --warmup 10 --span 600 || true
+  /usr/bin/python3 tools/bench/measure_node_rtf.py "physics=$physics" --warmup 10 --span 600 || true
   kill "$pub" 2>/dev/null || true
   ros_stop_groups "$pid"
   ros_stop_core
 done
 
-tools/lockstep_bench.sh
+tools/bench/lockstep_bench.sh
 
 echo "== AMCL core: one filter update (motion + 60-beam correction + resampling + clustering)"
 devel/lib/minibot3d_navigation/amcl_bench --benchmark_min_time=0.2 2>/dev/null | grep -E "^(BM_|Benchmark)" || true
 
 echo "== AMCL in the simulator: tracking (3 laps of the rooms), global localization, kidnapping"
-tools/amcl_sim_bench.sh
+tools/bench/amcl_sim_bench.sh
 
 echo "== AMCL global localization study: seeded random starts, a wanderer, claims vs the truth"
-# The office world (tools/office_world.py), the default world and the arena, a kidnapping after
-# every start. The office run's picture goes to docs/: start 27, whose kidnapping the look-alike
+# The office world (tools/generators/office_world.py), the default world and the arena, a
+# kidnapping after every start. The office run's picture goes to docs/: start 27, whose kidnapping the look-alike
 # check before a claim puts right (README).
-KIDNAPS=50 PICTURE_START=27 tools/global_loc_study.sh 50 office default arena
+KIDNAPS=50 PICTURE_START=27 tools/bench/global_loc_study.sh 50 office default arena
 cp build/bench/global_loc/global_loc_office.png docs/global_loc_office.png
 
 echo "== Navigation core: costmap inflation/updates, global planners (A* 2000x2000, OMPL), DWA cycle"
@@ -65,7 +65,7 @@ for b in costmap_bench planner_bench dwa_bench; do
 done
 
 echo "== move_base in the simulator: 20 random reachable goals in the default world (seed 1)"
-tools/nav_sim_bench.sh
+tools/bench/nav_sim_bench.sh
 
 echo "== make demo on the shipped worlds (explore with SLAM until no frontier is left, save the map,"
 echo "   localize globally on it, visit the goals; lock-step at full speed): the summary of each"
@@ -83,8 +83,10 @@ done
 echo "== mapless navigation through the 50 shipped clutter worlds (mapless_navigation.launch,"
 echo "   lock-step at full speed, the goal 5.5 m ahead in odom, 150 s of sim time each)"
 rm -rf build/bench/mapless
-OUT=build/bench/mapless TIMEOUT=150 tools/mapless_smoke.sh $(seq 0 49) > build/bench/mapless.txt 2>&1 || true
-/usr/bin/python3 tools/mapless_bench.py build/bench/mapless --picture docs/mapless_hardest.png || true
+OUT=build/bench/mapless TIMEOUT=150 tools/bench/mapless_smoke.sh $(seq 0 49) \
+  > build/bench/mapless.txt 2>&1 || true
+/usr/bin/python3 tools/bench/mapless_bench.py build/bench/mapless \
+  --picture docs/mapless_hardest.png || true
 
 echo "== SLAM on a CARMEN log (slam_offline, gmapping defaults, 30 particles, loop closure on, the"
 echo "   readings between processed scans placed by odometry between the processed poses and matched"
@@ -136,16 +138,16 @@ else
 fi
 
 echo "== SLAM round building-sized loops of long corridors (synthetic logs with their truth,"
-echo "   tools/make_building_log.py; slam_offline defaults, seeds 1-3: no loop closure, a fixed window,"
-echo "   corridor constraints on, the default)"
-tools/building_slam_bench.sh build/bench/building
+echo "   tools/generators/make_building_log.py; slam_offline defaults, seeds 1-3: no loop closure,"
+echo "   a fixed window, corridor constraints on, the default)"
+tools/bench/building_slam_bench.sh build/bench/building
 cp build/bench/building/large.png docs/building_map.png
 echo "README: docs/building_map.png"
 
 echo "== SLAM in the simulator (relations from the true pose, Kümmerle et al. 2009; config/gmapping.yaml)"
-tools/slam_sim_bench.sh default minibot3d_sim/worlds/default.world maps/default_world.yaml -3 -1.5 0 \
+tools/bench/slam_sim_bench.sh default minibot3d_sim/worlds/default.world maps/default_world.yaml -3 -1.5 0 \
   "-2.1,0.6 -2.4,3.0 -2.1,0.6 -0.3,2.0 0.45,0.6 2.5,-1.0 0.8,-2.15 -3,-1.5" 2
-tools/slam_sim_bench.sh arena minibot3d_sim/worlds/arena.world maps/arena.yaml 0 0 0 \
+tools/bench/slam_sim_bench.sh arena minibot3d_sim/worlds/arena.world maps/arena.yaml 0 0 0 \
   "1.2,-1.2 1.2,1.0 -1.0,1.2 -1.2,-1.2 0,0" 3
 
 echo "== Trajectory-planner tuning: the seed's six settings x 3 repeats"

@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
 """Writes a synthetic CARMEN log of a robot driving a building of long corridors, with its truth.
 
-    tools/make_building_log.py OUT.clf OUT.truth [--width 64] [--height 36] [--laps 2]
+    tools/generators/make_building_log.py OUT.clf OUT.truth [--width 64] [--height 36] [--laps 2]
         [--fov 180] [--beams 181] [--max-range 30] [--yaw-bias 0.25] [--seed 1] [--png OUT.png]
 
 Why: the SLAM front-end (a scan-matching RBPF) drifts most where a corridor is longer than the
 laser sees and its walls have few features: along it, only door recesses pin the position. Round a
-building-sized loop the drift of heading and scale bends the map — the failure issue 15 reports on
-a real log of a building with long corridors. The Intel log's loops are short, so it does not
+building-sized loop the drift of heading and scale bends the map, as it does on real logs of
+buildings with long corridors. The Intel log's loops are short, so it does not
 exercise this; this log does, with a known truth to score against (make_relations OUT.truth).
 
 The building (--width × --height m): a ring corridor 2.4 m wide inset 6 m from the outer walls,
@@ -269,7 +269,7 @@ def main():
     dirname = os.path.dirname(os.path.abspath(a.log))
     with tempfile.NamedTemporaryFile("w", dir=dirname, delete=False) as log, \
             tempfile.NamedTemporaryFile("w", dir=os.path.dirname(os.path.abspath(a.truth)), delete=False) as truth:
-        log.write("# synthetic building log: tools/make_building_log.py " + " ".join(sys.argv[1:]) + "\n")
+        log.write("# synthetic building log: tools/generators/make_building_log.py " + " ".join(sys.argv[1:]) + "\n")
         log.write(f"PARAM robot_front_laser_max {a.max_range:g} nohost 0\n")
         for k, ((x, y, th), (ox, oy, oth)) in enumerate(zip(poses, odom)):
             t = t0 + k * ODOM_DT

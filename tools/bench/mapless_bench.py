@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""make bench, mapless section: summarises tools/mapless_smoke.sh's runs (the clutter_NN.json files
-tools/mapless_run.py writes) for the shipped clutter worlds by difficulty band (narrowest gap):
-success rate, collisions, mean time against the optimal time, and the score
+"""make bench, mapless section: summarises tools/bench/mapless_smoke.sh's runs (the clutter_NN.json
+files tools/bench/mapless_run.py writes) for the shipped clutter worlds by difficulty band
+(narrowest gap): success rate, collisions, mean time against the optimal time, and the score
 success x OT / clip(t, 2 OT, 8 OT) with OT = optimal path / max_vel_x (0.5 is the best), averaged
 over the worlds; with --picture, draws the hardest world reached (narrowest gap) with the path
 driven, the start and the goal.
@@ -13,19 +13,19 @@ import os
 import re
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-WORLDS = os.path.join(HERE, '..', 'minibot3d_sim', 'worlds', 'clutter')
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+WORLDS = os.path.join(ROOT, 'minibot3d_sim', 'worlds', 'clutter')
 BANDS = [(0.36, 0.45), (0.45, 0.55), (0.55, 0.65), (0.65, 0.81)]
 
 
 def picture(run, out_png):
-    """The world's ground-truth map with the path driven (tools/mapless_run.py's JSON)."""
+    """The world's ground-truth map with the path driven (tools/bench/mapless_run.py's JSON)."""
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
-    sys.path.insert(0, os.path.join(HERE, '..', 'minibot3d_slam', 'scripts'))
+    sys.path.insert(0, os.path.join(ROOT, 'minibot3d_slam', 'scripts'))
     # plot_map needs minibot3d_map_io: from devel/ when sourced, else from the source tree.
-    sys.path.append(os.path.join(HERE, '..', 'minibot3d_map_io', 'src'))
+    sys.path.append(os.path.join(ROOT, 'minibot3d_map_io', 'src'))
     from plot_map import load_map
     img, res, origin = load_map(os.path.join(WORLDS, run['world'] + '.yaml'))
     with open(os.path.join(WORLDS, run['world'] + '.json')) as f:

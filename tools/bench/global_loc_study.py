@@ -1,18 +1,19 @@
 #!/usr/bin/env python3
-"""Global-localization study (make bench; issue 14 item 3 / issue 20 item 5): N seeded random starts
-in one world, each: the robot is carried (the simulator's set_pose; odometry is not told) to a
-random free pose, amcl's /global_localization is called once, and minibot3d_navigation.wanderer drives it
-(ahead where the laser shows room, turning away where not) for --travel metres. Every amcl_pose
-after the call is compared with /ground_truth/odom:
+"""Global-localization study (make bench): N seeded random starts in one world, each: the robot is
+carried (the simulator's set_pose; odometry is not told) to a random free pose, amcl's
+/global_localization is called once, and minibot3d_navigation.wanderer drives it (ahead where the
+laser shows room, turning away where not) for --travel metres. Every amcl_pose after the call is
+compared with /ground_truth/odom:
   claim        cov_xx + cov_yy < 0.05 m^2 (make demo's threshold)
   false claim  a claim while > 1 m or > 30 deg from the truth
   right        < 0.3 m and < 10 deg
 Prints one line per start and a summary: share right at the end, false claims, travel until the
 first right claim. With --kidnaps N, after each of the first N starts the robot is carried again,
-at least --kidnap-distance away (or as far as the map allows), without telling amcl (a kidnapping), and driven --kidnap-travel
-metres: every amcl_pose from then on is scored the same way (a claim of the old place is false),
-with the travel until amcl is right again. Run by tools/global_loc_study.sh (which starts the simulator, map_server and
-amcl on lock-step time: this script is a participant, so a seed gives the same figures every run).
+at least --kidnap-distance away (or as far as the map allows), without telling amcl (a
+kidnapping), and driven --kidnap-travel metres: every amcl_pose from then on is scored the same
+way (a claim of the old place is false), with the travel until amcl is right again. Run by
+tools/bench/global_loc_study.sh (which starts the simulator, map_server and amcl on lock-step
+time: this script is a participant, so a seed gives the same figures every run).
 
   global_loc_study.py --map MAP.yaml --starts N [--seed S] [--travel M] [--timeout SIM_S]
                       [--spawn X,Y] [--kidnaps N] [--kidnap-distance M] [--kidnap-travel M]"""
@@ -34,7 +35,8 @@ from sensor_msgs.msg import LaserScan
 from std_msgs.msg import Float32MultiArray
 from std_srvs.srv import Empty
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+# tools/, one up: make demo's scripts
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 from demo_report import load_trinary, route_driver  # noqa: E402
 
 CLAIM = 0.05

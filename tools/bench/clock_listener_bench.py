@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """A rospy node that only listens (it does not take part in lock-step): how far its sim clock
 (rospy.Time.now(), driven by /clock) lags behind the messages it receives, and how many /clock
-messages per wall second reach it. For make bench (tools/lockstep_bench.sh).
+messages per wall second reach it. For make bench (tools/bench/lockstep_bench.sh).
 
   clock_listener_bench.py LABEL --seconds WALL_S
 Prints: LABEL: /clock N msgs/wall s, sim rate Xx real time, lag of rospy.Time.now() behind

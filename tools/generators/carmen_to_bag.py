@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Converts a CARMEN log's FLASER messages to a ROS bag, to run slam_offline's bag reader on a real log.
 
-    tools/carmen_to_bag.py IN.clf OUT.bag [--no-return 81.83]
+    tools/generators/carmen_to_bag.py IN.clf OUT.bag [--no-return 81.83]
 
 Each FLASER becomes a sensor_msgs/LaserScan on /scan (frame 'laser', 180° from -90°, as the CARMEN
 reader lays the beams out; readings at or above --no-return become +inf) and a transform

@@ -1,20 +1,21 @@
 #!/usr/bin/env bash
 # Weaving on a long straight drive: starts the navigation stack on lock-step time at full speed on
-# a private master and runs tools/corridor_weave.py, which sends a goal straight down a corridor
-# along +x and prints the lateral deviation, heading oscillation, angular-velocity sign changes per
+# a master of its own and runs tools/bench/corridor_weave.py, which sends a goal straight down a
+# corridor along +x and prints the lateral deviation, heading oscillation, angular-velocity sign changes per
 # metre and mean speed / max_vel_x.
-#   MODE=mapless (default): mapless_navigation.launch in tools/worlds/corridor.world (1.5 m
-#     wide, 22 m long), start (0, 0), goal (19.5, 0) in odom, the global costmap widened to 48 m.
+#   MODE=mapless (default): mapless_navigation.launch in minibot3d_sim/worlds/corridor.world
+#     (1.5 m wide, 22 m long), start (0, 0), goal (19.5, 0) in odom, the global costmap widened to 48 m.
 #   MODE=explore: explore.launch (SLAM + frontier exploration) in the office world from (3, 19.5) in
 #     corridor B, no goal sent: records RECORD_S (120) s of sim time.
 #   MODE=office: amcl_navigation.launch in the office world on its map, along corridor B (y = 19.5,
 #     2 m wide) from (3, 19.5) to (27, 19.5), the goal in map.
-#   tools/corridor_weave.sh [OUT_JSON]         (default out/corridor_weave.json)
-#   SPAWN="0 0.3 0.2" tools/corridor_weave.sh /tmp/offset.json   # start off the centre line
-#   MODE=office tools/corridor_weave.sh /tmp/office.json
-#   LAUNCH_ARGS="physics:=kinematic cmd_wheel_separation_multiplier:=1.0" tools/corridor_weave.sh
+#   tools/bench/corridor_weave.sh [OUT_JSON]         (default out/corridor_weave.json)
+#   SPAWN="0 0.3 0.2" tools/bench/corridor_weave.sh /tmp/offset.json   # start off the centre line
+#   MODE=office tools/bench/corridor_weave.sh /tmp/office.json
+#   LAUNCH_ARGS="physics:=kinematic cmd_wheel_separation_multiplier:=1.0" \
+#     tools/bench/corridor_weave.sh
 set -uo pipefail
-cd "$(dirname "${BASH_SOURCE[0]}")/.."
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 # shellcheck disable=SC1091
 source tools/ros_env.sh
 OUT="${1:-out/corridor_weave.json}"
@@ -58,7 +59,7 @@ else
       -e 's/origin_x: -12.0/origin_x: -24.0/; s/origin_y: -12.0/origin_y: -24.0/' \
       minibot3d_bringup/config/global_costmap_mapless_params.yaml > "$costmap"
   roslaunch minibot3d_navigation mapless_navigation.launch \
-      world:="${WORLD:-$PWD/tools/worlds/corridor.world}" global_costmap_params:="$costmap" \
+      world:="${WORLD:-$PWD/minibot3d_sim/worlds/corridor.world}" global_costmap_params:="$costmap" \
       x:="$sx" y:="$sy" yaw:="$syaw" lockstep:=true real_time_factor:=0 \
       lockstep_participants:="/move_base /corridor_weave" ${LAUNCH_ARGS:-} \
       > "${OUT%.json}.launch.log" 2>&1 &
@@ -67,5 +68,5 @@ fi
 launch_pid=$!
 ros_wait_launch 30
 read -r x0 x1 <<< "$range"
-/usr/bin/python3 tools/corridor_weave.py "$gx" "$gy" "$OUT" --spawn "$sx" "$sy" "$syaw" \
+/usr/bin/python3 tools/bench/corridor_weave.py "$gx" "$gy" "$OUT" --spawn "$sx" "$sy" "$syaw" \
     --frame "$frame" --from "$x0" --to "$x1" ${WEAVE_ARGS:-}

@@ -2,7 +2,7 @@
 # make bench, lock-step section (also runs alone): the achieved real-time factor of the full
 # closed loop on lock-step time, and what a rospy node that only listens sees of sim time.
 set -euo pipefail
-cd "$(dirname "${BASH_SOURCE[0]}")/.."
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 source tools/ros_env.sh
 mkdir -p build/bench
 probe=minibot3d_lockstep/test/lockstep_probe.py
@@ -21,7 +21,7 @@ for rtf in 5 20 0; do
   rostopic pub /cmd_vel geometry_msgs/Twist '{linear: {x: 0.2}, angular: {z: 0.4}}' \
     > /dev/null 2>&1 &
   pub=$!
-  /usr/bin/python3 tools/clock_listener_bench.py "free-running, RTF $rtf" --seconds 10 || true
+  /usr/bin/python3 tools/bench/clock_listener_bench.py "free-running, RTF $rtf" --seconds 10 || true
   kill "$pub" 2>/dev/null || true
   ros_stop_groups "$pid"
   pid=
@@ -37,7 +37,7 @@ for run in 1 2 3; do
     > "build/bench/lockstep_loop$run.log" 2>&1 &
   pid=$!
   ros_wait_launch 60
-  /usr/bin/python3 tools/clock_listener_bench.py "  listener during run $run" --seconds 3 &
+  /usr/bin/python3 tools/bench/clock_listener_bench.py "  listener during run $run" --seconds 3 &
   lis=$!
   start=$(date +%s.%N)
   /usr/bin/python3 "$probe" route "build/bench/lockstep_route$run.json" > /dev/null 2>&1 || true

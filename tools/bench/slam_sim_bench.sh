@@ -3,9 +3,9 @@
 # recording /scan and /tf to a bag and the true pose to a file, runs slam_offline on the bag, makes
 # relations from the true poses at the scan times (Kümmerle et al. 2009) and scores the SLAM
 # trajectory with them.
-#   tools/slam_sim_bench.sh NAME WORLD MAP X Y YAW "WAYPOINTS" [LAPS]
+#   tools/bench/slam_sim_bench.sh NAME WORLD MAP X Y YAW "WAYPOINTS" [LAPS]
 set -euo pipefail
-cd "$(dirname "${BASH_SOURCE[0]}")/.."
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 source tools/ros_env.sh
 name=$1 world=$(realpath "$2") map=$(realpath "$3") x=$4 y=$5 yaw=$6 waypoints=$7 laps=${8:-1}
 out=build/bench/slam_$name

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Weaving on a long straight drive (tools/corridor_weave.sh starts the stack; this drives and
+"""Weaving on a long straight drive (tools/bench/corridor_weave.sh starts the stack; this drives and
 measures it): sends a goal down a straight corridor along +x with simple_navi_goals.py, records
 every /cmd_vel and every /ground_truth/odom message, and prints, over the stretch of the drive
 with x in [--from, --to] (world frame), the lateral deviation, the heading oscillation, the
@@ -30,7 +30,8 @@ from nav_msgs.msg import Odometry, Path
 
 from minibot3d_sim.msg import SimStatus
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+# tools/, one up: make demo's scripts
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 from demo_phase import write_json, yaw_of  # noqa: E402
 
 

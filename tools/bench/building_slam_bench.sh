@@ -1,19 +1,19 @@
 #!/bin/bash
 # SLAM round building-sized loops of long corridors, on synthetic logs with a known truth
-# (tools/make_building_log.py): slam_offline with gmapping's defaults, four ways — the plain RBPF
-# (loopClosure=0), loop closure with a fixed search window (loopDriftRate=0), with corridor
-# constraints (loopCorridors=1), and the defaults — each with seeds 1, 2 and 3 (one seed's figure
+# (tools/generators/make_building_log.py): slam_offline with gmapping's defaults, four ways — the
+# plain RBPF (loopClosure=0), loop closure with a fixed search window (loopDriftRate=0), with
+# corridor constraints (loopCorridors=1), and the defaults — each with seeds 1, 2 and 3 (one seed's figure
 # says little: a closure found a few scans earlier or later moves the result by decimetres). Each
 # trajectory is scored against relations made from the truth: over ≤ 10 s (local accuracy) and
 # over any span (the map's global consistency: a bent corridor or a loop left open shows there);
 # the lines give the mean ± standard deviation over the seeds.
 #
-#   tools/building_slam_bench.sh [OUT_DIR]     (default build/bench/building in the repo)
+#   tools/bench/building_slam_bench.sh [OUT_DIR]     (default build/bench/building in the repo)
 # Writes OUT_DIR/NAME_{open,fixed,corridors,default}_sSEED/ and, for the large building with
 # seed 1, the maps with the fixed window and the default one, one above the other, in
 # OUT_DIR/large.png.
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 out="$(realpath -m "${1:-$root/build/bench/building}")"
 cd "$root"
 source tools/ros_env.sh  # plot_map.py imports the workspace's Python modules
@@ -28,7 +28,8 @@ for entry in "${buildings[@]}"; do
   name="${entry%%|*}"
   args="${entry#*|}"
   # shellcheck disable=SC2086  # the arguments are words
-  echo "$name: $(/usr/bin/python3 tools/make_building_log.py "$out/$name.clf" "$out/$name.truth" $args) [$args]"
+  echo "$name: $(/usr/bin/python3 tools/generators/make_building_log.py "$out/$name.clf" \
+    "$out/$name.truth" $args) [$args]"
   "$bin/make_relations" "$out/$name.truth" "$out/$name.rel" > /dev/null
   "$bin/make_relations" "$out/$name.truth" "$out/$name.long.rel" --max-span 100000 --every 5 > /dev/null
   for variant in "open loopClosure=0" "fixed loopDriftRate=0" "corridors loopCorridors=1" "default loopClosure=1"; do

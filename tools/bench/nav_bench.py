@@ -27,11 +27,11 @@ from move_base_msgs.msg import MoveBaseAction, MoveBaseGoal
 from nav_msgs.msg import Odometry
 from nav_msgs.srv import GetPlan
 
-HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 def load_route_driver():
-    path = os.path.join(HERE, '..', 'minibot3d_sim', 'scripts', 'route_driver.py')
+    path = os.path.join(ROOT, 'minibot3d_sim', 'scripts', 'route_driver.py')
     spec = importlib.util.spec_from_file_location('route_driver', path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)

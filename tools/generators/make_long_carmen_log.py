@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Builds a long CARMEN log from a short one, to measure SLAM on long logs (memory, time, accuracy).
 
-    tools/make_long_carmen_log.py IN.clf REPEATS OUT.clf [--relations IN.relations OUT.relations]
+    tools/generators/make_long_carmen_log.py IN.clf REPEATS OUT.clf
+        [--relations IN.relations OUT.relations]
 
 The log is driven REPEATS times back and forth: repetitions 1, 3, 5... are the log as recorded,
 repetitions 2, 4, ... the same messages in reverse order (the robot reverses along its own path,

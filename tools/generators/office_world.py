@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""Office world: a building-scale floor of many similar rooms along long corridors (issue 20).
+"""Office world: a building-scale floor of many similar rooms along long corridors.
 
-    tools/office_world.py [--seed 1] [--width 60] [--height 48] [--out minibot3d_sim/worlds]
-                          [--map-out maps] [--name office] [--renderer render_world_map]
+    tools/generators/office_world.py [--seed 1] [--width 60] [--height 48]
+        [--out minibot3d_sim/worlds] [--map-out maps] [--name office] [--renderer render_world_map]
 
 Writes NAME.world (SDF: static box and cylinder collisions, as the simulator reads them) and, with
 minibot3d_sim's render_world_map, the ground-truth map NAME.pgm + NAME.yaml (0.05 m cells).
@@ -33,7 +33,7 @@ import random
 import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 DEFAULT_RENDERER = os.path.join(ROOT, 'devel', 'lib', 'minibot3d_sim', 'render_world_map')
 
 WALL, WALL_HEIGHT = 0.1, 1.0
@@ -224,13 +224,13 @@ def generate(seed=1, width=60.0, height=48.0):
 def world_sdf(f, name, seed, width, height, spawn):
     lines = [
         '<?xml version="1.0"?>',
-        '<!-- %s: an office floor, %g m x %g m (x 0..%g, y 0..%g), made by tools/office_world.py '
+        '<!-- %s: an office floor, %g m x %g m (x 0..%g, y 0..%g), made by tools/generators/office_world.py '
         '(seed %d).' % (name, width, height, width, height, seed),
         '     %d rooms along four corridors and two vertical ones, an open-plan hall in the middle;'
         % len(f.rooms),
         '     walls %g m thick, %g m tall; furniture %g m tall. Spawn (%.2f, %.2f, yaw 0) in corridor A.'
         % (WALL, WALL_HEIGHT, FURNITURE_HEIGHT, spawn[0], spawn[1]),
-        '     Regenerate with: tools/office_world.py --seed %d --width %g --height %g --name %s -->'
+        '     Regenerate with: tools/generators/office_world.py --seed %d --width %g --height %g --name %s -->'
         % (seed, width, height, name),
         '<sdf version="1.6">',
         '  <world name="%s">' % name,

@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
-# Closed-loop smoke check of mapless navigation (issue 18): for each clutter world named, starts
-# mapless_navigation.launch on lock-step time at full speed on a private master and runs
-# tools/mapless_run.py, which sends the world's goal (5.5 m ahead, in odom) with
+# Closed-loop smoke check of mapless navigation: for each clutter world named, starts
+# mapless_navigation.launch on lock-step time at full speed on a master of its own and runs
+# tools/bench/mapless_run.py, which sends the world's goal (5.5 m ahead, in odom) with
 # simple_navi_goals.py and records the true path: one line per world (reached or not, sim time,
-# collisions, the world's narrowest gap) and OUT/clutter_NN.json for tools/mapless_bench.py.
+# collisions, the world's narrowest gap) and OUT/clutter_NN.json for tools/bench/mapless_bench.py.
 # Exits 0 whatever the outcome (it reports, the rostest asserts).
-#   tools/mapless_smoke.sh [INDEX ...]      (default: 0 12 25 37 49)
-#   TIMEOUT=150 tools/mapless_smoke.sh 30   # sim seconds for the goal
+#   tools/bench/mapless_smoke.sh [INDEX ...]      (default: 0 12 25 37 49)
+#   TIMEOUT=150 tools/bench/mapless_smoke.sh 30   # sim seconds for the goal
 set -uo pipefail
-cd "$(dirname "${BASH_SOURCE[0]}")/.."
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 # shellcheck disable=SC1091
 source tools/ros_env.sh
 OUT="${OUT:-out/mapless_smoke}"
@@ -34,7 +34,7 @@ for i in "${indices[@]}"; do
   launch_pid=$!
   ros_wait_launch 30
   start=$SECONDS
-  if ! /usr/bin/python3 tools/mapless_run.py "minibot3d_sim/worlds/clutter/$name.json" \
+  if ! /usr/bin/python3 tools/bench/mapless_run.py "minibot3d_sim/worlds/clutter/$name.json" \
       "$OUT/$name.json" --timeout "$TIMEOUT" > "$OUT/$name.run.log" 2>&1; then
     echo "$name: mapless_run.py failed (see $OUT/$name.run.log)"
   fi

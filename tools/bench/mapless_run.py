@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""One mapless run (tools/mapless_smoke.sh starts mapless_navigation.launch; this drives and
+"""One mapless run (tools/bench/mapless_smoke.sh starts mapless_navigation.launch; this drives and
 records it): sends the clutter world's goal in odom with simple_navi_goals.py, records the true
 path and the simulator's collision count, prints one summary line and writes OUT.json (the world,
-the result, sim time, collisions and the path driven, for tools/mapless_bench.py's picture).
+the result, sim time, collisions and the path driven, for tools/bench/mapless_bench.py's picture).
 
   mapless_run.py WORLD_JSON OUT_JSON [--timeout SIM_S]
 
@@ -20,7 +20,8 @@ from minibot3d_lockstep import Participant  # before rospy.init_node: it counts 
 
 import rospy
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+# tools/, one up: make demo's scripts
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 from demo_phase import Recorder, write_json  # noqa: E402  (make demo's recorder of the truth)
 
 

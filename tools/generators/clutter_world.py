@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Clutter worlds: a field of thin posts between two walls, with a passage of a known width.
 
-    tools/clutter_world.py one --gap 0.5 --seed 7 --out DIR [--name NAME]
-    tools/clutter_world.py set [--out minibot3d_sim/worlds/clutter]   # the 50 shipped worlds
+    tools/generators/clutter_world.py one --gap 0.5 --seed 7 --out DIR [--name NAME]
+    tools/generators/clutter_world.py set [--out minibot3d_sim/worlds/clutter]   # the 50 shipped
 
 A world is a room 3 m wide (two long walls, closed at both ends so that no route goes round the
 field). The robot starts at (0, 0) facing +x; the goal is 5.5 m ahead at (5.5, 0), beyond a field
@@ -48,7 +48,7 @@ from scipy import ndimage
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 DEFAULT_RENDERER = os.path.join(ROOT, 'devel', 'lib', 'minibot3d_sim', 'render_world_map')
 SHIPPED_DIR = os.path.join(ROOT, 'minibot3d_sim', 'worlds', 'clutter')
 
@@ -576,13 +576,13 @@ def world_sdf(params, scene, name):
     half = p.width / 2.0
     lines = [
         '<?xml version="1.0"?>',
-        '<!-- %s: a clutter world made by tools/clutter_world.py (seed %d, requested narrowest '
+        '<!-- %s: a clutter world made by tools/generators/clutter_world.py (seed %d, requested narrowest '
         'gap %.4f m).' % (name, p.seed, p.gap),
         '     A room %.2f m wide between walls at y = +-%.2f, closed at x = %.2f and %.2f;'
         % (p.width, half, -p.behind, p.goal_distance + p.beyond),
         '     %d posts of radius %.3f m in x in [%.2f, %.2f]. Start (0, 0, yaw 0), goal (%.2f, 0).'
         % (len(scene.posts), p.post_radius, p.field_start, p.field_end, p.goal_distance),
-        '     Regenerate with: tools/clutter_world.py one --seed %d --gap %.4f --name %s -->'
+        '     Regenerate with: tools/generators/clutter_world.py one --seed %d --gap %.4f --name %s -->'
         % (p.seed, p.gap, name),
         '<sdf version="1.6">',
         '  <world name="%s">' % name,
@@ -725,7 +725,7 @@ def main(argv=None):
                                               'achieved_gap', 'posts', 'optimal_path_length',
                                               'start', 'goal')})
         manifest = {
-            'command': 'tools/clutter_world.py set',
+            'command': 'tools/generators/clutter_world.py set',
             'description': '%d clutter worlds, requested narrowest gaps evenly spread over '
                            '%.2f-%.2f m; seed = index. Start and goal are in the world frame, '
                            'which is odom for a robot spawned at the start.'

@@ -1,17 +1,19 @@
 #!/usr/bin/env bash
 # Global-localization study (part of make bench): for each world, the simulator + map_server +
-# amcl on lock-step time (full speed) and tools/global_loc_study.py: N seeded random starts, each
-# carried there, /global_localization called once, driven by minibot3d_navigation's wanderer
+# amcl on lock-step time (full speed) and tools/bench/global_loc_study.py: N seeded random starts,
+# each carried there, /global_localization called once, driven by minibot3d_navigation's wanderer
 # (src/minibot3d_navigation/wanderer.py).
 # OUT=DIR: where logs and pictures go (build/bench/global_loc); AMCL_PARAMS=YAML: loaded over
 # config/amcl.yaml; WANDERER=openings: the wanderer heads for the deepest opening.
 # With KIDNAPS=N the first N starts of each world are followed by a kidnapping (see the .py);
 # PICTURE_START=K draws start K instead of start 0; TRACE=FILE writes one line per amcl_pose (the .py's --trace).
-#   [KIDNAPS=N] tools/global_loc_study.sh [STARTS] [WORLD ...]   (default: 10 starts; default arena)
+#   [KIDNAPS=N] tools/bench/global_loc_study.sh [STARTS] [WORLD ...]
+#     (default: 10 starts; the default world and the arena)
 # Writes build/bench/global_loc/global_loc_WORLD.png: the map, the candidates, the paths of one start.
-# Worlds: default, arena, office (minibot3d_sim/worlds/office.world, made by tools/office_world.py).
+# Worlds: default, arena, office (minibot3d_sim/worlds/office.world, made by
+# tools/generators/office_world.py).
 set -euo pipefail
-cd "$(dirname "${BASH_SOURCE[0]}")/.."
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 source tools/ros_env.sh
 starts=${1:-10}
 shift || true
@@ -39,7 +41,7 @@ for w in "${worlds[@]}"; do
     x:=${spawn[0]} y:=${spawn[1]} yaw:=${spawn[2]} amcl_params:="${AMCL_PARAMS:-}" \
     > "$out/amcl_$w.log" 2>&1 &
   amcl=$!
-  /usr/bin/python3 tools/global_loc_study.py --map "$map" --starts "$starts" --seed 1 \
+  /usr/bin/python3 tools/bench/global_loc_study.py --map "$map" --starts "$starts" --seed 1 \
     --spawn="${spawn[0]},${spawn[1]}"  --kidnaps "${KIDNAPS:-0}" --wanderer "${WANDERER:-sides}" --picture "$out/global_loc_$w.png" --picture-start "${PICTURE_START:-0}" ${TRACE:+--trace "$TRACE"} || true
   ros_stop_groups "$amcl" "$sim"
   ros_stop_core
