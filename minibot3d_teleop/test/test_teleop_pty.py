@@ -174,7 +174,7 @@ class PtyTeleop(object):
 
 
 @pytest.fixture
-def session(master):
+def start_teleop(master):
     """Starts a recorder on a node name's topic, then the teleop on a pty; cleans both up."""
     started = []
 
@@ -216,8 +216,8 @@ def test_help_needs_no_master():
     assert 'u    i    o' in out.stdout and 'not a terminal' in out.stdout
 
 
-def test_forward_stop_turn_quit_through_a_terminal(session):
-    recorder, teleop = session()
+def test_forward_stop_turn_quit_through_a_terminal(start_teleop):
+    recorder, teleop = start_teleop()
     teleop.wait_output('Moving around')
     teleop.wait_output('a terminal (raw mode)')
     # Raw mode: no echo, no line buffering (the key acts without Enter).
@@ -254,9 +254,9 @@ def test_forward_stop_turn_quit_through_a_terminal(session):
 
 @pytest.mark.parametrize('how', ['ctrl-d', 'hang-up', 'SIGINT', 'SIGTERM', 'SIGHUP',
                                  'rosnode-kill'])
-def test_every_way_out_sends_a_zero_twist(master, session, how):
+def test_every_way_out_sends_a_zero_twist(master, start_teleop, how):
     name = 'teleop_exit_%s' % how.lower().replace('-', '_')
-    recorder, teleop = session(name)
+    recorder, teleop = start_teleop(name)
     teleop.send('u')
     moving = recorder.wait_for((SCALE_LINEAR, SCALE_ANGULAR))
     if how == 'ctrl-d':

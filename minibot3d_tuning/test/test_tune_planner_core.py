@@ -213,7 +213,7 @@ def test_trials_run_on_lockstep_time_as_fast_as_possible_by_default():
     assert args.lockstep and cli.real_time_factor(args) == 0.0
     args = cli.build_parser().parse_args(['--rtf', '2'])
     assert args.lockstep and cli.real_time_factor(args) == 2.0
-    # The escape hatch: free-running at the old default, where 0 would starve the nodes.
+    # Free-running: a real-time factor of its own, where 0 would starve the nodes.
     args = cli.build_parser().parse_args(['--no-lockstep'])
     assert not args.lockstep and cli.real_time_factor(args) == cli.DEFAULT_FREE_RTF == 3.0
     with pytest.raises(cli.UsageError):
@@ -334,7 +334,8 @@ def test_driver_leaves_no_result_when_writing_fails(tmp_path, monkeypatch):
 
 
 def test_driver_does_not_record_with_rosbag():
-    """The old driver read run.bag while `rosbag record` could still be writing run.bag.active."""
+    """The driver records the trajectory itself: reading a bag that `rosbag record` may still be
+    writing (run.bag.active) loses its end."""
     import ast
     import inspect
     from minibot3d_tuning import driver

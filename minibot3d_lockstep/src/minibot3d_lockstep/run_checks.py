@@ -1,4 +1,4 @@
-"""Checks every closed-loop rostest makes on the whole run, beside its own (issue 16): RunChecks.
+"""Checks every closed-loop rostest makes on the whole run, beside its own: RunChecks.
 
 TfRepeatMonitor: tf2 drops a transform whose child frame already has one at the same stamp and
 warns "TF_REPEATED_DATA ignoring data with redundant timestamp" in every listener, on stderr rather
