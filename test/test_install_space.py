@@ -15,8 +15,7 @@ import subprocess
 
 import pytest
 
-from minibot3d_lockstep.run_checks import descendants  # root and every process below it
-from minibot3d_testing import Stack
+from minibot3d_testing import Stack, descendants
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SYSTEM_PATH = '/usr/local/bin:/usr/bin:/bin:/usr/sbin:/sbin'

@@ -15,7 +15,7 @@ import rosgraph
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, '..', 'src'))
 from minibot3d_testing import (RosCore, Stack, WaitTimeout, candidate_ports,  # noqa: E402
-                               group_members, master_pid, stop_group, wait_until)
+                               descendants, group_members, master_pid, stop_group, wait_until)
 
 # A launch file that sets one parameter and runs one node, to tell two stacks apart.
 LAUNCH = """<launch>
@@ -135,6 +135,8 @@ def test_stop_group_kills_what_ignores_sigint(tmp_path):
     script = 'trap "" INT; sleep 300 & sleep 300; wait'
     p = subprocess.Popen(['bash', '-c', script], start_new_session=True)
     wait_until(lambda: len(group_members(p.pid)) >= 3, 10, 'the group to start its children')
+    assert sorted(descendants(p.pid)) == sorted(group_members(p.pid))  # bash and its two sleeps
+    assert descendants(os.getpid())[0] == os.getpid() and p.pid in descendants(os.getpid())
     start = time.monotonic()
     assert stop_group(p.pid, grace=0.5, proc=p)
     assert time.monotonic() - start < 10

@@ -91,9 +91,10 @@ def candidate_ports():
 
 # ---- process groups --------------------------------------------------------------------------
 
-def group_members(pgid):
-    """PIDs of the live (non-zombie) processes of process group pgid, from /proc."""
-    members = []
+def process_table():
+    """(pid, state, ppid, pgid) of every process, from /proc/PID/stat (state 'Z' or 'X': exited,
+    not yet reaped)."""
+    table = []
     for entry in os.listdir('/proc'):
         if not entry.isdigit():
             continue
@@ -101,11 +102,29 @@ def group_members(pgid):
             with open('/proc/%s/stat' % entry) as f:
                 stat = f.read()
         except OSError:
-            continue
-        fields = stat[stat.rindex(')') + 2:].split()  # state ppid pgrp ...
-        if int(fields[2]) == pgid and fields[0] not in ('Z', 'X'):
-            members.append(int(entry))
-    return members
+            continue  # gone meanwhile
+        fields = stat[stat.rindex(')') + 2:].split()  # after "pid (comm) ": state ppid pgrp ...
+        table.append((int(entry), fields[0], int(fields[1]), int(fields[2])))
+    return table
+
+
+def group_members(pgid):
+    """PIDs of the live (non-zombie) processes of process group pgid."""
+    return [pid for pid, state, _, group in process_table()
+            if group == pgid and state not in ('Z', 'X')]
+
+
+def descendants(root):
+    """root and every process below it."""
+    children = {}
+    for pid, _, ppid, _ in process_table():
+        children.setdefault(ppid, []).append(pid)
+    out, todo = [], [root]
+    while todo:
+        pid = todo.pop()
+        out.append(pid)
+        todo.extend(children.get(pid, []))
+    return out
 
 
 def stop_group(pgid, grace=20.0, proc=None):
