@@ -11,12 +11,14 @@ with RosCore.env finds its master up and starts just its nodes, so nothing of a 
 with another run's master.
 
     with RosCore(dict(os.environ, ROS_HOME=str(tmp_path))) as core:   # rosmaster + rosout
-        launch = core.start(['roslaunch', 'minibot3d_sim', 'minibot3d_gazebo.launch'],
-                            tmp_path / 'launch.log')
+        launch = core.start_process(['roslaunch', 'minibot3d_sim', 'minibot3d_gazebo.launch'],
+                                    tmp_path / 'launch.log')
         wait_until(lambda: ..., 60, 'the first /scan')
+        launch.stop()
 
 Stack is that in one object (a RosCore, a roslaunch on it, the helpers started beside it).
-`python3 -m minibot3d_testing` does the same for shell scripts (tools/ros_env.sh).
+`python3 -m minibot3d_testing start-core` and `... stop` start and stop a core for shell scripts
+(tools/ros_env.sh).
 """
 import http.client
 import itertools
