@@ -1,9 +1,8 @@
 """catkin_lint (Debian's catkin-lint, installed by make setup) finds no error or warning in any
 package of the workspace: `catkin_lint -W1 .` from the repository root prints nothing.
 
-Issue 16 item 2. Without a rosdep database catkin_lint ignores system dependencies it cannot
-resolve; --offline keeps it from trying to download one, so the result does not depend on the
-network."""
+Without a rosdep database catkin_lint ignores system dependencies it cannot resolve; --offline
+keeps it from trying to download one, so the result does not depend on the network."""
 import os
 import shutil
 import subprocess

@@ -1,6 +1,6 @@
-"""tools/clutter_world.py: the bottleneck on hand-made scenes, the disc's shortest path against a
-closed form, seed determinism, bad arguments, and the shipped set (regenerates byte-identically,
-every world within its tolerance)."""
+"""tools/generators/clutter_world.py: the bottleneck on hand-made scenes, the disc's shortest path
+against a closed form, seed determinism, bad arguments, and the shipped set (regenerates
+byte-identically, every world within its tolerance)."""
 import filecmp
 import json
 import math
@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, 'tools'))
+sys.path.insert(0, os.path.join(ROOT, 'tools', 'generators'))
 import clutter_world as cw  # noqa: E402
 
-SCRIPT = os.path.join(ROOT, 'tools', 'clutter_world.py')
+SCRIPT = os.path.join(ROOT, 'tools', 'generators', 'clutter_world.py')
 SHIPPED = os.path.join(ROOT, 'minibot3d_sim', 'worlds', 'clutter')
 R = 0.04
 RES = 0.005

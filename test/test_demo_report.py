@@ -1,5 +1,5 @@
 """tools/demo_report.py's figures worked out by hand: the driven path's length and each goal's time
-against that length at max_vel_x (issue 14 item 5)."""
+against that length at max_vel_x."""
 import os
 import sys
 

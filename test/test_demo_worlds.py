@@ -1,7 +1,7 @@
-"""`make demo` on the shipped worlds and tools/worlds/flat.world (issue 14: "make demo passes on
-every shipped world" and on a user's): each run explores with SLAM until no reachable frontier is
-left, saves the map, localizes globally on it and visits goals, by tools/demo.sh itself (lock-step
-time, so a run is the same on any machine load).
+"""`make demo` passes on every shipped world and on a user's (minibot3d_sim/worlds/flat.world,
+written after the code): each run explores with SLAM until no reachable frontier is left, saves
+the map, localizes globally on it and visits goals, by tools/demo.sh itself (lock-step time, so a
+run is the same on any machine load).
 
 It passes only when the demo's own checks pass (exploration mapped >= 97 % of the reachable free
 area, every goal reached, no collision); the test also reads the summary, so a failure says which
@@ -22,9 +22,9 @@ WORLDS = {
     # tight_spaces: a 0.40 m door, table legs 0.42 m apart and a 0.50 m gap behind a shelf.
     'tight_spaces': (['minibot3d_sim/worlds/tight_spaces.world'],
                      {'DEMO_X': '-3', 'DEMO_Y': '-1.2'}),
-    # A flat written after the code, as a user's world (README): rooms behind a 0.8 m and a
-    # 0.40 m door, a sofa 0.40 m from a wall, table legs, a rotated table, a diagonal wall.
-    'flat': (['tools/worlds/flat.world'], {}),
+    # A user's world (README): rooms behind a 0.8 m and a 0.40 m door, a sofa 0.40 m from a
+    # wall, table legs, a rotated table, a diagonal wall.
+    'flat': (['minibot3d_sim/worlds/flat.world'], {}),
 }
 
 
@@ -38,7 +38,6 @@ def summary_value(text, row):
 def test_demo_passes(world, tmp_path):
     args, extra = WORLDS[world]
     env = dict(os.environ, DEMO_OUT=str(tmp_path / 'out'), ROS_HOME=str(tmp_path), **extra)
-    env.pop('ROS_PORT', None)  # demo.sh picks its own master port
     # SIGINT at its default (a runner started in a script's background inherits it ignored, and
     # demo.sh stops its launches with SIGINT).
     try:
@@ -57,8 +56,8 @@ def test_demo_passes(world, tmp_path):
     reached = re.match(r'(\d+) of (\d+)', summary_value(out, 'goals reached'))
     assert reached and reached.group(1) == reached.group(2) and int(reached.group(2)) >= 4, \
         'goals on %s: %s' % (world, summary_value(out, 'goals reached'))
-    # Time against path length / max_vel_x (issue 14 item 5): no goal faster than the speed limit
-    # allows along the path the robot drove.
+    # Time against path length / max_vel_x: no goal faster than the speed limit allows along the
+    # path the robot drove.
     ratio = re.search(r'mean ([\d.]+) \(driven path', summary_value(out, 'time / (path / max_vel_x)'))
     assert ratio and float(ratio.group(1)) >= 1.0, summary_value(out, 'time / (path / max_vel_x)')
     assert p.returncode == 0 and 'demo: all steps succeeded' in out, out[-3000:]

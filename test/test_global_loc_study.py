@@ -1,6 +1,6 @@
-"""tools/global_loc_study.py's kidnapping draw: a pose far enough away when the map has one, the
-farthest of its draws when it has none (a small map), and never an endless draw (the study is a
-lock-step participant that must answer every tick)."""
+"""tools/bench/global_loc_study.py's kidnapping draw: a pose far enough away when the map has one,
+the farthest of its draws when it has none (a small map), and never an endless draw (the study is
+a lock-step participant that must answer every tick)."""
 import itertools
 import math
 import os
@@ -8,7 +8,7 @@ import random
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, 'tools'))
+sys.path.insert(0, os.path.join(ROOT, 'tools', 'bench'))
 from global_loc_study import far_poses  # noqa: E402
 
 

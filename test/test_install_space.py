@@ -1,4 +1,4 @@
-"""catkin's install space works on its own (issue 16 item 1).
+"""catkin's install space works on its own.
 
 From a clean copy of the tree (the files git tracks, plus new ones it does not ignore), in an
 environment with nothing sourced, `catkin_make install` builds an install space; then, with only
@@ -11,24 +11,15 @@ The build is the long part (the whole workspace, without the tests): a few minut
 import glob
 import os
 import shutil
-import signal
-import socket
 import subprocess
-import time
 
 import pytest
 
-from minibot3d_lockstep.run_checks import descendants  # root and every process below it
+from minibot3d_testing import Stack, descendants
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SYSTEM_PATH = '/usr/local/bin:/usr/bin:/bin:/usr/sbin:/sbin'
 EXCLUDED = {'build', 'devel', 'install', 'out', '.git'}
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(('127.0.0.1', 0))
-        return s.getsockname()[1]
 
 
 def copy_clean_tree(dest):
@@ -104,7 +95,7 @@ def test_install_space_holds_what_a_user_needs(install):
                  'minibot3d_slam/map_saver', 'minibot3d_slam/map_server',
                  'minibot3d_navigation/amcl', 'minibot3d_navigation/move_base',
                  'minibot3d_navigation/explore', 'minibot3d_navigation/simple_navi_goals.py',
-                 'minibot3d_navigation/tune_planner', 'minibot3d_teleop/diff_wheeled_robot_key']:
+                 'minibot3d_tuning/tune_planner', 'minibot3d_teleop/diff_wheeled_robot_key']:
         assert os.access(os.path.join(lib, path), os.X_OK), path
 
 
@@ -134,34 +125,26 @@ def test_amcl_navigation_runs_from_the_install_space(install, tmp_path):
                        capture_output=True, text=True, timeout=60)
     assert found.returncode == 0 and found.stdout.strip().startswith(install), found
 
-    port = free_port()
-    env = bare_env(ROS_MASTER_URI='http://127.0.0.1:%d' % port, ROS_IP='127.0.0.1',
-                   ROS_HOME=str(tmp_path))
-    log = open(str(tmp_path / 'launch.log'), 'w')
-    launch = subprocess.Popen(
-        ['bash', '-c', 'source "%s/setup.bash" && exec roslaunch -p %d minibot3d_navigation '
-         'amcl_navigation.launch rviz:=false real_time_factor:=2' % (install, port)],
-        env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+    # The master (rosmaster, rosout) is the system's, started before the launch; everything
+    # the launch starts is checked below.
+    stack = Stack(['bash', '-c', 'source "%s/setup.bash" && exec roslaunch minibot3d_navigation '
+                   'amcl_navigation.launch rviz:=false real_time_factor:=2' % install],
+                  tmp_path / 'launch.log', env=bare_env(ROS_HOME=str(tmp_path)))
     try:
-        deadline = time.monotonic() + 120
-        while not master_online(env):
-            assert launch.poll() is None and time.monotonic() < deadline, \
-                'no master:\n%s' % open(log.name).read()[-4000:]
-            time.sleep(0.2)
-        # Then waits on messages (rostopic echo blocks until one comes), each bounded: amcl's
-        # first pose, move_base's action status.
+        # Waits on messages (rostopic echo blocks until one comes), each bounded: amcl's first
+        # pose, move_base's action status.
         for topic in ('/amcl_pose', '/move_base/status'):
             try:
-                got = in_install(install, 'rostopic echo -n 1 %s' % topic, env=env,
+                got = in_install(install, 'rostopic echo -n 1 %s' % topic, env=stack.env,
                                  capture_output=True, text=True, timeout=240)
             except subprocess.TimeoutExpired:
                 got = None
             assert got is not None and got.returncode == 0 and got.stdout.strip(), \
                 'no %s from the install space (%s):\n%s' % (
-                    topic, got and got.stderr, open(log.name).read()[-4000:])
+                    topic, got and got.stderr, stack.log(4000))
         # Every process the launch started runs from the install space or the system.
         from_source = []
-        for pid in descendants(launch.pid):
+        for pid in descendants(stack.launch.pid):
             try:
                 cmdline = open('/proc/%d/cmdline' % pid, 'rb').read().decode(errors='replace')
             except OSError:
@@ -170,16 +153,4 @@ def test_amcl_navigation_runs_from_the_install_space(install, tmp_path):
                 from_source.append(cmdline.replace('\0', ' '))
         assert not from_source, from_source
     finally:
-        os.killpg(launch.pid, signal.SIGINT)
-        try:
-            launch.wait(timeout=60)
-        except subprocess.TimeoutExpired:
-            os.killpg(launch.pid, signal.SIGKILL)
-            launch.wait()
-        log.close()
-
-
-def master_online(env):
-    return subprocess.run(['/usr/bin/python3', '-c', 'import rosgraph, sys; '
-                           'sys.exit(0 if rosgraph.is_master_online() else 1)'],
-                          env=env).returncode == 0
+        stack.stop()

@@ -59,7 +59,7 @@ def test_launch_file_nodes_exist(path):
     assert error is None, 'roslaunch-check %s: %s' % (path, error)
 
 
-# ---- the system-level entry points (launch/, issue 16 item 3) ------------------------------------
+# ---- the system-level entry points (launch/) ----------------------------------------------------
 
 TOP_LEVEL = os.path.join(ROOT, 'launch')
 # Each entry point: the nodes (by type) it must start, for each way of calling it.
@@ -133,7 +133,7 @@ def load(path, *args):
 
 @pytest.mark.parametrize('path', LAUNCH_FILES, ids=lambda p: os.path.relpath(p, ROOT))
 def test_launch_file_sets_use_sim_time_from_its_arg(path):
-    # Issue 18 item 4: whichever file is started first, its nodes see the simulator's clock.
+    # Whichever file is started first, its nodes see the simulator's clock.
     rel = os.path.relpath(path, ROOT)
     config, _ = load(path, *HEADLESS)
     assert '/use_sim_time' in config.params, '%s does not set /use_sim_time' % rel

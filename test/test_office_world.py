@@ -1,6 +1,6 @@
-"""tools/office_world.py: the shipped office world (issue 20) regenerates byte-identically, has the
-promised size (>= 2,000 m^2 free) and every room can be entered from the spawn; bad arguments are
-named."""
+"""tools/generators/office_world.py: the shipped office world regenerates byte-identically, has
+the promised size (>= 2,000 m^2 free) and every room can be entered from the spawn; bad arguments
+are named."""
 import json
 import os
 import subprocess
@@ -11,10 +11,10 @@ import pytest
 from scipy import ndimage
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, 'tools'))
+sys.path.insert(0, os.path.join(ROOT, 'tools', 'generators'))
 import office_world as ow  # noqa: E402
 
-SCRIPT = os.path.join(ROOT, 'tools', 'office_world.py')
+SCRIPT = os.path.join(ROOT, 'tools', 'generators', 'office_world.py')
 WORLD = os.path.join(ROOT, 'minibot3d_sim', 'worlds', 'office.world')
 MAP = os.path.join(ROOT, 'maps', 'office.yaml')
 needs_renderer = pytest.mark.skipif(not os.path.exists(ow.DEFAULT_RENDERER),
@@ -29,7 +29,8 @@ def test_shipped_office_regenerates_byte_identically(tmp_path):
                           ('office.yaml', MAP),
                           ('office.json', os.path.join(os.path.dirname(WORLD), 'office.json'))):
         with open(tmp_path / made, 'rb') as a, open(shipped, 'rb') as b:
-            assert a.read() == b.read(), '%s differs from tools/office_world.py\'s output' % shipped
+            assert a.read() == b.read(), \
+                "%s differs from tools/generators/office_world.py's output" % shipped
 
 
 def test_office_is_building_scale_and_every_room_is_reachable():

@@ -1,4 +1,4 @@
-"""Every shipped rviz config draws what it is for (issue 16 item 8).
+"""Every shipped rviz config draws what it is for.
 
 For each .rviz file the test starts the stack that ships with it (its launch file with rviz:=true)
 on a private ROS master, with rviz on its own virtual X server (Xvfb, Mesa's software renderer, as
@@ -20,13 +20,10 @@ import glob
 import os
 import select
 import shutil
-import signal
-import socket
-import subprocess
 import tempfile
 import time
-import xmlrpc.client
 
+import minibot3d_testing as testing
 import numpy as np
 import pytest
 
@@ -99,21 +96,13 @@ def describe(m):
                 100 * m['top_share'], m['colours'], m['errors']))
 
 
-def free_port():
-    s = socket.socket()
-    s.bind(('127.0.0.1', 0))
-    port = s.getsockname()[1]
-    s.close()
-    return port
-
-
 class Stack:
-    """Xvfb on a display number it picks itself (-displayfd: no clash with parallel tests), a
-    roslaunch of the config's stack on a private master, and screen grabs."""
+    """Xvfb on a display number it picks itself (-displayfd: no clash with parallel tests), the
+    config's stack roslaunch'd on a ROS master of its own, and screen grabs."""
 
     def __init__(self, tmp_path):
         self.tmp = tmp_path
-        self.procs = []
+        self.xvfb = self.ros = None
         self.display = None
         self.last = None
 
@@ -123,65 +112,45 @@ class Stack:
         # client connecting meanwhile is refused. Before rviz is up, each screen grab is the only
         # client: rviz, connecting during the reset a grab had started, aborted ("could not
         # connect to display") in about 1 run in 20.
-        xv = subprocess.Popen(['Xvfb', '-displayfd', str(wr), '-screen', '0', SCREEN,
-                               '-nolisten', 'tcp', '-noreset'], pass_fds=(wr,),
-                              stdout=subprocess.DEVNULL,
-                              stderr=open(self.tmp / 'xvfb.log', 'w'), start_new_session=True)
+        self.xvfb = testing.Process(['Xvfb', '-displayfd', str(wr), '-screen', '0', SCREEN,
+                                     '-nolisten', 'tcp', '-noreset'], None,
+                                    self.tmp / 'xvfb.log', pass_fds=(wr,))
         os.close(wr)
-        self.procs.append(xv)
         number = b''
         deadline = time.time() + 30
         while not number.endswith(b'\n'):
             ready, _, _ = select.select([rd], [], [], max(0.0, deadline - time.time()))
-            assert ready, 'Xvfb did not report a display number:\n' + \
-                (self.tmp / 'xvfb.log').read_text()[-2000:]
+            assert ready, 'Xvfb did not report a display number:\n' + self.xvfb.log(2000)
             chunk = os.read(rd, 16)
-            assert chunk, 'Xvfb exited:\n' + (self.tmp / 'xvfb.log').read_text()[-2000:]
+            assert chunk, 'Xvfb exited:\n' + self.xvfb.log(2000)
             number += chunk
         os.close(rd)
         self.display = ':' + number.decode().strip()
 
     def launch(self, package, launch_file, *args):
         self.start_x()
-        port = free_port()
         # GALLIUM_DRIVER=softpipe: Mesa's software renderer without LLVM. With llvmpipe (Mesa
         # 22.3, LLVM 15) rviz crashed about once in 100 starts inside LLVM while compiling a
         # shader (SIGSEGV in llvm::FixedVectorType::get under Ogre's buffer swap; once glibc's
         # "free(): invalid next size" abort). softpipe draws the same colours, at 3 fps.
-        self.env = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:%d' % port,
-                        ROS_IP='127.0.0.1', ROS_HOME=str(self.tmp), DISPLAY=self.display,
-                        GALLIUM_DRIVER='softpipe')
-        self.env.pop('ROS_HOSTNAME', None)
+        env = dict(os.environ, ROS_HOME=str(self.tmp), DISPLAY=self.display,
+                   GALLIUM_DRIVER='softpipe')
         self.log = self.tmp / 'stack.log'
-        with open(self.log, 'w') as out:
-            self.stack = subprocess.Popen(
-                ['roslaunch', '-p', str(port), package, launch_file, 'rviz:=true'] + list(args),
-                env=self.env, stdout=out, stderr=subprocess.STDOUT, start_new_session=True)
-        self.procs.append(self.stack)
-        master = xmlrpc.client.ServerProxy(self.env['ROS_MASTER_URI'])
-        deadline = time.time() + 60
-        while True:
-            try:
-                master.getSystemState('/test_rviz_pictures')
-                break
-            except OSError:
-                assert self.stack.poll() is None, 'roslaunch exited:\n' + self.log_tail()
-                assert time.time() < deadline, 'no ROS master'
-                time.sleep(0.2)
+        self.ros = testing.Stack(['roslaunch', package, launch_file, 'rviz:=true'] + list(args),
+                                 self.log, env=env)
         # rviz's window is up when the screen is no longer Xvfb's black. Its start (Ogre, Mesa's
         # shader compiles) takes a few seconds, minutes on a machine loaded many times over, so
         # this deadline is long; the picture checks' deadlines count from here.
-        deadline = time.time() + 240
-        while True:
+
+        def window_drawn():
             self.check_rviz_alive()
             window = np.asarray(ImageGrab.grab(xdisplay=self.display).crop(WINDOW))
-            if (window.max(axis=2) > 0).mean() > 0.5:
-                return
-            assert time.time() < deadline, 'no rviz window within 240 s:\n' + self.rviz_log()
-            time.sleep(0.5)
+            return (window.max(axis=2) > 0).mean() > 0.5
+        testing.wait_until(window_drawn, 240, lambda: 'an rviz window within 240 s:\n' +
+                           self.rviz_log(), interval=0.5)
 
     def check_rviz_alive(self):
-        assert self.stack.poll() is None, 'the stack exited:\n' + self.log_tail()
+        assert self.ros.launch.running(), 'the stack exited:\n' + self.ros.log(3000)
         died = [line for line in self.log.read_text().splitlines()
                 if '[rviz-' in line and ('died' in line or 'finished' in line)]
         assert not died, 'rviz exited:\n' + self.rviz_log() + '\n' + self.x_state()
@@ -189,7 +158,6 @@ class Stack:
     def x_state(self):
         """What the X server looked like when rviz failed: is Xvfb running, does a new client
         connect, which of its sockets (file, abstract) exist."""
-        xv = self.procs[0]
         try:
             ImageGrab.grab(xdisplay=self.display)
             connects = 'a new client connects'
@@ -199,18 +167,13 @@ class Stack:
         with open('/proc/net/unix') as f:
             listening = sorted({line.split()[-1] for line in f if line.rstrip().endswith(name)})
         return 'Xvfb on %s: %s; %s; file socket %s; unix sockets bound to it: %s' % (
-            self.display, 'running' if xv.poll() is None else 'exited %s' % xv.returncode,
+            self.display, 'running' if self.xvfb.running() else 'exited %s' % (
+                self.xvfb.proc.returncode),
             connects, 'exists' if os.path.exists(name) else 'missing', listening or 'none')
 
     def run(self, *cmd):
         """Starts a helper (goal sender, driver) in the stack's environment."""
-        p = subprocess.Popen(list(cmd), env=self.env, stdout=open(self.tmp / 'helper.log', 'a'),
-                             stderr=subprocess.STDOUT, start_new_session=True)
-        self.procs.append(p)
-        return p
-
-    def log_tail(self):
-        return self.log.read_text()[-3000:]
+        return self.ros.start(cmd, self.tmp / 'helper.log')
 
     def rviz_log(self):
         """roslaunch's word on rviz and the tail of rviz's own log (under ROS_HOME)."""
@@ -252,14 +215,9 @@ class Stack:
             os.replace(tmp, os.path.join(d, 'rviz_%s.png' % name))
 
     def stop(self):
-        for p in reversed(self.procs):
-            if p.poll() is None:
-                os.killpg(p.pid, signal.SIGINT)
-                try:
-                    p.wait(20)
-                except subprocess.TimeoutExpired:
-                    os.killpg(p.pid, signal.SIGKILL)
-                    p.wait()
+        for part in (self.ros, self.xvfb):
+            if part is not None:
+                part.stop()
 
 
 @pytest.fixture
@@ -271,7 +229,8 @@ def stack(tmp_path):
 
 def drawn(m):
     """No display reports an error, and the view is not one flat colour other than the configs'
-    background (48, 48, 48): the olive view of issue 16 item 8 had one colour over all of it."""
+    background (48, 48, 48): a view rviz fails to draw (the "olive view") has one colour over all
+    of it."""
     return m['errors'] == 0 and (m['top_share'] < 0.95 or
                                  max(abs(c - 48) for c in m['top']) <= 4)
 

@@ -8,57 +8,37 @@
   5. roslaunch minibot3d_navigation amcl_navigation.launch map_file:=.../test_map.yaml
   6. rosrun minibot3d_navigation simple_navi_goals.py 1 1       -> exits 0, robot ~1 m ahead
 
-One private roscore for the whole run; the launches run at real_time_factor 4 (rviz:=false).
+One ROS master (and rosout) of the test's own for the whole run, as one roscore would be; the
+launches run at real_time_factor 4 (rviz:=false).
 Every wait is on a condition (a message, a position, a process exit) with a timeout."""
 import math
 import os
 import pty
 import select
 import signal
-import socket
 import subprocess
-import time
 
 import pytest
+from minibot3d_testing import RosCore, wait_until
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RTF = '4'
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(('127.0.0.1', 0))
-        return s.getsockname()[1]
-
-
 class Ros(object):
-    def __init__(self, tmp_path):
-        self.port = free_port()
-        self.env = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:%d' % self.port,
-                        ROS_IP='127.0.0.1', ROS_HOME=str(tmp_path))
-        self.env.pop('ROS_HOSTNAME', None)
+    def __init__(self, core, tmp_path):
+        self.core, self.env = core, core.env
         self.procs = []
         self.tmp = tmp_path
 
-    def start(self, args, name, **kw):
-        log = open(self.tmp / (name + '.log'), 'w')
-        p = subprocess.Popen(args, env=self.env, stdout=log, stderr=subprocess.STDOUT,
-                             start_new_session=True, **kw)
+    def start(self, args, name):
+        p = self.core.start_process(args, self.tmp / (name + '.log'))
         self.procs.append(p)
         return p
 
     def run(self, args, timeout):
         return subprocess.run(args, env=self.env, stdout=subprocess.PIPE,
                               stderr=subprocess.STDOUT, universal_newlines=True, timeout=timeout)
-
-    def stop(self, p, timeout=30):
-        if p.poll() is None:
-            os.killpg(p.pid, signal.SIGINT)
-            try:
-                p.wait(timeout)
-            except subprocess.TimeoutExpired:
-                os.killpg(p.pid, signal.SIGKILL)
-                p.wait()
 
     def wait_message(self, topic, timeout, field=None):
         """One message of `topic` (rostopic echo -n1), as text; fails after `timeout`."""
@@ -87,15 +67,13 @@ class Ros(object):
 
 @pytest.fixture
 def ros(tmp_path):
-    r = Ros(tmp_path)
-    core = r.start(['roscore', '-p', str(r.port)], 'roscore')
-    deadline = time.time() + 60
-    while r.run(['rosparam', 'list'], 30).returncode != 0:
-        assert time.time() < deadline, 'roscore did not start'
-    yield r
-    for p in reversed(r.procs):
-        r.stop(p)
-    assert core.poll() is not None
+    with RosCore(dict(os.environ, ROS_HOME=str(tmp_path))) as core:
+        r = Ros(core, tmp_path)
+        try:
+            yield r
+        finally:
+            for p in reversed(r.procs):
+                p.stop(grace=30)
 
 
 def type_keys(fd, keys):
@@ -111,12 +89,12 @@ def drain(fd):
             return
 
 
-def wait_until(condition, timeout, what, fd=None):
-    deadline = time.time() + timeout
-    while not condition():
-        if fd is not None:
-            drain(fd)
-        assert time.time() < deadline, 'timed out waiting for ' + what
+def draining(fd, condition):
+    """condition, reading away the teleop's terminal output first (a full pty would block it)."""
+    def check():
+        drain(fd)
+        return condition()
+    return check
 
 
 def test_seed_workflow(ros, tmp_path):
@@ -124,7 +102,7 @@ def test_seed_workflow(ros, tmp_path):
     sim = ros.start(['roslaunch', 'minibot3d_sim', 'minibot3d_gazebo.launch',
                      'real_time_factor:=' + RTF], 'step1')
     assert 'ranges' in ros.wait_message('/scan', 120)
-    ros.stop(sim)
+    sim.stop(grace=30)
 
     # 2. Simulator + slam_gmapping (rviz off: headless).
     mapping = ros.start(['roslaunch', 'minibot3d_sim', 'minibot3d_rviz_gmapping.launch',
@@ -138,20 +116,28 @@ def test_seed_workflow(ros, tmp_path):
         os.environ.update(ros.env)
         os.execvp('roslaunch', ['roslaunch', 'minibot3d_teleop', 'minibot3d_teleop.launch'])
     try:
-        # The node is up when it publishes its topic.
-        wait_until(lambda: ros.run(['rostopic', 'list'], 30).stdout.find('/cmd_vel') >= 0 and
-                   'turtlebot_teleop_keyboard' in ros.run(['rosnode', 'list'], 30).stdout,
-                   120, 'the teleop node', fd)
+        def teleop_up():  # the node is up when it publishes its topic
+            return '/cmd_vel' in ros.run(['rostopic', 'list'], 30).stdout and \
+                'turtlebot_teleop_keyboard' in ros.run(['rosnode', 'list'], 30).stdout
+
+        def moved_from(start):
+            x, y, _ = ros.truth()
+            return math.hypot(x - start[0], y - start[1])
+
+        def turned_from(yaw):
+            return abs(math.remainder(ros.truth()[2] - yaw, 2 * math.pi))
+        wait_until(draining(fd, teleop_up), 120, 'the teleop node', interval=0)
         type_keys(fd, 'i')
-        wait_until(lambda: math.hypot(ros.truth()[0] - start[0], ros.truth()[1] - start[1]) > 0.6,
-                   120, 'the robot to drive forward (key i)', fd)
+        wait_until(draining(fd, lambda: moved_from(start) > 0.6), 120,
+                   'the robot to drive forward (key i)', interval=0)
         type_keys(fd, 'j')
-        turned_from = ros.truth()[2]
-        wait_until(lambda: abs(math.remainder(ros.truth()[2] - turned_from, 2 * math.pi)) > 1.0,
-                   120, 'the robot to turn left (key j)', fd)
+        yaw = ros.truth()[2]
+        wait_until(draining(fd, lambda: turned_from(yaw) > 1.0), 120,
+                   'the robot to turn left (key j)', interval=0)
         type_keys(fd, 'k')
         type_keys(fd, '\x03')  # Ctrl-C: the teleop sends a zero twist and exits
-        wait_until(lambda: os.waitpid(pid, os.WNOHANG)[0] != 0, 60, 'teleop to exit', fd)
+        wait_until(draining(fd, lambda: os.waitpid(pid, os.WNOHANG)[0] != 0), 60,
+                   'teleop to exit', interval=0)
         pid = None
     finally:
         if pid is not None:
@@ -164,7 +150,7 @@ def test_seed_workflow(ros, tmp_path):
     out = ros.run(['rosrun', 'minibot3d_slam', 'map_saver', '-f', base], 120)
     assert out.returncode == 0, out.stdout
     assert os.path.getsize(base + '.pgm') > 0 and os.path.getsize(base + '.yaml') > 0
-    ros.stop(mapping)
+    mapping.stop(grace=30)
 
     # 5. Localize and navigate on the saved map. Its frame is where mapping started, which is
     #    the default spawn pose again, so amcl starts at (0, 0, 0) in it.
@@ -183,4 +169,4 @@ def test_seed_workflow(ros, tmp_path):
     forward = (after[0] - before[0]) * math.cos(before[2]) + \
         (after[1] - before[1]) * math.sin(before[2])
     assert abs(forward - 1.0) < 0.3, 'moved %.2f m forward' % forward
-    ros.stop(nav)
+    nav.stop(grace=30)

@@ -30,31 +30,32 @@ echo "== simulator node (ROS, real_time_factor 0): a constant arc (0.2 m/s, 0.4 
 echo "   default world with all topics published (odom/tf/joint_states/ground truth 100 Hz,"
 echo "   /clock 200 Hz, /scan 10 Hz) and robot_state_publisher running; 3 runs each"
 for physics in kinematic kinematic kinematic bullet bullet bullet; do
-  setsid roslaunch -p "$ROS_PORT" minibot3d_sim minibot3d_gazebo.launch physics:="$physics" \
+  ros_start_core
+  setsid roslaunch minibot3d_sim minibot3d_gazebo.launch physics:="$physics" \
     real_time_factor:=0 x:=-2.6 y:=-2.1 yaw:=0 cmd_timeout:=1000000 > build/bench/node_$physics.log 2>&1 &
   pid=$!
-  wait_for_master 60
+  ros_wait_launch 60
   rostopic pub /cmd_vel geometry_msgs/Twist '{linear: {x: 0.2}, angular: {z: 0.4}}' > /dev/null 2>&1 &
   pub=$!
-  /usr/bin/python3 tools/measure_node_rtf.py "physics=$physics" --warmup 10 --span 600 || true
+  /usr/bin/python3 tools/bench/measure_node_rtf.py "physics=$physics" --warmup 10 --span 600 || true
   kill "$pub" 2>/dev/null || true
-  kill -INT -- -"$pid" 2>/dev/null || true
-  wait "$pid" 2>/dev/null || true
+  ros_stop_groups "$pid"
+  ros_stop_core
 done
 
-tools/lockstep_bench.sh
+tools/bench/lockstep_bench.sh
 
 echo "== AMCL core: one filter update (motion + 60-beam correction + resampling + clustering)"
 devel/lib/minibot3d_navigation/amcl_bench --benchmark_min_time=0.2 2>/dev/null | grep -E "^(BM_|Benchmark)" || true
 
 echo "== AMCL in the simulator: tracking (3 laps of the rooms), global localization, kidnapping"
-tools/amcl_sim_bench.sh
+tools/bench/amcl_sim_bench.sh
 
 echo "== AMCL global localization study: seeded random starts, a wanderer, claims vs the truth"
-# The office world (tools/office_world.py), the default world and the arena, a kidnapping after
-# every start. The office run's picture goes to docs/: start 27, whose kidnapping the look-alike
+# The office world (tools/generators/office_world.py), the default world and the arena, a
+# kidnapping after every start. The office run's picture goes to docs/: start 27, whose kidnapping the look-alike
 # check before a claim puts right (README).
-KIDNAPS=50 PICTURE_START=27 tools/global_loc_study.sh 50 office default arena
+KIDNAPS=50 PICTURE_START=27 tools/bench/global_loc_study.sh 50 office default arena
 cp build/bench/global_loc/global_loc_office.png docs/global_loc_office.png
 
 echo "== Navigation core: costmap inflation/updates, global planners (A* 2000x2000, OMPL), DWA cycle"
@@ -64,7 +65,7 @@ for b in costmap_bench planner_bench dwa_bench; do
 done
 
 echo "== move_base in the simulator: 20 random reachable goals in the default world (seed 1)"
-tools/nav_sim_bench.sh
+tools/bench/nav_sim_bench.sh
 
 echo "== make demo on the shipped worlds (explore with SLAM until no frontier is left, save the map,"
 echo "   localize globally on it, visit the goals; lock-step at full speed): the summary of each"
@@ -74,16 +75,18 @@ for spec in "default||" "arena|minibot3d_sim/worlds/arena.world|" \
   IFS='|' read -r name world_arg env_args <<< "$spec"
   echo "-- $name"
   # shellcheck disable=SC2086
-  env $env_args DEMO_OUT="build/bench/demo_$name" ROS_PORT="$(ros_free_port)" \
-    tools/demo.sh $world_arg > "build/bench/demo_$name.txt" 2>&1 || true
+  env $env_args DEMO_OUT="build/bench/demo_$name" tools/demo.sh $world_arg \
+    > "build/bench/demo_$name.txt" 2>&1 || true
   sed -n '/== make demo summary/,$p' "build/bench/demo_$name.txt" | grep -v "^== make demo summary"
 done
 
 echo "== mapless navigation through the 50 shipped clutter worlds (mapless_navigation.launch,"
 echo "   lock-step at full speed, the goal 5.5 m ahead in odom, 150 s of sim time each)"
 rm -rf build/bench/mapless
-OUT=build/bench/mapless TIMEOUT=150 tools/mapless_smoke.sh $(seq 0 49) > build/bench/mapless.txt 2>&1 || true
-/usr/bin/python3 tools/mapless_bench.py build/bench/mapless --picture docs/mapless_hardest.png || true
+OUT=build/bench/mapless TIMEOUT=150 tools/bench/mapless_smoke.sh $(seq 0 49) \
+  > build/bench/mapless.txt 2>&1 || true
+/usr/bin/python3 tools/bench/mapless_bench.py build/bench/mapless \
+  --picture docs/mapless_hardest.png || true
 
 echo "== SLAM on a CARMEN log (slam_offline, gmapping defaults, 30 particles, loop closure on, the"
 echo "   readings between processed scans placed by odometry between the processed poses and matched"
@@ -135,23 +138,23 @@ else
 fi
 
 echo "== SLAM round building-sized loops of long corridors (synthetic logs with their truth,"
-echo "   tools/make_building_log.py; slam_offline defaults, seeds 1-3: no loop closure, a fixed window,"
-echo "   corridor constraints on, the default)"
-tools/building_slam_bench.sh build/bench/building
+echo "   tools/generators/make_building_log.py; slam_offline defaults, seeds 1-3: no loop closure,"
+echo "   a fixed window, corridor constraints on, the default)"
+tools/bench/building_slam_bench.sh build/bench/building
 cp build/bench/building/large.png docs/building_map.png
 echo "README: docs/building_map.png"
 
 echo "== SLAM in the simulator (relations from the true pose, Kümmerle et al. 2009; config/gmapping.yaml)"
-tools/slam_sim_bench.sh default minibot3d_sim/worlds/default.world maps/default_world.yaml -3 -1.5 0 \
+tools/bench/slam_sim_bench.sh default minibot3d_sim/worlds/default.world maps/default_world.yaml -3 -1.5 0 \
   "-2.1,0.6 -2.4,3.0 -2.1,0.6 -0.3,2.0 0.45,0.6 2.5,-1.0 0.8,-2.15 -3,-1.5" 2
-tools/slam_sim_bench.sh arena minibot3d_sim/worlds/arena.world maps/arena.yaml 0 0 0 \
+tools/bench/slam_sim_bench.sh arena minibot3d_sim/worlds/arena.world maps/arena.yaml 0 0 0 \
   "1.2,-1.2 1.2,1.0 -1.0,1.2 -1.2,-1.2 0,0" 3
 
 echo "== Trajectory-planner tuning: the seed's six settings x 3 repeats"
 echo "   (min_vel_x {0.01, 0.1} x max_vel_x {0.1, 0.5, 1.0}, the long route, --jobs 2)"
 rm -rf build/bench/tune
 start=$SECONDS
-/usr/bin/python3 minibot3d_navigation/scripts/tune_planner --out build/bench/tune --no-progress \
+/usr/bin/python3 minibot3d_tuning/scripts/tune_planner --out build/bench/tune --no-progress \
   || echo "tune_planner: not every setting reached the goal without a collision (see the table)"
 echo "wall time of the study: $((SECONDS - start)) s; plots: build/bench/tune/*.png"
 
@@ -159,7 +162,7 @@ echo "== tune_planner on lock-step time: the same trials at real-time factor 1 a
 echo "   (min_vel_x 0.1, max_vel_x {0.5, 1.0}, 2 noise seeds each; the results must be identical)"
 for rtf in 1 0; do
   rm -rf "build/bench/tune_rtf$rtf"
-  /usr/bin/python3 minibot3d_navigation/scripts/tune_planner --out "build/bench/tune_rtf$rtf" \
+  /usr/bin/python3 minibot3d_tuning/scripts/tune_planner --out "build/bench/tune_rtf$rtf" \
     --no-progress --rtf "$rtf" --repeats 2 --set min_vel_x=0.1 --set max_vel_x=0.5,1.0 \
     || echo "tune_planner at RTF $rtf: not every trial reached the goal (see build/bench/tune_rtf$rtf)"
 done

@@ -49,13 +49,9 @@ fi
 
 launch_pid=
 stop_stack() {
-  if [ -n "$launch_pid" ]; then
-    kill -INT -- -"$launch_pid" 2>/dev/null || true
-    for _ in $(seq 100); do kill -0 "$launch_pid" 2>/dev/null || break; sleep 0.1; done
-    kill -KILL -- -"$launch_pid" 2>/dev/null || true
-    wait "$launch_pid" 2>/dev/null || true
-    launch_pid=
-  fi
+  ros_stop_groups "$launch_pid"
+  launch_pid=
+  ros_stop_core
 }
 trap stop_stack EXIT
 start=$SECONDS
@@ -66,11 +62,12 @@ budget="${DEMO_EXPLORE_TIMEOUT:-$(/usr/bin/python3 tools/demo_report.py --reacha
   --truth-map "$truth" --spawn="$x,$y,$yaw" | awk '{b = 2.5 * $1; print (b > 2400 ? int(b) : 2400)}')}"
 echo "demo: 1/4 exploring $world from ($x, $y, $yaw) with SLAM at real-time factor $rtf," \
   "lock-step $ls_arg, for at most $budget s of sim time (log: $out/demo_explore.log)"
-setsid roslaunch -p "$ROS_PORT" minibot3d_navigation explore.launch explore:=false world:="$world" \
+ros_start_core
+setsid roslaunch minibot3d_navigation explore.launch explore:=false world:="$world" \
   x:="$x" y:="$y" yaw:="$yaw" real_time_factor:="$rtf" lockstep:="$ls_arg" \
   lockstep_clients:=/demo_explore > "$out/demo_explore.log" 2>&1 &
 launch_pid=$!
-wait_for_master 60
+ros_wait_launch 60
 status=0
 /usr/bin/python3 tools/demo_phase.py explore --out "$out" --timeout "$budget" 2>&1 \
   | grep --line-buffered -E "${DEMO_LOG_FILTER:-explore: .*(m\^2|complete)|demo:|map_saver}" || true
@@ -80,14 +77,13 @@ echo "demo: 2/4 map saved: $out/demo_map.pgm, $out/demo_map.yaml"
 
 echo "demo: 3/4 navigating on the saved map from ($nx, $ny, $nyaw), global localization" \
   "(log: $out/demo_nav.log)"
-export ROS_PORT="$(ros_free_port)"
-export ROS_MASTER_URI="http://127.0.0.1:${ROS_PORT}"
-setsid roslaunch -p "$ROS_PORT" minibot3d_navigation amcl_navigation.launch world:="$world" \
+ros_start_core
+setsid roslaunch minibot3d_navigation amcl_navigation.launch world:="$world" \
   map_file:="$out/demo_map.yaml" x:="$nx" y:="$ny" yaw:="$nyaw" initial_pose_x:=0 \
   initial_pose_y:=0 initial_pose_a:=0 real_time_factor:="$rtf" lockstep:="$ls_arg" \
   lockstep_participants:="/amcl /move_base /demo_navigate" > "$out/demo_nav.log" 2>&1 &
 launch_pid=$!
-wait_for_master 60
+ros_wait_launch 60
 /usr/bin/python3 tools/demo_phase.py navigate --out "$out" --spawn="$x,$y,$yaw" --goals "$goals" \
   --timeout 300 || status=1
 stop_stack

@@ -24,7 +24,7 @@ import numpy as np
 from minibot3d_map_io import load_map
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-MIN_COVERAGE = 0.97  # issue 14: exploration maps >= 97 % of the reachable free area
+MIN_COVERAGE = 0.97  # make demo's bar: exploration maps >= 97 % of the reachable free area
 
 
 def route_driver():

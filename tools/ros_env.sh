@@ -1,26 +1,57 @@
-# Sourced by the tools: the workspace's ROS environment under the system Python, and a private ROS
-# master port so a run never talks to (or disturbs) another roscore on this machine.
+# Sourced by the tools: the workspace's ROS environment under the system Python, and ROS masters
+# of the tools' own, so a run never talks to (or disturbs) another roscore on this machine.
 export PATH="/usr/local/bin:/usr/bin:/bin:/usr/sbin:/sbin:${PATH}"
 unset PYTHONPATH PYTHONHOME
 set +u
 # shellcheck disable=SC1091
 source "$(dirname "${BASH_SOURCE[0]}")/../devel/setup.bash"
 set -u
-ros_free_port() {
-  /usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'
-}
-ROS_PORT="${ROS_PORT:-$(ros_free_port)}"
-export ROS_MASTER_URI="http://127.0.0.1:${ROS_PORT}"
 # Loopback only (README "Security"): ROS_IP, not ROS_HOSTNAME=127.0.0.1, because roscpp binds its
 # TCPROS server to 127.0.0.1 only for ROS_IP=127.* or ROS_HOSTNAME=localhost; rosmaster and rospy
 # bind loopback for either. roscpp's XML-RPC server binds 0.0.0.0 whatever is set.
 export ROS_IP=127.0.0.1
 unset ROS_HOSTNAME
-# Waits (bounded) until the master at ROS_MASTER_URI answers.
-wait_for_master() {
-  local deadline=$((SECONDS + ${1:-30}))
-  until /usr/bin/python3 -c 'import rosgraph, sys; sys.exit(0 if rosgraph.is_master_online() else 1)' 2>/dev/null; do
-    if [ $SECONDS -ge $deadline ]; then echo "no ROS master at $ROS_MASTER_URI" >&2; return 1; fi
+# Set by ros_start_core: a script starts its master before roslaunch or any node.
+unset ROS_MASTER_URI
+
+# ros_start_core: rosmaster and rosout (what roscore starts), each in a session of its own, on a
+# port no other process holds: minibot3d_testing.RosCore keeps a port only once the master there
+# answers as its own, and tries another when it is taken. Exports ROS_MASTER_URI; a roslaunch then
+# finds the master up and starts only its nodes. ros_stop_core stops them (scripts call it when
+# done and from their EXIT trap); a second ros_start_core stops the first core.
+ros_core_groups=
+ros_start_core() {
+  ros_stop_core
+  local started
+  started="$(/usr/bin/python3 -m minibot3d_testing start-core)" || return 1
+  read -r ROS_MASTER_URI ros_core_groups <<< "$started"
+  export ROS_MASTER_URI
+}
+ros_stop_core() {
+  # shellcheck disable=SC2086
+  [ -z "$ros_core_groups" ] || ros_stop_groups $ros_core_groups
+  ros_core_groups=
+}
+# Waits (bounded: $1 s, default 60) until a roslaunch on this master has set its parameters, which
+# nodes read when they start (/use_sim_time in rospy.init_node, /use_lockstep): every launch file
+# of the workspace sets /use_sim_time, and roslaunch sets all of a file's parameters in one call
+# before it starts a node.
+ros_wait_launch() {
+  local deadline=$((SECONDS + ${1:-60}))
+  until rosparam get /use_sim_time > /dev/null 2>&1; do
+    if [ $SECONDS -ge $deadline ]; then
+      echo "no roslaunch set its parameters on $ROS_MASTER_URI within ${1:-60} s" >&2
+      return 1
+    fi
     sleep 0.2
   done
+}
+# Stops process groups (a `setsid roslaunch ... &`'s, given its PID): SIGINT, then SIGKILL to what
+# is left after 15 s; returns once none of their processes is alive. Empty arguments are skipped.
+ros_stop_groups() {
+  local groups=()
+  local g
+  for g in "$@"; do [ -z "$g" ] || groups+=("$g"); done
+  [ ${#groups[@]} -eq 0 ] || /usr/bin/python3 -m minibot3d_testing stop --grace 15 "${groups[@]}" \
+    || true
 }

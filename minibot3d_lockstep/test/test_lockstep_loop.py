@@ -1,5 +1,5 @@
-"""Lock-step time with real processes (issue 13 item 7): the simulator, real nodes and test
-participants (lockstep_probe.py), each run on a private ROS master.
+"""Lock-step time with real processes: the simulator, real nodes and test participants
+(lockstep_probe.py), each run on a ROS master of its own.
 
 - a participant that works for a while stops sim time, and one that stops answering for
   ~lockstep_timeout is dropped with a warning naming it, after which time goes on;
@@ -10,87 +10,48 @@ Every wait is on a condition (a line of output, a file, a process exit) with a t
 import json
 import os
 import signal
-import socket
 import subprocess
 import sys
 import time
 
+import minibot3d_testing as testing
 import pytest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PROBE = os.path.join(HERE, 'lockstep_probe.py')
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(('127.0.0.1', 0))
-        return s.getsockname()[1]
-
-
-class Stack(object):
-    """roslaunch (with its own master) plus processes on the same master."""
+class Stack(testing.Stack):
+    """roslaunch on a master of its own, plus probes on the same master."""
 
     def __init__(self, tmp_path, launch, args):
-        self.tmp = tmp_path
-        self.env = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:%d' % free_port(),
-                        ROS_IP='127.0.0.1', ROS_HOME=str(tmp_path))
-        self.env.pop('ROS_HOSTNAME', None)
-        self.port = self.env['ROS_MASTER_URI'].rsplit(':', 1)[1]
-        self.log_path = tmp_path / 'launch.log'
-        self.log = open(self.log_path, 'w')
-        self.launch = subprocess.Popen(['roslaunch', '-p', self.port] + launch + args,
-                                       env=self.env, stdout=self.log, stderr=subprocess.STDOUT,
-                                       start_new_session=True)
-        self.procs = []
+        super().__init__(['roslaunch'] + launch + args, tmp_path / 'launch.log',
+                         env=dict(os.environ, ROS_HOME=str(tmp_path)))
         # Nodes read /use_sim_time and /use_lockstep when they start: start them once roslaunch
         # has set its parameters and started the simulator.
-        if not self.wait_service('/minibot3d_sim/lockstep/register', 60):
-            log = self.launch_log()[-3000:]
-            self.close()
+        import rosgraph
+        master = rosgraph.Master('/test_lockstep_loop', master_uri=self.env['ROS_MASTER_URI'])
+
+        def registered():
+            try:
+                return master.lookupService('/minibot3d_sim/lockstep/register')
+            except rosgraph.MasterError:  # not yet
+                return None
+        try:
+            testing.wait_until(registered, 60, 'the simulator', interval=0.2)
+        except testing.WaitTimeout:
+            log = self.log(3000)
+            self.stop()
             pytest.fail('the simulator did not come up:\n' + log)
 
     def probe(self, *args):
-        p = subprocess.Popen([sys.executable, PROBE] + list(args), env=self.env,
-                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                             universal_newlines=True, start_new_session=True)
-        self.procs.append(p)
-        return p
-
-    def wait_service(self, name, timeout):
-        import rosgraph
-        master = rosgraph.Master('/test_lockstep_loop', master_uri=self.env['ROS_MASTER_URI'])
-        deadline = time.time() + timeout
-        while time.time() < deadline:
-            try:
-                master.lookupService(name)
-                return True
-            except Exception:  # noqa: BLE001 - master not up yet, or no such service yet
-                time.sleep(0.2)
-        return False
-
-    def launch_log(self):
-        self.log.flush()
-        return self.log_path.read_text()
+        return self.start([sys.executable, PROBE] + list(args), stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, universal_newlines=True).proc
 
     def wait_log(self, text, timeout):
-        deadline = time.time() + timeout
-        while time.time() < deadline:
-            if text in self.launch_log():
-                return True
-            time.sleep(0.2)  # polling a log file: the condition is the text appearing
-        return False
-
-    def close(self):
-        for p in self.procs + [self.launch]:
-            if p.poll() is None:
-                os.killpg(p.pid, signal.SIGINT)
-        for p in self.procs + [self.launch]:
-            try:
-                p.wait(30)
-            except subprocess.TimeoutExpired:
-                os.killpg(p.pid, signal.SIGKILL)
-                p.wait()
-        self.log.close()
+        """Until the launch's output has `text` (a log file polled: the text is the condition)."""
+        testing.wait_until(lambda: text in self.log(), timeout, lambda: '%r in the launch log:\n%s'
+                           % (text, self.log(3000)), interval=0.2)
 
 
 def read_line(proc, prefix, timeout):
@@ -116,24 +77,24 @@ def test_a_working_participant_holds_time_and_a_stalled_one_is_dropped(tmp_path)
     try:
         short = stack.probe('hold', '1.5')
         held = read_line(short, 'held', 90)
-        assert held, stack.launch_log()[-3000:]
+        assert held, stack.log(3000)
         t0, t1 = (float(v) for v in held.split()[1:])
         assert t0 == pytest.approx(t1, abs=1e-9), 'sim time moved while the participant worked'
         after = read_line(short, 'after', 30)
         assert after and float(after.split()[1]) >= t1 + 0.5 - 1e-6
         assert short.wait(30) == 0
-        assert 'dropped participant' not in stack.launch_log()
+        assert 'dropped participant' not in stack.log()
 
         # Longer than ~lockstep_timeout (4 s): dropped by name, and time goes on without it.
         stalled = stack.probe('hold', '8')
         assert read_line(stalled, 'holding', 60)
-        assert stack.wait_log('dropped participant /probe_hold', 20), stack.launch_log()[-3000:]
-        assert 'no acknowledgement within ~lockstep_timeout' in stack.launch_log()
+        stack.wait_log('dropped participant /probe_hold', 20)
+        assert 'no acknowledgement within ~lockstep_timeout' in stack.log()
         held = read_line(stalled, 'held', 30)
         t0, t1 = (float(v) for v in held.split()[1:])
         assert t1 > t0, 'sim time did not go on after the stalled participant was dropped'
     finally:
-        stack.close()
+        stack.stop()
 
 
 def test_a_latched_message_from_a_new_publisher_arrives_in_the_tick_it_was_sent(tmp_path):
@@ -146,7 +107,7 @@ def test_a_latched_message_from_a_new_publisher_arrives_in_the_tick_it_was_sent(
         pub = stack.probe('latch_pub')
         published = read_line(pub, 'published', 60)
         seen = read_line(sub, 'seen', 60)
-        assert published and seen, (published, seen, stack.launch_log()[-3000:])
+        assert published and seen, (published, seen, stack.log(3000))
         t_pub = float(published.split()[1])
         t_seen, data = (float(v) for v in seen.split()[1:])
         assert data == pytest.approx(t_pub, abs=1e-6)
@@ -155,7 +116,7 @@ def test_a_latched_message_from_a_new_publisher_arrives_in_the_tick_it_was_sent(
             'published at %.3f, seen at %.3f' % (t_pub, t_seen))
         assert pub.wait(30) == 0 and sub.wait(30) == 0
     finally:
-        stack.close()
+        stack.stop()
 
 
 def test_a_wait_with_poll_sees_a_non_wake_topic_within_one_poll(tmp_path):
@@ -165,25 +126,25 @@ def test_a_wait_with_poll_sees_a_non_wake_topic_within_one_poll(tmp_path):
     try:
         probe = stack.probe('poll')
         polled = read_line(probe, 'polled', 90)
-        assert polled, stack.launch_log()[-3000:]
+        assert polled, stack.log(3000)
         target, seen = (float(v) for v in polled.split()[1:])
         assert target - 1e-6 <= seen <= target + 0.15, (
             'ground truth stamped %.3f seen at %.3f' % (target, seen))
         assert probe.wait(30) == 0
     finally:
-        stack.close()
+        stack.stop()
 
 
 def test_a_killed_participant_is_dropped_and_the_loop_goes_on(tmp_path):
     stack = sim_stack(tmp_path, '/probe_hold', 30.0)
     try:
         victim = stack.probe('hold', '60')
-        assert read_line(victim, 'holding', 90), stack.launch_log()[-3000:]
+        assert read_line(victim, 'holding', 90), stack.log(3000)
         os.killpg(victim.pid, signal.SIGKILL)
         victim.wait(10)
         # Detected by its vanished connection, long before the 30 s time-out.
-        assert stack.wait_log('its process is gone', 15), stack.launch_log()[-3000:]
-        assert 'dropped participant /probe_hold' in stack.launch_log()
+        stack.wait_log('its process is gone', 15)
+        assert 'dropped participant /probe_hold' in stack.log()
         # Time goes on: a new participant joins and sees 0.5 s pass.
         again = stack.probe('hold', '0')
         held = read_line(again, 'held', 60)
@@ -191,7 +152,7 @@ def test_a_killed_participant_is_dropped_and_the_loop_goes_on(tmp_path):
         after = read_line(again, 'after', 30)
         assert after and float(after.split()[1]) >= float(held.split()[2]) + 0.5 - 1e-6
     finally:
-        stack.close()
+        stack.stop()
 
 
 def closed_loop(tmp_path, rtf):
@@ -202,9 +163,9 @@ def closed_loop(tmp_path, rtf):
     out = str(tmp_path / 'route.json')
     try:
         client = stack.probe('route', out)
-        assert client.wait(300) == 0, client.stdout.read() + stack.launch_log()[-3000:]
+        assert client.wait(300) == 0, client.stdout.read() + stack.log(3000)
     finally:
-        stack.close()
+        stack.stop()
     with open(out) as f:
         return json.load(f)
 

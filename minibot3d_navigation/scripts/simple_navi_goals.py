@@ -17,8 +17,8 @@ sends a goal at (X, Y) with heading YAW (radians) in the named frame.
 
     simple_navi_goals.py --frame map X Y YAW --wait-for-fix S [--wander-for-fix M_S | --spin-for-fix RAD_S]
 
-first waits, at most S seconds of ROS time, for a confident fix from amcl (issue 14: not a fixed
-number of turns): amcl's own claim on amcl/confidence (the scan explained at the estimate, one
+first waits, at most S seconds of ROS time, for a confident fix from amcl (not a fixed number of
+turns): amcl's own claim on amcl/confidence (the scan explained at the estimate, one
 mode, evidence gathered over motion) and an amcl_pose covariance with cov_xx + cov_yy under
 --fix-covariance (0.05 m^2, make demo's threshold), both from messages received after the wait
 began.  amcl earns evidence from new views, so the robot has to move while it waits: with

@@ -182,7 +182,7 @@ class MoveBaseSim(unittest.TestCase):
     def test_5b_goal_after_global_localization_waits_for_a_fix(self):
         # Lost on purpose: the client calls global_localization, wanders until amcl claims a
         # confident fix (turning on the spot would earn none: the lidar sees all round), and
-        # only then sends its goal (issue 14 item 3).
+        # only then sends its goal.
         x, y, yaw = GOALS[1]
         finished, proc = self.lockstep.run(
             '/simple_navi_goals',

@@ -201,9 +201,9 @@ TEST(SimulatorTest, InvalidOptionsAreRejectedWithTheirValues) {
 }
 
 #ifdef MINIBOT3D_SIM_SOURCE_DIR
-// The generated clutter worlds (tools/clutter_world.py): each loads without a warning, has its
-// four walls and thin posts, and the robot fits at the start (0, 0) and at the goal (5.5, 0), and
-// drives off the start, in both physics backends.
+// The generated clutter worlds (tools/generators/clutter_world.py): each loads without a warning,
+// has its four walls and thin posts, and the robot fits at the start (0, 0) and at the goal
+// (5.5, 0), and drives off the start, in both physics backends.
 TEST(SimulatorTest, ClutterWorldsLoadWithStartAndGoalFree) {
   namespace fs = std::filesystem;
   std::vector<std::string> worlds;

@@ -2,46 +2,23 @@
 missing or broken robot_description, a URDF without the drive plugin or the ray sensor, a world
 that does not exist or does not parse, a mesh that cannot be found, bad parameters.
 
-Each case runs the real node against a private roscore on a free port."""
+Each case runs the real node against a ROS master of the test's own."""
 import os
-import socket
 import subprocess
 import tempfile
-import time
 
 import pytest
+from minibot3d_testing import RosCore
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 XACRO = os.path.join(HERE, '..', '..', 'minibot3d_description', 'urdf', 'minibot3d.xacro')
 ARENA = os.path.join(HERE, '..', 'worlds', 'arena.world')
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(('127.0.0.1', 0))
-        return s.getsockname()[1]
-
-
 @pytest.fixture(scope='module')
 def master():
-    port = free_port()
-    env = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:%d' % port,
-               ROS_IP='127.0.0.1')
-    env.pop('ROS_HOSTNAME', None)
-    core = subprocess.Popen(['rosmaster', '--core', '-p', str(port)], env=env,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    deadline = time.time() + 30
-    while True:  # wait for the master to accept connections
-        try:
-            socket.create_connection(('127.0.0.1', port), timeout=0.5).close()
-            break
-        except OSError:
-            assert time.time() < deadline, 'rosmaster did not start'
-            assert core.poll() is None, 'rosmaster exited'
-            time.sleep(0.05)
-    yield env
-    core.terminate()
-    core.wait(timeout=10)
+    with RosCore(rosout=False) as core:
+        yield core.env
 
 
 @pytest.fixture(scope='module')

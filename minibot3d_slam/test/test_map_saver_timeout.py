@@ -2,42 +2,18 @@
 message when nothing publishes a map, refuses bad arguments with exit 2 and its usage, and
 map_server refuses a bad map YAML with exit 1 and the loader's message.
 
-Each case runs the real node through rosrun against a private rosmaster on a free port."""
-import os
-import socket
+Each case runs the real node through rosrun against a ROS master of the test's own."""
 import subprocess
 import time
 
 import pytest
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(('127.0.0.1', 0))
-        return s.getsockname()[1]
+from minibot3d_testing import RosCore
 
 
 @pytest.fixture(scope='module')
 def master():
-    port = free_port()
-    env = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:%d' % port, ROS_IP='127.0.0.1')
-    env.pop('ROS_HOSTNAME', None)
-    core = subprocess.Popen(['rosmaster', '--core', '-p', str(port)], env=env,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    try:
-        deadline = time.time() + 30
-        while True:  # the master is up once it accepts connections
-            try:
-                socket.create_connection(('127.0.0.1', port), timeout=0.5).close()
-                break
-            except OSError:
-                assert core.poll() is None, 'rosmaster exited with %s' % core.returncode
-                assert time.time() < deadline, 'rosmaster did not listen on port %d' % port
-                time.sleep(0.05)
-        yield env
-    finally:
-        core.terminate()
-        core.wait(timeout=10)
+    with RosCore(rosout=False) as core:
+        yield core.env
 
 
 def rosrun(env, node, *args, timeout=60):

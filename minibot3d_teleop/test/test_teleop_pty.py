@@ -1,5 +1,5 @@
 """The real diff_wheeled_robot_key script from the source tree, typed at through a pseudo-terminal
-(and through a pipe), against a private rosmaster on a free port: the twists it publishes, the
+(and through a pipe), against a ROS master of the test's own: the twists it publishes, the
 ramps between them, the zero twist on every way out, the terminal restored afterwards, and the
 refusal of bad parameters.
 
@@ -9,16 +9,15 @@ import json
 import os
 import select
 import signal
-import socket
 import subprocess
 import sys
 import termios
 import threading
-import time
 import xmlrpc.client
 
 import pytest
 import rosgraph
+from minibot3d_testing import RosCore, wait_until
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCRIPT = os.path.join(HERE, '..', 'scripts', 'diff_wheeled_robot_key')
@@ -36,38 +35,12 @@ STEP_ANGULAR = ACCEL_ANGULAR / RATE * (1 + 1e-6)
 ZERO = (0.0, 0.0)
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(('127.0.0.1', 0))
-        return s.getsockname()[1]
-
-
-def wait_until(condition, timeout, what):
-    deadline = time.monotonic() + timeout
-    while not condition():
-        assert time.monotonic() < deadline, 'timed out after %.0f s waiting for %s' % (timeout,
-                                                                                       what)
-        time.sleep(0.01)
-
-
 @pytest.fixture(scope='module')
 def master():
-    port = free_port()
-    uri = 'http://127.0.0.1:%d' % port
     # /usr/bin first: the script's "#!/usr/bin/env python3" must find the system Python.
-    env = dict(os.environ, ROS_MASTER_URI=uri, ROS_IP='127.0.0.1',
-               PATH='/usr/bin:' + os.environ.get('PATH', ''), PYTHONUNBUFFERED='1')
-    env.pop('ROS_HOSTNAME', None)
-    core = subprocess.Popen(['rosmaster', '--core', '-p', str(port)], env=env,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    try:
-        wait_until(lambda: core.poll() is not None or rosgraph.Master('/pytest', uri).is_online(),
-                   TIMEOUT, 'rosmaster')
-        assert core.poll() is None, 'rosmaster exited with %s' % core.returncode
-        yield env
-    finally:
-        core.terminate()
-        core.wait(timeout=10)
+    with RosCore(dict(os.environ, PATH='/usr/bin:' + os.environ.get('PATH', ''),
+                      PYTHONUNBUFFERED='1'), rosout=False) as core:
+        yield core.env
 
 
 def clear_params(env, node_name):
@@ -92,7 +65,7 @@ def wait_publisher_connected(env, node_name):
         except (rosgraph.MasterError, OSError):
             return False  # not registered yet
         return any(c[2] == 'o' and c[4] == topic for c in bus_info)
-    wait_until(connected, TIMEOUT, 'a subscriber connection on %s' % topic)
+    wait_until(connected, TIMEOUT, 'a subscriber connection on %s' % topic, interval=0.01)
 
 
 class Recorder(object):
@@ -173,7 +146,7 @@ class PtyTeleop(object):
 
     def wait_output(self, text):
         wait_until(lambda: text in self.output, TIMEOUT,
-                   '%r in the teleop output:\n%s' % (text, self.output))
+                   lambda: '%r in the teleop output:\n%s' % (text, self.output), interval=0.01)
 
     def send(self, keys):
         os.write(self.master_fd, keys.encode())
@@ -201,7 +174,7 @@ class PtyTeleop(object):
 
 
 @pytest.fixture
-def session(master):
+def start_teleop(master):
     """Starts a recorder on a node name's topic, then the teleop on a pty; cleans both up."""
     started = []
 
@@ -243,8 +216,8 @@ def test_help_needs_no_master():
     assert 'u    i    o' in out.stdout and 'not a terminal' in out.stdout
 
 
-def test_forward_stop_turn_quit_through_a_terminal(session):
-    recorder, teleop = session()
+def test_forward_stop_turn_quit_through_a_terminal(start_teleop):
+    recorder, teleop = start_teleop()
     teleop.wait_output('Moving around')
     teleop.wait_output('a terminal (raw mode)')
     # Raw mode: no echo, no line buffering (the key acts without Enter).
@@ -281,9 +254,9 @@ def test_forward_stop_turn_quit_through_a_terminal(session):
 
 @pytest.mark.parametrize('how', ['ctrl-d', 'hang-up', 'SIGINT', 'SIGTERM', 'SIGHUP',
                                  'rosnode-kill'])
-def test_every_way_out_sends_a_zero_twist(master, session, how):
+def test_every_way_out_sends_a_zero_twist(master, start_teleop, how):
     name = 'teleop_exit_%s' % how.lower().replace('-', '_')
-    recorder, teleop = session(name)
+    recorder, teleop = start_teleop(name)
     teleop.send('u')
     moving = recorder.wait_for((SCALE_LINEAR, SCALE_ANGULAR))
     if how == 'ctrl-d':

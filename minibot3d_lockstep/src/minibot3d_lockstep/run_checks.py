@@ -1,4 +1,4 @@
-"""Checks every closed-loop rostest makes on the whole run, beside its own (issue 16): RunChecks.
+"""Checks every closed-loop rostest makes on the whole run, beside its own: RunChecks.
 
 TfRepeatMonitor: tf2 drops a transform whose child frame already has one at the same stamp and
 warns "TF_REPEATED_DATA ignoring data with redundant timestamp" in every listener, on stderr rather
@@ -22,6 +22,7 @@ import urllib.parse
 
 import rosgraph
 import rospy
+from minibot3d_testing import descendants  # the run's processes
 from tf2_msgs.msg import TFMessage
 
 
@@ -93,27 +94,6 @@ def _listening_sockets():
 
 def _is_loopback(address):
     return address.startswith('127.') or address == '::1' or address.startswith('::ffff:127.')
-
-
-def descendants(root):
-    """root and every process below it."""
-    children = collections.defaultdict(list)
-    for entry in os.listdir('/proc'):
-        if not entry.isdigit():
-            continue
-        try:
-            with open('/proc/%s/stat' % entry) as f:
-                stat = f.read()
-        except OSError:
-            continue
-        ppid = int(stat[stat.rindex(')') + 2:].split()[1])
-        children[ppid].append(int(entry))
-    out, todo = [], [root]
-    while todo:
-        pid = todo.pop()
-        out.append(pid)
-        todo.extend(children.get(pid, []))
-    return out
 
 
 def _socket_inodes(pid):

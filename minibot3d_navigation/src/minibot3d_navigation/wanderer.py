@@ -1,7 +1,7 @@
 """A simple wanderer for global-localization runs (simple_navi_goals.py --wander-for-fix, make demo,
-tools/global_loc_study.py): drive
-ahead where the laser shows room, steering towards the side with more of it, turning away where
-there is none. It sees only the scan, as a robot switched on in an unknown place would.
+tools/bench/global_loc_study.py): drive ahead where the laser shows room, steering towards the
+side with more of it, turning away where there is none. It sees only the scan, as a robot switched
+on in an unknown place would.
 
 seek_openings=True (the study's --wanderer openings) steers towards the deepest opening instead:
 for each beam, the nearest return within the angle a 0.6 m wide corridor subtends at that beam's
@@ -10,10 +10,11 @@ radian off the current heading (keep going rather than dither between two equal 
 leads out of a room through its door and along corridors. An in-place turn keeps one direction
 until the way ahead is clear and the opening ahead; anything in the robot's swept path blocks it
 (a wall's end beside the bumper, outside the 25 deg front cone); and a whole turn in place without
-1 m driven (a gap it cannot pass) hands over to the side-steering wanderer for 5 s. Before those
-three, it wedged itself in the default world's furniture (0.0-2.8 m driven in 150 s in 3 of 11
-starts). It is still not the default: in the office study it found the robot no sooner and once
-let the filter claim a pose 2.7 m off with its heading reversed (README, issue 20).
+1 m driven (a gap it cannot pass) hands over to the side-steering wanderer for 5 s. Without those
+three it wedges itself in the default world's furniture (0.0-2.8 m driven in 150 s in 3 of 11
+starts). It is not the default: in the office study it finds the robot no sooner than the
+side-steering wanderer, and once let the filter claim a pose 2.7 m off with its heading reversed
+(README).
 
 Wanderer(laser_yaw).command(scan) -> (v, w): laser_yaw is the laser's heading on the base
 (minibot3d's RPLIDAR is mounted backwards: pi)."""

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Closed-loop smoke check of mapless navigation: for each clutter world named, starts
+# mapless_navigation.launch on lock-step time at full speed on a master of its own and runs
+# tools/bench/mapless_run.py, which sends the world's goal (5.5 m ahead, in odom) with
+# simple_navi_goals.py and records the true path: one line per world (reached or not, sim time,
+# collisions, the world's narrowest gap) and OUT/clutter_NN.json for tools/bench/mapless_bench.py.
+# Exits 0 whatever the outcome (it reports, the rostest asserts).
+#   tools/bench/mapless_smoke.sh [INDEX ...]      (default: 0 12 25 37 49)
+#   TIMEOUT=150 tools/bench/mapless_smoke.sh 30   # sim seconds for the goal
+set -uo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+# shellcheck disable=SC1091
+source tools/ros_env.sh
+OUT="${OUT:-out/mapless_smoke}"
+TIMEOUT="${TIMEOUT:-120}"
+mkdir -p "$OUT"
+indices=("$@")
+[ ${#indices[@]} -eq 0 ] && indices=(0 12 25 37 49)
+launch_pid=""
+cleanup() {
+  [ -n "$launch_pid" ] && kill -INT "$launch_pid" 2>/dev/null && wait "$launch_pid" 2>/dev/null
+  launch_pid=""
+  ros_stop_core
+}
+trap cleanup EXIT
+
+for i in "${indices[@]}"; do
+  name=$(printf 'clutter_%02d' "$i")
+  world="minibot3d_sim/worlds/clutter/$name.world"
+  ros_start_core || exit 1
+  roslaunch minibot3d_navigation mapless_navigation.launch world:="$PWD/$world" \
+      lockstep:=true real_time_factor:=0 lockstep_participants:="/move_base /mapless_run" ${LAUNCH_ARGS:-} \
+      > "$OUT/$name.launch.log" 2>&1 &
+  launch_pid=$!
+  ros_wait_launch 30
+  start=$SECONDS
+  if ! /usr/bin/python3 tools/bench/mapless_run.py "minibot3d_sim/worlds/clutter/$name.json" \
+      "$OUT/$name.json" --timeout "$TIMEOUT" > "$OUT/$name.run.log" 2>&1; then
+    echo "$name: mapless_run.py failed (see $OUT/$name.run.log)"
+  fi
+  grep "^$name gap" "$OUT/$name.run.log" | sed "s/\$/, $((SECONDS - start)) s wall/"
+  cleanup
+done
