@@ -1,8 +1,12 @@
-# minibot3d — one-command set-up, tests, demo and benchmarks. See README.md.
+# minibot3d: one-command set-up, tests, demo and benchmarks. See README.md and docs/getting_started.md.
+# On a built tree `make demo` and `make test` start at once: deps only looks (no sudo) when
+# nothing is missing, and build is a no-op when no source file changed.
 SHELL := /bin/bash
 # The system interpreter must come first: pyenv's python3 cannot see Debian's ROS modules.
 export PATH := /usr/local/bin:/usr/bin:/bin:/usr/sbin:/sbin:$(PATH)
 JOBS ?= 2
+# FORCE=1: run catkin_make even when no source file changed since the last build.
+FORCE ?= 0
 WORLD ?=
 BENCH_LOG ?= ../shared/datasets/intel/intel.clf
 
@@ -14,7 +18,7 @@ deps:
 	tools/install_deps.sh
 
 build:
-	JOBS=$(JOBS) tools/build.sh
+	JOBS=$(JOBS) FORCE=$(FORCE) tools/build.sh
 
 # catkin's install space in install/ (source install/setup.bash to run from it). install/ is inside
 # the source space: CATKIN_IGNORE keeps catkin and rospack from finding its packages a second time.

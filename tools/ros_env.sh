@@ -1,18 +1,28 @@
-# Sourced by the tools: the workspace's ROS environment under the system Python, and ROS masters
-# of the tools' own, so a run never talks to (or disturbs) another roscore on this machine.
+# Sourced by the tools and by hand: the workspace's ROS environment under the system Python, on
+# loopback only, and ROS masters of the tools' own, so a run never talks to (or disturbs) another
+# roscore on this machine. By hand, ROS_PORT set beforehand picks the master every terminal uses
+# (e.g. ROS_PORT=11311); the tools start their own with ros_start_core.
 export PATH="/usr/local/bin:/usr/bin:/bin:/usr/sbin:/sbin:${PATH}"
 unset PYTHONPATH PYTHONHOME
+# Also sourced in an interactive shell (docs/getting_started.md): restore the caller's -u.
+case $- in *u*) _ros_env_u=1 ;; *) _ros_env_u=0 ;; esac
 set +u
 # shellcheck disable=SC1091
 source "$(dirname "${BASH_SOURCE[0]}")/../devel/setup.bash"
-set -u
-# Loopback only (README "Security"): ROS_IP, not ROS_HOSTNAME=127.0.0.1, because roscpp binds its
+[ "$_ros_env_u" = 1 ] && set -u
+unset _ros_env_u
+# Loopback only (docs/security.md): ROS_IP, not ROS_HOSTNAME=127.0.0.1, because roscpp binds its
 # TCPROS server to 127.0.0.1 only for ROS_IP=127.* or ROS_HOSTNAME=localhost; rosmaster and rospy
 # bind loopback for either. roscpp's XML-RPC server binds 0.0.0.0 whatever is set.
 export ROS_IP=127.0.0.1
 unset ROS_HOSTNAME
-# Set by ros_start_core: a script starts its master before roslaunch or any node.
-unset ROS_MASTER_URI
+# By hand: the master on ROS_PORT. In the tools: set by ros_start_core, which a script calls before
+# roslaunch or any node.
+if [ -n "${ROS_PORT:-}" ]; then
+  export ROS_MASTER_URI="http://127.0.0.1:${ROS_PORT}"
+else
+  unset ROS_MASTER_URI
+fi
 
 # ros_start_core: rosmaster and rosout (what roscore starts), each in a session of its own, on a
 # port no other process holds: minibot3d_testing.RosCore keeps a port only once the master there

@@ -6,7 +6,7 @@ set -uo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 export PATH="/usr/local/bin:/usr/bin:/bin:/usr/sbin:/sbin:${PATH}"
 unset PYTHONPATH PYTHONHOME
-# Loopback only (README "Security"): every master, roslaunch and node of the tests; the closed-loop
+# Loopback only (docs/security.md): every master, roslaunch and node of the tests; the closed-loop
 # rostests check what listens beyond loopback.
 export ROS_IP=127.0.0.1
 unset ROS_HOSTNAME
