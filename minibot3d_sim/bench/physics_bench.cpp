@@ -3,45 +3,25 @@
 // (contacts every step). One core; the simulator's budget at 100x real time with a 10 Hz lidar is
 // ~5 us per step for physics.
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <benchmark/benchmark.h>
 
 #include "minibot3d_sim/physics_backend.h"
-#include "minibot3d_sim/skid_steer.h"
+#include "naive_bullet_backend.h"
+#include "sim_test_fixtures.h"
 
 namespace minibot3d_sim {
 namespace {
 
-constexpr double kRadius = 0.04;
-constexpr double kSeparation = 0.2;
+using testing::MakePhysicsRobot;
 
-RobotModel MakeRobot() {
-  RobotModel m;
-  m.name = "minibot";
-  m.root_link = "base_footprint";
-  m.total_mass = 1.5;
-  m.body_mass = 1.1;
-  m.body_size = Eigen::Vector3d(0.24, 0.16, 0.05);
-  m.body_pose = Eigen::Isometry3d::Identity();
-  m.body_pose.translation() = Eigen::Vector3d(0, 0, 0.06);
-  m.body_inertia_z = 0.0136;
-  const double xs[4] = {0.07, 0.07, -0.07, -0.07};
-  const double ys[4] = {0.1, -0.1, 0.1, -0.1};
-  for (int i = 0; i < 4; ++i) {
-    WheelSpec& w = m.wheels[i];
-    w.position = Eigen::Vector3d(xs[i], ys[i], kRadius);
-    w.radius = kRadius;
-    w.width = 0.03;
-    w.mass = 0.1;
-    w.inertia_axle = 0.5 * w.mass * kRadius * kRadius;
-  }
-  m.drive.wheel_separation = kSeparation;
-  m.drive.wheel_diameter = 2 * kRadius;
-  m.drive.torque = 2.0;
-  m.footprint = {{-0.12, -0.115}, {0.12, -0.115}, {0.12, 0.115}, {-0.12, 0.115}};
-  return m;
+// "bullet" and "kinematic" from the factory; "bullet_naive", the yardstick, from this directory.
+std::unique_ptr<PhysicsBackend> MakeBackend(const std::string& name, const World& world) {
+  if (name == "bullet_naive") return std::make_unique<NaiveBulletBackend>(MakePhysicsRobot(), world);
+  return MakePhysicsBackend(name, MakePhysicsRobot(), world);
 }
 
 void AddBox(World* w, double x, double y, double sx, double sy, double h, double yaw = 0.0) {
@@ -110,16 +90,14 @@ World MakeApartment() {
   return w;
 }
 
-const SkidSteerGeometry kGeometry{kSeparation, kRadius};
-
 // Driving circles in the lower right room, clear of the furniture (0.2 m/s, 0.6 rad/s commanded;
 // "bullet" and "bullet_naive" slip to a wider circle, all of it inside the room). `contacts`
 // reports how many the last step had: 0 here.
 void BM_StepArc(benchmark::State& state, const std::string& backend) {
   const World world = MakeApartment();
-  auto b = MakePhysicsBackend(backend, MakeRobot(), world);
+  auto b = MakeBackend(backend, world);
   b->SetPose(Pose2{7.0, 1.5, 0.0});
-  b->SetWheelTargets(WheelSpeedsForTwist(0.2, 0.6, kGeometry));
+  b->SetTargets(testing::SkidTargets(0.2, 0.6));
   std::vector<Contact> contacts;
   for (int i = 0; i < 2000; ++i) b->Step(0.001, &contacts);  // past the start-up transient
   for (auto _ : state) {
@@ -133,9 +111,9 @@ void BM_StepArc(benchmark::State& state, const std::string& backend) {
 // Pushing into the outer wall at a 0.5 m/s command: the contact path every step.
 void BM_StepPushingWall(benchmark::State& state, const std::string& backend) {
   const World world = MakeApartment();
-  auto b = MakePhysicsBackend(backend, MakeRobot(), world);
+  auto b = MakeBackend(backend, world);
   b->SetPose(Pose2{7.0, 0.6, -M_PI / 2});
-  b->SetWheelTargets(WheelSpeedsForTwist(0.5, 0.0, kGeometry));
+  b->SetTargets(testing::SkidTargets(0.5, 0.0));
   std::vector<Contact> contacts;
   for (int i = 0; i < 3000; ++i) b->Step(0.001, &contacts);
   for (auto _ : state) {

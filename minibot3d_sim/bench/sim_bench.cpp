@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "minibot3d_sim/simulator.h"
+#include "naive_bullet_backend.h"
 #include "minibot3d_sim/world_loader.h"
 
 using minibot3d_sim::Pose2;
@@ -56,7 +57,19 @@ int main(int argc, char** argv) {
     const auto robot = minibot3d_sim::ParseRobotModel(xml.str());
     minibot3d_sim::WorldLoadOptions load;
     auto world = minibot3d_sim::LoadWorld(world_path, load, nullptr);
-    minibot3d_sim::Simulator sim(robot, std::move(world), options);
+    // bullet_naive, the yardstick of the default backend, ships in no library.
+    minibot3d_sim::Simulator::BackendFactory naive;
+    if (options.physics == "bullet_naive") {
+      naive = [](const minibot3d_sim::RobotModel& r, const minibot3d_sim::World& w) {
+        return std::unique_ptr<minibot3d_sim::PhysicsBackend>(
+            new minibot3d_sim::NaiveBulletBackend(r, w));
+      };
+      options.physics = "bullet";
+    }
+    if (robot.lasers.empty()) throw std::invalid_argument("the robot has no laser to time");
+    const minibot3d_sim::LaserSpec& laser = robot.lasers[0];
+    minibot3d_sim::Simulator sim(robot, std::move(world), options, naive);
+    if (naive) options.physics = "bullet_naive";
 
     std::vector<Pose2> corners;
     for (int k = 1; k <= 4; ++k) {
@@ -65,7 +78,7 @@ int main(int argc, char** argv) {
       corners.push_back(Pose2{options.spawn.x + std::cos(a) * cx[k] - std::sin(a) * cy[k],
                               options.spawn.y + std::sin(a) * cx[k] + std::cos(a) * cy[k], 0});
     }
-    const minibot3d_sim::WorldSlice slice(sim.world(), robot.lidar.pose_in_root.translation().z());
+    const minibot3d_sim::WorldSlice slice(sim.world(), laser.pose_in_root.translation().z());
     std::vector<Pose2> route;  // poses every 0.1 s of sim time, reused for the lidar-only timing
     size_t target = 0;
     std::vector<float> ranges;
@@ -85,8 +98,8 @@ int main(int argc, char** argv) {
         if (std::abs(err) > 0.3) sim.SetCommand(0.0, err > 0 ? 1.0 : -1.0);
         else sim.SetCommand(std::min(0.4, std::hypot(dx, dy)), 2.0 * err);
       }
-      if (sim.ScanDue()) {
-        sim.TakeScan(&ranges);
+      if (sim.ScanDue(0)) {
+        sim.TakeScan(0, &ranges);
         route.push_back(sim.true_pose());
       }
       sim.Step();
@@ -104,8 +117,9 @@ int main(int argc, char** argv) {
     {
       auto calib_options = options;
       calib_options.odom_wheel_separation_multiplier = 1.0;
+      if (calib_options.physics == "bullet_naive") calib_options.physics = "bullet";
       minibot3d_sim::Simulator turn(robot, minibot3d_sim::LoadWorld(world_path, load, nullptr),
-                                    calib_options);
+                                    calib_options, naive);
       double body = 0.0, odom = 0.0;
       Pose2 lt = turn.true_pose(), lo = turn.odom_pose();
       for (int i = 0; i < 4000; ++i) {
@@ -121,23 +135,23 @@ int main(int argc, char** argv) {
     // The lidar alone: scans from the route's poses, fan cast vs one grid-walk per beam.
     double fan_rays_per_s = 0.0, walk_rays_per_s = 0.0;
     {
-      minibot3d_sim::Lidar lidar(robot.lidar, &slice, 1);
+      minibot3d_sim::Lidar lidar(laser, &slice, 1);
       const auto f0 = std::chrono::steady_clock::now();
       const int kScans = 2000;
       for (int i = 0; i < kScans; ++i) lidar.Scan(route[i % route.size()], &ranges);
-      fan_rays_per_s = kScans * robot.lidar.samples /
+      fan_rays_per_s = kScans * laser.samples /
           std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count();
       const auto w0 = std::chrono::steady_clock::now();
       const double inc = lidar.angle_increment();
       for (int i = 0; i < kScans; ++i) {
         const Pose2& p = route[i % route.size()];
-        for (int k = 0; k < robot.lidar.samples; ++k) {
-          const double a = p.yaw + robot.lidar.min_angle + k * inc;
+        for (int k = 0; k < laser.samples; ++k) {
+          const double a = p.yaw + laser.min_angle + k * inc;
           slice.CastRay(Eigen::Vector2d(p.x, p.y), Eigen::Vector2d(std::cos(a), std::sin(a)),
-                        robot.lidar.max_range);
+                        laser.max_range);
         }
       }
-      walk_rays_per_s = kScans * robot.lidar.samples /
+      walk_rays_per_s = kScans * laser.samples /
           std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
     }
     std::printf("physics=%s sim_seconds=%.1f wall_seconds=%.3f real_time_factor=%.0f "
@@ -145,7 +159,7 @@ int main(int argc, char** argv) {
                 "collisions=%lu odom_drift_m=%.3f turn_in_place_body_over_odom=%.3f "
                 "lidar_fan_rays_per_s=%.0f lidar_per_beam_rays_per_s=%.0f\n",
                 options.physics.c_str(), sim.time(), wall, sim.time() / wall, 1e6 * wall / steps,
-                sim.lidar().rays_cast(), sim.lidar().rays_cast() / wall, path,
+                sim.lidar(0).rays_cast(), sim.lidar(0).rays_cast() / wall, path,
                 static_cast<unsigned long>(sim.collision_count()),
                 std::hypot(t.x - options.spawn.x - (std::cos(options.spawn.yaw) * o.x -
                                                      std::sin(options.spawn.yaw) * o.y),

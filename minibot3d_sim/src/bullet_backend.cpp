@@ -99,10 +99,6 @@ void BulletBackend::FrictionImpulse(const Wheel& wheel, const Response& k, doubl
 BulletBackend::BulletBackend(const RobotModel& robot, const World& world) {
   mass_ = robot.total_mass;
   if (!(mass_ > 0.0)) throw std::invalid_argument("BulletBackend: robot total_mass must be > 0");
-  torque_limit_ = robot.drive.torque;
-  if (!(torque_limit_ > 0.0)) {
-    throw std::invalid_argument("BulletBackend: the drive plugin's torque must be > 0");
-  }
 
   // Centre of mass: the body box and the wheels, each at its centre.
   const Eigen::Vector3d body_centre = robot.body_pose.translation();
@@ -123,31 +119,45 @@ BulletBackend::BulletBackend(const RobotModel& robot, const World& world) {
   }
 
   // Wheels and their static loads: the least-norm N with sum N = m g and no moment about the
-  // centre of mass (four supports are statically indeterminate; this is the symmetric answer).
-  Eigen::Matrix<double, 3, 4> a;
-  for (int i = 0; i < 4; ++i) {
+  // centre of mass over every floor contact (wheels, then casters); with more than three supports
+  // this is the symmetric answer of a statically indeterminate problem.
+  const int n = static_cast<int>(robot.wheels.size());
+  const int contacts = n + static_cast<int>(robot.supports.size());
+  wheels_.resize(n);
+  wheel_velocities_.assign(n, 0.0);
+  wheel_positions_.assign(n, 0.0);
+  Eigen::Matrix<double, 3, Eigen::Dynamic> a(3, contacts);
+  for (int i = 0; i < n; ++i) {
     const WheelSpec& spec = robot.wheels[i];
     Wheel& w = wheels_[i];
     w.arm = spec.position.head<2>() - com_;
-    w.radius = spec.radius > 0.0 ? spec.radius : robot.drive.wheel_diameter / 2.0;
+    w.radius = spec.radius;
     if (!(w.radius > 0.0)) throw std::invalid_argument("BulletBackend: wheel radius must be > 0");
     w.inertia = spec.inertia_axle > 0.0 ? spec.inertia_axle
                                         : 0.5 * std::max(spec.mass, 0.01) * w.radius * w.radius;
     w.mu1 = std::max(spec.mu1, 0.0);
     w.mu2 = std::max(spec.mu2, 0.0);
+    w.torque = spec.torque;
+    if (!(w.torque > 0.0)) {
+      throw std::invalid_argument("BulletBackend: wheel '" + spec.joint + "' has no torque > 0");
+    }
     a.col(i) << 1.0, w.arm.x(), w.arm.y();
+  }
+  for (int i = n; i < contacts; ++i) {
+    const Eigen::Vector2d arm = robot.supports[i - n].position - com_;
+    a.col(i) << 1.0, arm.x(), arm.y();
   }
   const Eigen::Vector3d b(mass_ * kGravity, 0.0, 0.0);
   const Eigen::Matrix3d aat = a * a.transpose();
-  Eigen::Vector4d loads = Eigen::Vector4d::Constant(mass_ * kGravity / 4.0);
-  if (std::abs(aat.determinant()) > 1e-12) {
+  Eigen::VectorXd loads = Eigen::VectorXd::Constant(contacts, mass_ * kGravity / std::max(contacts, 1));
+  if (contacts > 0 && std::abs(aat.determinant()) > 1e-12) {
     loads = a.transpose() * aat.ldlt().solve(b);
-    loads = loads.cwiseMax(0.0);  // centre of mass outside the wheels: the far wheels lift
+    loads = loads.cwiseMax(0.0);  // centre of mass outside the supports: the far ones lift
     loads *= mass_ * kGravity / loads.sum();
   }
   inv_mass_ = 1.0 / mass_;
   inv_inertia_ = 1.0 / inertia_z_;
-  for (int i = 0; i < 4; ++i) {
+  for (int i = 0; i < n; ++i) {
     Wheel& w = wheels_[i];
     w.load = loads[i];
     // Chassis response at the contact to unit impulses along / across the rolling direction,
@@ -197,8 +207,8 @@ BulletBackend::BulletBackend(const RobotModel& robot, const World& world) {
   }
   double z_top = body_centre.z() + robot.body_size.z() / 2.0;
   double z_bottom = body_centre.z() - robot.body_size.z() / 2.0;
-  double min_radius = wheels_[0].radius;
-  for (int i = 0; i < 4; ++i) {
+  double min_radius = wheels_.empty() ? 0.02 : wheels_[0].radius;
+  for (int i = 0; i < n; ++i) {
     z_top = std::max(z_top, robot.wheels[i].position.z() + wheels_[i].radius);
     min_radius = std::min(min_radius, wheels_[i].radius);
   }
@@ -283,15 +293,21 @@ void BulletBackend::SetPose(const Pose2& pose) {
     broadphase_->getOverlappingPairCache()->cleanProxyFromPairs(chassis_->getBroadphaseHandle(),
                                                                 dispatcher_.get());
   }
-  for (Wheel& w : wheels_) {
+  for (size_t i = 0; i < wheels_.size(); ++i) {
+    Wheel& w = wheels_[i];
     w.omega = 0.0;
     w.impulse_along = w.impulse_across = w.impulse_motor = 0.0;
+    wheel_velocities_[i] = 0.0;
   }
   last_dt_ = 0.0;
 }
 
-void BulletBackend::SetWheelTargets(const std::array<double, 4>& omega) {
-  for (int i = 0; i < 4; ++i) wheels_[i].target = omega[i];
+void BulletBackend::SetTargets(const DriveTargets& targets) {
+  body_velocity_ = targets.body_velocity;
+  body_twist_ = targets.body_twist;
+  for (size_t i = 0; i < wheels_.size(); ++i) {
+    wheels_[i].target = body_velocity_ ? 0.0 : targets.wheel_speeds[i];
+  }
 }
 
 double BulletBackend::SolveWheelBlock(Wheel* wheel, double* u, double* v, double* w) const {
@@ -338,7 +354,7 @@ void BulletBackend::SolveWheels(double dt, double* u, double* v, double* w) {
     wh.inv_limit2_along = wh.limit_along > 0.0 ? 1.0 / (wh.limit_along * wh.limit_along) : 0.0;
     wh.inv_limit2_across =
         wh.limit_across > 0.0 ? 1.0 / (wh.limit_across * wh.limit_across) : 0.0;
-    wh.limit_motor = torque_limit_ * dt;
+    wh.limit_motor = wh.torque * dt;
     wh.impulse_along *= scale;
     wh.impulse_across *= scale;
     wh.impulse_motor *= scale;
@@ -363,7 +379,15 @@ void BulletBackend::Step(double dt, std::vector<Contact>* contacts) {
   double v = -s * lv.x() + c * lv.y();
   double w = chassis_->getAngularVelocity().z();
 
-  SolveWheels(dt, &u, &v, &w);
+  if (body_velocity_) {
+    // The commanded twist of the root, at the centre of mass: v + w × (com − root).
+    w = body_twist_.wz;
+    u = body_twist_.vx - w * com_.y();
+    v = body_twist_.vy + w * com_.x();
+    for (Wheel& wh : wheels_) wh.omega = 0.0;
+  } else {
+    SolveWheels(dt, &u, &v, &w);
+  }
 
   chassis_->setLinearVelocity(btVector3(c * u - s * v, s * u + c * v, 0));
   chassis_->setAngularVelocity(btVector3(0, 0, w));
@@ -392,7 +416,11 @@ void BulletBackend::Step(double dt, std::vector<Contact>* contacts) {
   com_pose_ = next;
   PutChassisAt(com_pose_);
 
-  for (Wheel& wh : wheels_) wh.angle += wh.omega * dt;
+  for (size_t i = 0; i < wheels_.size(); ++i) {
+    wheels_[i].angle += wheels_[i].omega * dt;
+    wheel_velocities_[i] = wheels_[i].omega;
+    wheel_positions_[i] = wheels_[i].angle;
+  }
   if (contacts != nullptr) AppendContacts(contacts);
 }
 
@@ -448,18 +476,6 @@ Twist2 BulletBackend::twist() const {
   const double u = c * lv.x() + s * lv.y();
   const double v = -s * lv.x() + c * lv.y();
   return Twist2{u + w * com_.y(), v - w * com_.x(), w};
-}
-
-std::array<double, 4> BulletBackend::wheel_velocities() const {
-  std::array<double, 4> out{};
-  for (int i = 0; i < 4; ++i) out[i] = wheels_[i].omega;
-  return out;
-}
-
-std::array<double, 4> BulletBackend::wheel_positions() const {
-  std::array<double, 4> out{};
-  for (int i = 0; i < 4; ++i) out[i] = wheels_[i].angle;
-  return out;
 }
 
 }  // namespace minibot3d_sim

@@ -8,11 +8,13 @@
 // features, so faces are clipped into full manifolds), and Bullet's sequential-impulse solver
 // resolves them (split impulses: pushing out of a wall never becomes a bounce).
 //
-// Wheels are not Bullet bodies. Each is a 1-DOF rotor (axle inertia from the URDF) driven by a
-// velocity motor whose torque is clamped to the drive plugin's `torque` — what Gazebo's skid-steer
-// plugin does with a joint's "vel"/"fmax". Each wheel touches the floor at one point under its
-// centre with the normal load N it carries at rest (m g shared by the least-norm statics of the
-// four contacts about the centre of mass). Before every Bullet step the wheel–ground contacts are
+// Wheels are not Bullet bodies. Each driven wheel is a 1-DOF rotor (axle inertia from the URDF)
+// driven by a velocity motor whose torque is clamped to the drive's torque — what Gazebo's drive
+// plugins do with a joint's "vel"/"fmax". Each wheel touches the floor at one point under its
+// centre with the normal load N it carries at rest (m g shared by the least-norm statics of all
+// floor contacts about the centre of mass: the wheels and the casters, which carry load but no
+// traction). A holonomic base (planar move) is instead given the commanded body velocity every
+// step, as Gazebo's planar-move plugin sets the model's velocity; walls still stop it. Before every Bullet step the wheel–ground contacts are
 // solved as velocity-level constraints by projected Gauss–Seidel (sequential impulses, warm
 // started): per wheel one block couples the motor, the longitudinal slip (chassis velocity at the
 // contact minus r·ω) and the lateral slip; its friction impulse is confined to Coulomb's
@@ -63,13 +65,13 @@ class BulletBackend : public PhysicsBackend {
 
   std::string name() const override { return "bullet"; }
   void SetPose(const Pose2& pose) override;
-  void SetWheelTargets(const std::array<double, 4>& omega) override;
+  void SetTargets(const DriveTargets& targets) override;
   void Step(double dt, std::vector<Contact>* contacts) override;
 
   Pose2 pose() const override;
   Twist2 twist() const override;
-  std::array<double, 4> wheel_velocities() const override;
-  std::array<double, 4> wheel_positions() const override;
+  const std::vector<double>& wheel_velocities() const override { return wheel_velocities_; }
+  const std::vector<double>& wheel_positions() const override { return wheel_positions_; }
 
  private:
   // Chassis (+ free wheel) velocity response at a wheel contact to unit impulses along / across:
@@ -93,6 +95,7 @@ class BulletBackend : public PhysicsBackend {
     double impulse_along = 0.0, impulse_across = 0.0, impulse_motor = 0.0;
     // Contact response with the wheel held by its motor / spinning free under a saturated motor.
     Response held, spinning;
+    double torque = 0.0;        // the motor's torque limit (N m)
     // Per-step impulse limits: friction ellipse semi-axes (and 1 / their squares), motor.
     double limit_along = 0.0, limit_across = 0.0, limit_motor = 0.0;
     double inv_limit2_along = 0.0, inv_limit2_across = 0.0;
@@ -111,12 +114,15 @@ class BulletBackend : public PhysicsBackend {
   double mass_ = 0.0;
   double inertia_z_ = 0.0;  // about the centre of mass
   double inv_mass_ = 0.0, inv_inertia_ = 0.0;
-  double torque_limit_ = 0.0;
   Eigen::Vector2d com_ = Eigen::Vector2d::Zero();  // centre of mass in the root frame
   double com_height_ = 0.0;
   // The chassis' centre-of-mass pose in double precision: the authoritative pose (see Step()).
   Pose2 com_pose_;
-  std::array<Wheel, 4> wheels_;
+  std::vector<Wheel> wheels_;
+  std::vector<double> wheel_velocities_, wheel_positions_;
+  // A holonomic base (planar move) is given its body twist directly; its wheels idle.
+  bool body_velocity_ = false;
+  Twist2 body_twist_;
   double last_dt_ = 0.0;
 
   std::unique_ptr<btDefaultCollisionConfiguration> collision_config_;

@@ -38,13 +38,12 @@ Eigen::Vector2d ClosestOnPolygon(const std::vector<Eigen::Vector2d>& poly,
 }  // namespace
 
 KinematicBackend::KinematicBackend(const RobotModel& robot, const World& world)
-    : geometry_{robot.drive.wheel_separation, robot.drive.wheel_diameter / 2.0},
-      footprint_(robot.footprint),
+    : footprint_(robot.footprint),
       slice_height_(robot.body_pose.translation().z()),
       slice_(world, slice_height_) {
-  if (geometry_.wheel_separation <= 0.0 || geometry_.wheel_radius <= 0.0) {
-    throw std::invalid_argument("KinematicBackend: wheel separation and diameter must be > 0");
-  }
+  wheel_velocities_.assign(robot.wheels.size(), 0.0);
+  wheel_positions_.assign(robot.wheels.size(), 0.0);
+  targets_.wheel_speeds.assign(robot.wheels.size(), 0.0);
   if (footprint_.size() < 3) {
     // No outline given: the body box seen from above (as BulletBackend does).
     const Eigen::Vector2d c = robot.body_pose.translation().head<2>();
@@ -67,14 +66,14 @@ void KinematicBackend::SetPose(const Pose2& pose) {
   pose_ = pose;
   pose_.yaw = NormalizeAngle(pose.yaw);
   twist_ = Twist2{};
-  wheel_velocities_.fill(0.0);
+  std::fill(wheel_velocities_.begin(), wheel_velocities_.end(), 0.0);
   cache_valid_ = false;
   blocked_contact_valid_ = false;
   int shape = -1;
   start_colliding_ = Collides(pose_, &shape);
 }
 
-void KinematicBackend::SetWheelTargets(const std::array<double, 4>& omega) { targets_ = omega; }
+void KinematicBackend::SetTargets(const DriveTargets& targets) { targets_ = targets; }
 
 bool KinematicBackend::Collides(const Pose2& p, int* shape) {
   ++collision_checks_;
@@ -85,15 +84,19 @@ bool KinematicBackend::Collides(const Pose2& p, int* shape) {
 }
 
 void KinematicBackend::Step(double dt, std::vector<Contact>* contacts) {
-  const Twist2 nominal = TwistFromWheelSpeeds(targets_, geometry_);
-  if (nominal.vx == 0.0 && nominal.wz == 0.0) {
+  const Twist2 nominal = targets_.body_twist;
+  // A holonomic base's wheels (if any) are not driven.
+  const std::vector<double>& wheels = targets_.wheel_speeds;
+  if (nominal.vx == 0.0 && nominal.vy == 0.0 && nominal.wz == 0.0) {
     // Nothing to move (the wheels may still counter-rotate pairwise; they cannot without slip).
     twist_ = Twist2{};
-    wheel_velocities_ = targets_;
-    for (int i = 0; i < 4; ++i) wheel_positions_[i] += wheel_velocities_[i] * dt;
+    wheel_velocities_ = wheels;
+    for (size_t i = 0; i < wheel_positions_.size(); ++i) {
+      wheel_positions_[i] += wheel_velocities_[i] * dt;
+    }
     return;
   }
-  const Pose2 end = IntegrateTwist(pose_, nominal.vx, nominal.wz, dt);
+  const Pose2 end = IntegrateTwist(pose_, nominal, dt);
   const double moved = std::hypot(end.x - pose_.x, end.y - pose_.y);
 
   bool free = false;
@@ -122,12 +125,12 @@ void KinematicBackend::Step(double dt, std::vector<Contact>* contacts) {
     if (free) start_colliding_ = false;
     pose_ = end;
     twist_ = nominal;
-    wheel_velocities_ = targets_;
+    wheel_velocities_ = wheels;
     blocked_contact_valid_ = false;
     if (!free && contacts != nullptr) contacts->push_back(MakeContact(shape));
   } else {
     twist_ = Twist2{};
-    wheel_velocities_.fill(0.0);
+    std::fill(wheel_velocities_.begin(), wheel_velocities_.end(), 0.0);
     if (!blocked_contact_valid_ || blocked_contact_.shape != shape) {
       // Blocked steps repeat while the robot pushes against a wall without moving: the contact is
       // the same every time, so it is worked out once.
@@ -136,7 +139,9 @@ void KinematicBackend::Step(double dt, std::vector<Contact>* contacts) {
     }
     if (contacts != nullptr) contacts->push_back(blocked_contact_);
   }
-  for (int i = 0; i < 4; ++i) wheel_positions_[i] += wheel_velocities_[i] * dt;
+  for (size_t i = 0; i < wheel_positions_.size(); ++i) {
+    wheel_positions_[i] += wheel_velocities_[i] * dt;
+  }
 }
 
 Contact KinematicBackend::MakeContact(int shape) const {

@@ -1,8 +1,8 @@
 // KinematicBackend: the robot moves exactly as its wheel speeds say, with no dynamics.
 //
-// Model: the no-slip skid-steer body twist of the commanded wheel speeds (TwistFromWheelSpeeds),
-// integrated exactly as a constant twist over each step (x' = v cos θ, y' = v sin θ, θ' = ω →
-// straight line or circular arc, IntegrateTwist). Walls are handled by refusing steps: the robot's
+// Model: the no-slip body twist the drive's targets ask for (DriveTargets::body_twist: the wheel
+// speeds' twist for a wheeled drive, the command for a holonomic one), integrated exactly as a
+// constant twist over each step (a straight line or a circular arc, IntegrateTwist). Walls are handled by refusing steps: the robot's
 // footprint polygon at the step's end pose is tested against the world's horizontal cross-section
 // at the body's mid-height (WorldSlice); a step that would overlap is not taken, the robot stands
 // still (twist 0, wheels 0) and a Contact is reported. Since a blocked step is never taken the
@@ -23,7 +23,6 @@
 
 #include "minibot3d_sim/physics_backend.h"
 #include "minibot3d_sim/robot_model.h"
-#include "minibot3d_sim/skid_steer.h"
 #include "minibot3d_sim/world.h"
 #include "minibot3d_sim/world_slice.h"
 
@@ -35,13 +34,13 @@ class KinematicBackend : public PhysicsBackend {
 
   std::string name() const override { return "kinematic"; }
   void SetPose(const Pose2& pose) override;
-  void SetWheelTargets(const std::array<double, 4>& omega) override;
+  void SetTargets(const DriveTargets& targets) override;
   void Step(double dt, std::vector<Contact>* contacts) override;
 
   Pose2 pose() const override { return pose_; }
   Twist2 twist() const override { return twist_; }
-  std::array<double, 4> wheel_velocities() const override { return wheel_velocities_; }
-  std::array<double, 4> wheel_positions() const override { return wheel_positions_; }
+  const std::vector<double>& wheel_velocities() const override { return wheel_velocities_; }
+  const std::vector<double>& wheel_positions() const override { return wheel_positions_; }
 
   // Number of steps that ran the polygon test (for tests and benchmarks of the distance cache).
   long collision_checks() const { return collision_checks_; }
@@ -53,7 +52,6 @@ class KinematicBackend : public PhysicsBackend {
   // when none matches).
   Contact MakeContact(int shape) const;
 
-  SkidSteerGeometry geometry_;
   std::vector<Eigen::Vector2d> footprint_;  // root frame
   double footprint_radius_ = 0.0;           // max |vertex| about the root frame's origin
   double slice_height_ = 0.0;
@@ -61,9 +59,9 @@ class KinematicBackend : public PhysicsBackend {
 
   Pose2 pose_;
   Twist2 twist_;
-  std::array<double, 4> targets_{};
-  std::array<double, 4> wheel_velocities_{};
-  std::array<double, 4> wheel_positions_{};
+  DriveTargets targets_;
+  std::vector<double> wheel_velocities_;
+  std::vector<double> wheel_positions_;
 
   // Distance cache: no obstacle is closer than clearance_ to the footprint as it was when the
   // cache was filled; travelled_ sums the centre's displacement since then.

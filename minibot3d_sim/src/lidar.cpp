@@ -5,7 +5,7 @@
 
 namespace minibot3d_sim {
 
-Lidar::Lidar(const LidarSpec& spec, const WorldSlice* slice, unsigned seed)
+Lidar::Lidar(const LaserSpec& spec, const WorldSlice* slice, unsigned seed)
     : spec_(spec), slice_(slice), rng_(seed), noise_(spec.noise_mean, spec.noise_stddev) {
   const Eigen::Isometry3d& p = spec.pose_in_root;
   const Eigen::Vector3d x_axis = p.linear() * Eigen::Vector3d::UnitX();

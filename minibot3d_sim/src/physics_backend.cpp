@@ -4,7 +4,6 @@
 
 #include "bullet_backend.h"
 #include "kinematic_backend.h"
-#include "naive_bullet_backend.h"
 
 namespace minibot3d_sim {
 
@@ -12,10 +11,7 @@ std::unique_ptr<PhysicsBackend> MakePhysicsBackend(const std::string& name,
                                                    const RobotModel& robot, const World& world) {
   if (name == "bullet") return std::make_unique<BulletBackend>(robot, world);
   if (name == "kinematic") return std::make_unique<KinematicBackend>(robot, world);
-  // Measurement yardstick for "bullet" (see naive_bullet_backend.h); not meant for daily use.
-  if (name == "bullet_naive") return std::make_unique<NaiveBulletBackend>(robot, world);
-  throw std::invalid_argument("unknown physics backend '" + name +
-                              "' (valid: bullet, kinematic, bullet_naive)");
+  throw std::invalid_argument("unknown physics backend '" + name + "' (valid: bullet, kinematic)");
 }
 
 }  // namespace minibot3d_sim

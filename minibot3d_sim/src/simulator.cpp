@@ -26,51 +26,56 @@ void ValidateOptions(const SimulatorOptions& o) {
   }
 }
 
-Simulator::Simulator(const RobotModel& robot, World world, const SimulatorOptions& options)
+Simulator::Simulator(const RobotModel& robot, World world, const SimulatorOptions& options,
+                     const BackendFactory& make_backend)
     : robot_(robot), world_(std::move(world)), options_(options) {
   ValidateOptions(options_);
-  geometry_.wheel_separation = robot_.drive.wheel_separation;
-  geometry_.wheel_radius = robot_.drive.wheel_diameter / 2.0;
-  odom_geometry_ = geometry_;
-  odom_geometry_.wheel_separation *= options_.odom_wheel_separation_multiplier;
-  geometry_.wheel_separation *= options_.cmd_wheel_separation_multiplier;
-  backend_ = MakePhysicsBackend(options_.physics, robot_, world_);
-  lidar_slice_ = std::make_unique<WorldSlice>(world_, robot_.lidar.pose_in_root.translation().z());
+  DriveSettings drive;
+  drive.cmd_timeout = options_.cmd_timeout;
+  drive.odom_wheel_separation_multiplier = options_.odom_wheel_separation_multiplier;
+  drive.cmd_wheel_separation_multiplier = options_.cmd_wheel_separation_multiplier;
+  drive.physics_step = options_.physics_step;
+  drive_ = MakeDrive(robot_, drive);
+  backend_ = make_backend ? make_backend(robot_, world_)
+                          : MakePhysicsBackend(options_.physics, robot_, world_);
+  for (size_t i = 0; i < robot_.lasers.size(); ++i) {
+    const LaserSpec& spec = robot_.lasers[i];
+    const double height = spec.pose_in_root.translation().z();
+    auto& slice = laser_slices_[std::llround(height * 1e6)];
+    if (!slice) slice = std::make_unique<WorldSlice>(world_, height);
+    // Each laser its own noise stream; the first keeps the simulator's seed.
+    lidars_.push_back(std::make_unique<Lidar>(spec, slice.get(), options_.seed + 7919u * i));
+    scan_clocks_.emplace_back(spec.update_rate);
+  }
+  for (size_t i = 0; i < robot_.imus.size(); ++i) {
+    imus_.emplace_back(robot_.imus[i], options_.seed + 104729u + 7919u * i);
+    imu_clocks_.emplace_back(robot_.imus[i].update_rate);
+  }
+  for (size_t i = 0; i < robot_.ground_truths.size(); ++i) {
+    ground_truths_.emplace_back(robot_.ground_truths[i], options_.seed + 224737u + 7919u * i);
+    truth_clocks_.emplace_back(robot_.ground_truths[i].options.update_rate);
+  }
   body_slice_ = std::make_unique<WorldSlice>(world_, robot_.body_pose.translation().z());
-  lidar_ = std::make_unique<Lidar>(robot_.lidar, lidar_slice_.get(), options_.seed);
   backend_->SetPose(options_.spawn);
 }
 
-void Simulator::SetCommand(double v, double w) {
-  cmd_v_ = v;
-  cmd_w_ = w;
-  cmd_time_ = time();
-}
-
-bool Simulator::command_active() const {
-  return time() - cmd_time_ <= options_.cmd_timeout + 1e-12;
-}
+void Simulator::Command(const Twist2& command) { drive_->OnCommand(command, time()); }
 
 void Simulator::Step() {
-  std::array<double, 4> targets{};
-  if (command_active()) {
-    targets = WheelSpeedsForTwist(cmd_v_, cmd_w_, geometry_);
-    // The motors cannot exceed the joints' velocity limits.
-    for (int i = 0; i < 4; ++i) {
-      const double limit = robot_.wheels[i].velocity_limit;
-      if (limit > 0) targets[i] = std::clamp(targets[i], -limit, limit);
-    }
-  }
-  backend_->SetWheelTargets(targets);
-  contacts_.clear();
   const double dt = options_.physics_step;
+  backend_->SetTargets(drive_->Actuate(time(), dt));
+  contacts_.clear();
   backend_->Step(dt, &contacts_);
   ++steps_;
 
-  // Wheel odometry: what the encoders say, integrated exactly over the step.
-  const Twist2 wheels = TwistFromWheelSpeeds(backend_->wheel_velocities(), odom_geometry_);
-  odom_twist_ = wheels;
-  odom_pose_ = IntegrateTwist(odom_pose_, wheels.vx, wheels.wz, dt);
+  DriveState state;
+  state.time = time();
+  state.dt = dt;
+  state.pose = backend_->pose();
+  state.twist = backend_->twist();
+  state.wheel_positions = &backend_->wheel_positions();
+  state.wheel_velocities = &backend_->wheel_velocities();
+  drive_->Observe(state);
 
   const double now = time();
   in_contact_ = !contacts_.empty();
@@ -90,14 +95,19 @@ void Simulator::Step() {
   }
 }
 
-bool Simulator::ScanDue() const {
-  const double due = scan_origin_ + static_cast<double>(scans_) / robot_.lidar.update_rate;
-  return time() + 1e-9 >= due;
+void Simulator::TakeScan(size_t laser, std::vector<float>* ranges) {
+  lidars_[laser]->Scan(backend_->pose(), ranges);
+  scan_clocks_[laser].Fired();
 }
 
-void Simulator::TakeScan(std::vector<float>* ranges) {
-  lidar_->Scan(backend_->pose(), ranges);
-  ++scans_;
+ImuReading Simulator::TakeImu(size_t i) {
+  imu_clocks_[i].Fired();
+  return imus_[i].Sample(time(), backend_->pose(), backend_->twist());
+}
+
+GroundTruthReading Simulator::TakeGroundTruth(size_t i) {
+  truth_clocks_[i].Fired();
+  return ground_truths_[i].Sample(backend_->pose(), backend_->twist());
 }
 
 std::vector<CollisionEvent> Simulator::TakeCollisionEvents() {
@@ -108,18 +118,16 @@ std::vector<CollisionEvent> Simulator::TakeCollisionEvents() {
 
 void Simulator::Reset() {
   backend_->SetPose(options_.spawn);
-  odom_pose_ = Pose2{};
-  odom_twist_ = Twist2{};
-  cmd_v_ = cmd_w_ = 0.0;
-  cmd_time_ = -1e9;
+  drive_->Reset();
+  for (auto& imu : imus_) imu.Restart();
   last_touch_.clear();
   in_contact_ = false;
 }
 
 void Simulator::SetPose(const Pose2& pose) {
   backend_->SetPose(pose);
-  cmd_v_ = cmd_w_ = 0.0;
-  cmd_time_ = -1e9;
+  drive_->Stop();
+  for (auto& imu : imus_) imu.Restart();
   last_touch_.clear();
   in_contact_ = false;
 }

@@ -8,7 +8,8 @@
 #include <gtest/gtest.h>
 
 #include "minibot3d_sim/physics_backend.h"
-#include "minibot3d_sim/skid_steer.h"
+#include "naive_bullet_backend.h"
+#include "sim_test_fixtures.h"
 
 namespace minibot3d_sim {
 namespace {
@@ -22,73 +23,23 @@ constexpr double kGravity = 9.81;
 constexpr double kDt = 0.001;
 constexpr double kDeg = M_PI / 180.0;
 
-struct RobotParams {
-  double torque = 2.0;
-  double mu1 = 1.0;
-  double mu2 = 1.0;
-};
+using testing::MakeWallWorld;
+using RobotParams = testing::PhysicsRobotParams;
 
-// The small skid-steer robot: 0.24 x 0.16 x 0.05 body, four 0.08 m wheels at (±0.07, ±0.1),
-// 1.5 kg in all.
-RobotModel MakeRobot(const RobotParams& p = RobotParams()) {
-  RobotModel m;
-  m.name = "minibot";
-  m.root_link = "base_footprint";
-  m.total_mass = kMass;
-  m.body_mass = 1.1;
-  m.body_size = Eigen::Vector3d(0.24, 0.16, 0.05);
-  m.body_pose = Eigen::Isometry3d::Identity();
-  m.body_pose.translation() = Eigen::Vector3d(0, 0, 0.06);
-  m.body_inertia_z = 0.0136;
-  const double xs[4] = {kHalfWheelbase, kHalfWheelbase, -kHalfWheelbase, -kHalfWheelbase};
-  const double ys[4] = {kSeparation / 2, -kSeparation / 2, kSeparation / 2, -kSeparation / 2};
-  for (int i = 0; i < 4; ++i) {
-    WheelSpec& w = m.wheels[i];
-    w.position = Eigen::Vector3d(xs[i], ys[i], kRadius);
-    w.radius = kRadius;
-    w.width = 0.03;
-    w.mass = 0.1;
-    w.inertia_axle = kWheelInertia;
-    w.mu1 = p.mu1;
-    w.mu2 = p.mu2;
-  }
-  m.drive.wheel_separation = kSeparation;
-  m.drive.wheel_diameter = 2 * kRadius;
-  m.drive.torque = p.torque;
-  m.footprint = {{-0.12, -0.115}, {0.12, -0.115}, {0.12, 0.115}, {-0.12, 0.115}};
-  return m;
+RobotModel MakeRobot(const RobotParams& p = RobotParams()) { return testing::MakePhysicsRobot(p); }
+World MakeWorld(double wall_x = 50.0) { return MakeWallWorld(wall_x); }
+
+// "bullet" from the factory; "bullet_naive", the yardstick, from the bench library.
+std::unique_ptr<PhysicsBackend> MakeBackend(const std::string& name, const RobotModel& robot,
+                                            const World& world) {
+  if (name == "bullet_naive") return std::make_unique<NaiveBulletBackend>(robot, world);
+  return MakePhysicsBackend(name, robot, world);
 }
 
-Shape Box(const std::string& name, const Eigen::Vector3d& centre, const Eigen::Vector3d& size) {
-  Shape s;
-  s.type = ShapeType::kBox;
-  s.name = name;
-  s.pose = Eigen::Isometry3d::Identity();
-  s.pose.translation() = centre;
-  s.size = size;
-  return s;
-}
-
-// Floor plane (shape 0), a 0.5 m high, 0.1 m thick wall whose near face is at x = wall_x
-// (shape 1) and a post far away (shape 2).
-World MakeWorld(double wall_x = 50.0) {
-  World w;
-  Shape floor;
-  floor.type = ShapeType::kPlane;
-  floor.name = "ground_plane::link::collision";
-  w.shapes.push_back(floor);
-  w.shapes.push_back(Box("wall::link::collision", Eigen::Vector3d(wall_x + 0.05, 0, 0.25),
-                         Eigen::Vector3d(0.1, 4.0, 0.5)));
-  w.shapes.push_back(Box("post::link::collision", Eigen::Vector3d(-5, 5, 0.25),
-                         Eigen::Vector3d(0.2, 0.2, 0.5)));
-  return w;
-}
-
-const SkidSteerGeometry kGeometry{kSeparation, kRadius};
 
 void Drive(PhysicsBackend* b, double v, double w, double seconds,
            std::vector<Contact>* contacts = nullptr) {
-  b->SetWheelTargets(WheelSpeedsForTwist(v, w, kGeometry));
+  b->SetTargets(testing::SkidTargets(v, w));
   const int steps = static_cast<int>(std::lround(seconds / kDt));
   for (int i = 0; i < steps; ++i) {
     if (contacts != nullptr) contacts->clear();
@@ -99,7 +50,7 @@ void Drive(PhysicsBackend* b, double v, double w, double seconds,
 // Speed reached after `seconds` of a 0.3 m/s command from rest.
 double SpeedAfter(const std::string& backend, const RobotParams& params, double seconds) {
   const World world = MakeWorld();
-  auto b = MakePhysicsBackend(backend, MakeRobot(params), world);
+  auto b = MakeBackend(backend, MakeRobot(params), world);
   b->SetPose(Pose2{});
   Drive(b.get(), 0.3, 0.0, seconds);
   return b->twist().vx;
@@ -108,7 +59,7 @@ double SpeedAfter(const std::string& backend, const RobotParams& params, double 
 class PhysicalBackendTest : public ::testing::TestWithParam<std::string> {
  protected:
   std::unique_ptr<PhysicsBackend> Make(const World& world, const RobotParams& p = RobotParams()) {
-    auto b = MakePhysicsBackend(GetParam(), MakeRobot(p), world);
+    auto b = MakeBackend(GetParam(), MakeRobot(p), world);
     EXPECT_EQ(b->name(), GetParam());
     b->SetPose(Pose2{});
     return b;
@@ -165,7 +116,7 @@ TEST_P(PhysicalBackendTest, LowerFrictionSlipsMore) {
   Drive(slippery.get(), 0.3, 0.0, 0.1);
   // Longitudinal slip: wheel rim speed minus body speed.
   auto slip = [](const PhysicsBackend& b) {
-    return b.wheel_velocities()[kFrontLeft] * kRadius - b.twist().vx;
+    return b.wheel_velocities()[0] * kRadius - b.twist().vx;
   };
   EXPECT_LT(slippery->twist().vx, 0.6 * grippy->twist().vx);
   EXPECT_GT(slip(*slippery), slip(*grippy) + 0.05);
@@ -176,7 +127,7 @@ TEST_P(PhysicalBackendTest, StopsAtWallWithContacts) {
   const World world = MakeWorld(wall_x);
   auto b = Make(world);
   std::vector<Contact> contacts;
-  b->SetWheelTargets(WheelSpeedsForTwist(1.0, 0.0, kGeometry));
+  b->SetTargets(testing::SkidTargets(1.0, 0.0));
   double max_nose = -1.0;
   bool touched = false;
   for (int i = 0; i < 2000; ++i) {
@@ -198,7 +149,7 @@ TEST_P(PhysicalBackendTest, StopsAtWallWithContacts) {
   EXPECT_LT(std::abs(b->twist().vx), 0.02);
   EXPECT_LT(std::abs(b->pose().yaw), 2 * kDeg);
   // The wheels keep turning while the robot pushes (slip against the floor).
-  EXPECT_GT(b->wheel_velocities()[kFrontLeft], 1.0);
+  EXPECT_GT(b->wheel_velocities()[0], 1.0);
 
   // Backing away frees it.
   Drive(b.get(), -0.3, 0.0, 0.5, &contacts);
@@ -268,7 +219,7 @@ TEST(BulletBackendTest, InPlaceTurnRateIsTheCoulombFrictionBalance) {
     RobotParams p;
     p.mu1 = p.mu2 = mu;
     const World world = MakeWorld();
-    auto b = MakePhysicsBackend("bullet", MakeRobot(p), world);
+    auto b = MakeBackend("bullet", MakeRobot(p), world);
     b->SetPose(Pose2{});
     Drive(b.get(), 0.0, 1.5, 1.0);
     EXPECT_NEAR(b->twist().wz, 1.5 * bh * bh / (a * a + bh * bh), 0.01) << "mu " << mu;
@@ -279,8 +230,8 @@ TEST(BulletBackendTest, LowerLateralFrictionTurnsCloserToNoSlip) {
   RobotParams loose;
   loose.mu2 = 0.3;
   const World world = MakeWorld();
-  auto stiff = MakePhysicsBackend("bullet", MakeRobot(), world);
-  auto soft = MakePhysicsBackend("bullet", MakeRobot(loose), world);
+  auto stiff = MakeBackend("bullet", MakeRobot(), world);
+  auto soft = MakeBackend("bullet", MakeRobot(loose), world);
   stiff->SetPose(Pose2{});
   soft->SetPose(Pose2{});
   Drive(stiff.get(), 0.0, 1.0, 1.0);
@@ -309,7 +260,7 @@ TEST(BulletBackendTest, FrictionLimitedAcceleration) {
 
 TEST(BulletBackendTest, ArcIsWiderThanCommandedBecauseOfSlip) {
   const World world = MakeWorld();
-  auto b = MakePhysicsBackend("bullet", MakeRobot(), world);
+  auto b = MakeBackend("bullet", MakeRobot(), world);
   b->SetPose(Pose2{});
   Drive(b.get(), 0.3, 0.5, 2.0);
   const Twist2 t = b->twist();
@@ -328,8 +279,8 @@ TEST(BulletBackendTest, AgreesWithTheFullBulletModel) {
   };
   const World world = MakeWorld();
   for (const Command c : {Command{0.2, 0.6}, Command{0.0, 2.0}, Command{0.5, -1.0}}) {
-    auto reduced = MakePhysicsBackend("bullet", MakeRobot(), world);
-    auto full = MakePhysicsBackend("bullet_naive", MakeRobot(), world);
+    auto reduced = MakeBackend("bullet", MakeRobot(), world);
+    auto full = MakeBackend("bullet_naive", MakeRobot(), world);
     for (auto* b : {reduced.get(), full.get()}) {
       b->SetPose(Pose2{});
       Drive(b, c.v, c.w, 2.0);
@@ -350,7 +301,7 @@ TEST(BulletBackendTest, PrecisionDoesNotDependOnDistanceFromOrigin) {
   double distance[2];
   for (int k = 0; k < 2; ++k) {
     const double x0 = k == 0 ? 0.0 : 40.0;
-    auto b = MakePhysicsBackend("bullet", MakeRobot(), world);
+    auto b = MakeBackend("bullet", MakeRobot(), world);
     b->SetPose(Pose2{x0, x0, 0.7});
     Drive(b.get(), 0.05, 0.0, 10.0);
     distance[k] = std::hypot(b->pose().x - x0, b->pose().y - x0);
@@ -364,10 +315,10 @@ TEST(BulletBackendTest, DoesNotTunnelThroughThinWallAtLargeSteps) {
   // A 2 cm wall, 1 m/s, 10 ms steps (1 cm per step).
   World world;
   world.shapes.push_back(
-      Box("thin", Eigen::Vector3d(1.01, 0, 0.25), Eigen::Vector3d(0.02, 4, 0.5)));
-  auto b = MakePhysicsBackend("bullet", MakeRobot(), world);
+      testing::Box("thin", 1.01, 0, 0.02, 4, 0.5));
+  auto b = MakeBackend("bullet", MakeRobot(), world);
   b->SetPose(Pose2{});
-  b->SetWheelTargets(WheelSpeedsForTwist(1.0, 0.0, kGeometry));
+  b->SetTargets(testing::SkidTargets(1.0, 0.0));
   for (int i = 0; i < 300; ++i) b->Step(0.01, nullptr);
   EXPECT_LT(b->pose().x + 0.12, 1.005);
   EXPECT_GT(b->pose().x + 0.12, 0.98);

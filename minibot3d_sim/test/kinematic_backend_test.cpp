@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "minibot3d_sim/physics_backend.h"
-#include "minibot3d_sim/skid_steer.h"
+#include "sim_test_fixtures.h"
 #include "minibot3d_sim/world_slice.h"
 
 namespace minibot3d_sim {
@@ -19,86 +19,47 @@ constexpr double kRadius = 0.04;
 constexpr double kSeparation = 0.2;
 constexpr double kBodyHeight = 0.06;  // centre of the body box above the floor
 
-// The small skid-steer robot: 0.24 x 0.16 x 0.05 body, four 0.08 m wheels at (±0.07, ±0.1).
-RobotModel MakeRobot() {
-  RobotModel m;
-  m.name = "minibot";
-  m.root_link = "base_footprint";
-  m.total_mass = 1.5;
-  m.body_mass = 1.1;
-  m.body_size = Eigen::Vector3d(0.24, 0.16, 0.05);
-  m.body_pose = Eigen::Isometry3d::Identity();
-  m.body_pose.translation() = Eigen::Vector3d(0, 0, kBodyHeight);
-  m.body_inertia_z = 0.0136;
-  const double xs[4] = {0.07, 0.07, -0.07, -0.07};
-  const double ys[4] = {0.1, -0.1, 0.1, -0.1};
-  for (int i = 0; i < 4; ++i) {
-    WheelSpec& w = m.wheels[i];
-    w.position = Eigen::Vector3d(xs[i], ys[i], kRadius);
-    w.radius = kRadius;
-    w.width = 0.03;
-    w.mass = 0.1;
-    w.inertia_axle = 0.5 * w.mass * kRadius * kRadius;
-  }
-  m.drive.wheel_separation = kSeparation;
-  m.drive.wheel_diameter = 2 * kRadius;
-  m.drive.torque = 2.0;
-  m.footprint = {{-0.12, -0.115}, {0.12, -0.115}, {0.12, 0.115}, {-0.12, 0.115}};
-  return m;
-}
-
-Shape Box(const std::string& name, const Eigen::Vector3d& centre, const Eigen::Vector3d& size) {
-  Shape s;
-  s.type = ShapeType::kBox;
-  s.name = name;
-  s.pose = Eigen::Isometry3d::Identity();
-  s.pose.translation() = centre;
-  s.size = size;
-  return s;
-}
-
-// A floor plane and a 0.5 m high wall whose near face is at x = wall_x, spanning y in [-2, 2].
-World MakeWorld(double wall_x) {
-  World w;
-  Shape floor;
-  floor.type = ShapeType::kPlane;
-  floor.name = "ground_plane::link::collision";
-  w.shapes.push_back(floor);
-  w.shapes.push_back(Box("wall::link::collision", Eigen::Vector3d(wall_x + 0.05, 0, 0.25),
-                         Eigen::Vector3d(0.1, 4.0, 0.5)));
-  w.shapes.push_back(Box("post::link::collision", Eigen::Vector3d(-5, 5, 0.25),
-                         Eigen::Vector3d(0.2, 0.2, 0.5)));
-  return w;
-}
-
-SkidSteerGeometry Geometry() { return SkidSteerGeometry{kSeparation, kRadius}; }
+RobotModel MakeRobot() { return testing::MakePhysicsRobot(); }
+World MakeWorld(double wall_x) { return testing::MakeWallWorld(wall_x); }
 
 void Drive(PhysicsBackend* b, double v, double w, double dt, int steps,
          std::vector<Contact>* contacts = nullptr) {
-  b->SetWheelTargets(WheelSpeedsForTwist(v, w, Geometry()));
+  b->SetTargets(testing::SkidTargets(v, w));
   for (int i = 0; i < steps; ++i) b->Step(dt, contacts);
 }
 
-TEST(KinematicBackendTest, WheelSpeedTwistRoundTrip) {
+// The backend moves at the no-slip twist the drive asks for and turns the wheels as told.
+TEST(KinematicBackendTest, MovesAtTheTargetsBodyTwist) {
   KinematicBackend b(MakeRobot(), MakeWorld(50.0));
   for (double v : {-0.4, 0.0, 0.25}) {
     for (double w : {-1.5, 0.0, 0.7}) {
-      const auto omega = WheelSpeedsForTwist(v, w, Geometry());
-      const Twist2 t = TwistFromWheelSpeeds(omega, Geometry());
-      EXPECT_NEAR(t.vx, v, 1e-12);
-      EXPECT_NEAR(t.wz, w, 1e-12);
-      // Left wheels: (v - w s/2)/r.
-      EXPECT_NEAR(omega[kFrontLeft], (v - w * kSeparation / 2) / kRadius, 1e-12);
-      EXPECT_NEAR(omega[kRearRight], (v + w * kSeparation / 2) / kRadius, 1e-12);
+      const DriveTargets targets = testing::SkidTargets(v, w);
       b.SetPose(Pose2{});
-      b.SetWheelTargets(omega);
+      b.SetTargets(targets);
       b.Step(0.001, nullptr);
       EXPECT_NEAR(b.twist().vx, v, 1e-12);
       EXPECT_NEAR(b.twist().vy, 0.0, 1e-12);
       EXPECT_NEAR(b.twist().wz, (v == 0.0 && w == 0.0) ? 0.0 : w, 1e-12);
-      for (int i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(b.wheel_velocities()[i], omega[i]);
+      for (int i = 0; i < 4; ++i) {
+        EXPECT_DOUBLE_EQ(b.wheel_velocities()[i], targets.wheel_speeds[i]);
+      }
     }
   }
+}
+
+// A holonomic base moves sideways exactly: 1 s at 0.3 m/s along y from a heading of 90 deg.
+TEST(KinematicBackendTest, HolonomicBodyVelocity) {
+  KinematicBackend b(MakeRobot(), MakeWorld(50.0));
+  b.SetPose(Pose2{0.0, 0.0, M_PI / 2});
+  DriveTargets targets;
+  targets.wheel_speeds.assign(4, 0.0);
+  targets.body_velocity = true;
+  targets.body_twist = Twist2{0.0, 0.3, 0.0};
+  b.SetTargets(targets);
+  for (int i = 0; i < 1000; ++i) b.Step(0.001, nullptr);
+  EXPECT_NEAR(b.pose().x, -0.3, 1e-9);
+  EXPECT_NEAR(b.pose().y, 0.0, 1e-9);
+  EXPECT_NEAR(b.pose().yaw, M_PI / 2, 1e-12);
 }
 
 TEST(KinematicBackendTest, DrivesStraightOneMetre) {
@@ -137,8 +98,8 @@ TEST(KinematicBackendTest, TurnsInPlace) {
   EXPECT_NEAR(b.pose().yaw, -2.5, 1e-9);
   EXPECT_NEAR(b.twist().wz, -1.0, 1e-12);
   // Left wheels forward, right wheels backward.
-  EXPECT_GT(b.wheel_positions()[kFrontLeft], 0.0);
-  EXPECT_LT(b.wheel_positions()[kFrontRight], 0.0);
+  EXPECT_GT(b.wheel_positions()[0], 0.0);  // left front
+  EXPECT_LT(b.wheel_positions()[1], 0.0);  // right front
 }
 
 TEST(KinematicBackendTest, StopsAtWallWithContactAndNoPenetration) {
@@ -148,7 +109,7 @@ TEST(KinematicBackendTest, StopsAtWallWithContactAndNoPenetration) {
   KinematicBackend b(robot, world);
   b.SetPose(Pose2{0.0, 0.0, 0.0});
   std::vector<Contact> contacts;
-  b.SetWheelTargets(WheelSpeedsForTwist(1.0, 0.0, Geometry()));
+  b.SetTargets(testing::SkidTargets(1.0, 0.0));
   int first_contact_step = -1;
   for (int i = 0; i < 2000; ++i) {
     contacts.clear();
@@ -236,7 +197,7 @@ TEST(KinematicBackendTest, RobotPlacedInsideObstacleCanDriveOut) {
 TEST(KinematicBackendTest, FactoryMakesEveryBackendAndNamesUnknownOnes) {
   const RobotModel robot = MakeRobot();
   const World world = MakeWorld(50.0);
-  for (const std::string name : {"kinematic", "bullet", "bullet_naive"}) {
+  for (const std::string name : {"kinematic", "bullet"}) {
     EXPECT_EQ(MakePhysicsBackend(name, robot, world)->name(), name);
   }
   try {

@@ -20,7 +20,7 @@ World OneBox() {
 
 TEST(LidarTest, RangesToABoxAtAKnownDistance) {
   const World world = OneBox();
-  LidarSpec spec = MakeRobot().lidar;
+  LaserSpec spec = MakeRobot().lasers[0];
   spec.pose_in_root = Eigen::Isometry3d::Identity();
   spec.pose_in_root.translation() = Eigen::Vector3d(0.0, 0.0, 0.2);
   spec.samples = 5;
@@ -41,7 +41,7 @@ TEST(LidarTest, RangesToABoxAtAKnownDistance) {
 
 TEST(LidarTest, SensorMountedBackwardsSeesBehind) {
   const World world = OneBox();
-  LidarSpec spec = MakeRobot().lidar;
+  LaserSpec spec = MakeRobot().lasers[0];
   spec.samples = 1;
   spec.min_angle = spec.max_angle = 0.0;
   spec.pose_in_root = Eigen::Isometry3d::Identity();
@@ -57,7 +57,7 @@ TEST(LidarTest, SensorMountedBackwardsSeesBehind) {
 
 TEST(LidarTest, TooCloseIsMinusInfAndNoiseHasItsSigma) {
   const World world = OneBox();
-  LidarSpec spec = MakeRobot().lidar;
+  LaserSpec spec = MakeRobot().lasers[0];
   spec.pose_in_root = Eigen::Isometry3d::Identity();
   spec.pose_in_root.translation().z() = 0.2;
   spec.samples = 1;
@@ -87,7 +87,7 @@ TEST(LidarTest, TooCloseIsMinusInfAndNoiseHasItsSigma) {
 
 TEST(LidarTest, ResolutionQuantisesAndMaxRangeIsInf) {
   const World world = OneBox();
-  LidarSpec spec = MakeRobot().lidar;
+  LaserSpec spec = MakeRobot().lasers[0];
   spec.pose_in_root = Eigen::Isometry3d::Identity();
   spec.pose_in_root.translation().z() = 0.2;
   spec.samples = 1;

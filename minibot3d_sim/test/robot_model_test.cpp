@@ -65,15 +65,20 @@ TEST(RobotModelTest, ShippedRobot) {
   const RobotModel m = ParseRobotModel(xml);
   EXPECT_EQ(m.root_link, "base_footprint");
   EXPECT_TRUE(m.warnings.empty()) << m.warnings.front();
-  EXPECT_DOUBLE_EQ(m.drive.wheel_separation, 0.2);
-  EXPECT_DOUBLE_EQ(m.drive.wheel_diameter, 0.08);
-  EXPECT_DOUBLE_EQ(m.drive.torque, 2.0);
-  EXPECT_EQ(m.drive.robot_base_frame, "base_footprint");
-  EXPECT_EQ(m.drive.command_topic, "cmd_vel");
-  EXPECT_EQ(m.drive.odometry_frame, "odom");
-  EXPECT_TRUE(m.drive.broadcast_tf);
-  EXPECT_EQ(m.wheels[kFrontLeft].joint, "front_left_wheel_hinge");
-  EXPECT_EQ(m.wheels[kRearRight].joint, "rear_right_wheel_hinge");
+  ASSERT_EQ(m.drive.kind, DriveKind::kSkidSteer);
+  const SkidSteerDriveOptions& d = m.drive.skid_steer;
+  EXPECT_DOUBLE_EQ(d.wheel_separation, 0.2);
+  EXPECT_DOUBLE_EQ(d.wheel_diameter, 0.08);
+  EXPECT_DOUBLE_EQ(d.torque, 2.0);
+  EXPECT_EQ(d.robot_base_frame, "base_footprint");
+  EXPECT_EQ(d.command_topic, "cmd_vel");
+  EXPECT_EQ(d.odometry_frame, "odom");
+  EXPECT_TRUE(d.broadcast_tf);
+  EXPECT_EQ(m.drive.robot_namespace, "/");
+  ASSERT_EQ(m.wheels.size(), 4u);
+  EXPECT_EQ(m.wheels[0].joint, "front_left_wheel_hinge");
+  EXPECT_EQ(m.wheels[3].joint, "rear_right_wheel_hinge");
+  EXPECT_TRUE(m.supports.empty()) << "the casters ride above the floor";
   for (const auto& w : m.wheels) {
     EXPECT_NEAR(w.radius, 0.04, 1e-9);
     EXPECT_NEAR(w.position.z(), 0.04, 1e-9) << w.joint << ": axle height";
@@ -82,20 +87,22 @@ TEST(RobotModelTest, ShippedRobot) {
     EXPECT_GT(w.inertia_axle, 0.0);
     EXPECT_GT(w.velocity_limit, 0.0);
   }
-  EXPECT_GT(m.wheels[kFrontLeft].position.y(), 0.0);
-  EXPECT_GT(m.wheels[kFrontLeft].position.x(), 0.0);
-  EXPECT_EQ(m.lidar.frame_id, "laser");
-  EXPECT_EQ(m.lidar.topic, "/scan");
-  EXPECT_EQ(m.lidar.samples, 360);
-  EXPECT_DOUBLE_EQ(m.lidar.min_range, 0.15);
-  EXPECT_DOUBLE_EQ(m.lidar.max_range, 12.0);
-  EXPECT_DOUBLE_EQ(m.lidar.update_rate, 10.0);
-  EXPECT_DOUBLE_EQ(m.lidar.noise_stddev, 0.01);
+  EXPECT_GT(m.wheels[0].position.y(), 0.0);
+  EXPECT_GT(m.wheels[0].position.x(), 0.0);
+  ASSERT_EQ(m.lasers.size(), 1u);
+  const LaserSpec& l = m.lasers[0];
+  EXPECT_EQ(l.frame_id, "laser");
+  EXPECT_EQ(l.topic, "/scan");
+  EXPECT_EQ(l.samples, 360);
+  EXPECT_DOUBLE_EQ(l.min_range, 0.15);
+  EXPECT_DOUBLE_EQ(l.max_range, 12.0);
+  EXPECT_DOUBLE_EQ(l.update_rate, 10.0);
+  EXPECT_DOUBLE_EQ(l.noise_stddev, 0.01);
   // laser = chassis top (0.04 + 0.055) + 0.02 forward, yawed by pi; rays 3 cm above it.
-  EXPECT_NEAR(m.lidar.link_in_root.translation().x(), 0.02, 1e-9);
-  EXPECT_NEAR(m.lidar.link_in_root.translation().z(), 0.095, 1e-9);
-  EXPECT_NEAR(m.lidar.pose_in_root.translation().z(), 0.125, 1e-9);
-  EXPECT_NEAR((m.lidar.link_in_root.linear() * Eigen::Vector3d::UnitX()).x(), -1.0, 1e-6);
+  EXPECT_NEAR(l.link_in_root.translation().x(), 0.02, 1e-9);
+  EXPECT_NEAR(l.link_in_root.translation().z(), 0.095, 1e-9);
+  EXPECT_NEAR(l.pose_in_root.translation().z(), 0.125, 1e-9);
+  EXPECT_NEAR((l.link_in_root.linear() * Eigen::Vector3d::UnitX()).x(), -1.0, 1e-6);
   EXPECT_NEAR(m.total_mass, 1.0 + 4 * 0.08 + 2 * 0.02 + 0.17, 1e-9);
   EXPECT_NEAR(m.body_size.x(), 0.24, 1e-9);
   EXPECT_GT(m.body_inertia_z, 0.0);
@@ -104,13 +111,16 @@ TEST(RobotModelTest, ShippedRobot) {
 
 TEST(RobotModelTest, MinimalRobot) {
   const RobotModel m = ParseRobotModel(MiniUrdf());
-  EXPECT_EQ(m.lidar.topic, "scan2");
-  EXPECT_EQ(m.lidar.samples, 90);
-  EXPECT_DOUBLE_EQ(m.lidar.update_rate, 5.0);
-  EXPECT_NEAR(m.lidar.pose_in_root.translation().z(), 0.22, 1e-9);
-  EXPECT_DOUBLE_EQ(m.drive.torque, 3.0);
-  EXPECT_EQ(m.drive.odometry_topic, "odom");  // the plugin's defaults for absent tags
-  EXPECT_NEAR(m.wheels[kFrontRight].position.y(), -0.15, 1e-6);
+  ASSERT_EQ(m.lasers.size(), 1u);
+  const LaserSpec& l = m.lasers[0];
+  EXPECT_EQ(l.topic, "scan2");
+  EXPECT_EQ(l.samples, 90);
+  EXPECT_DOUBLE_EQ(l.update_rate, 5.0);
+  EXPECT_NEAR(l.pose_in_root.translation().z(), 0.22, 1e-9);
+  EXPECT_DOUBLE_EQ(m.drive.skid_steer.torque, 3.0);
+  EXPECT_EQ(m.drive.skid_steer.odometry_topic, "odom");  // the plugin's defaults for absent tags
+  EXPECT_FALSE(m.drive.skid_steer.broadcast_tf);
+  EXPECT_NEAR(m.wheels[1].position.y(), -0.15, 1e-6);
   EXPECT_NEAR(m.total_mass, 2.4, 1e-12);
   // Footprint: the hull of body and wheels spans the wheels' outer faces.
   double max_y = 0;
@@ -133,9 +143,7 @@ TEST(RobotModelTest, BadInputIsNamed) {
   ExpectError("<notarobot/>", "<robot>");
   std::string no_drive = MiniUrdf();
   no_drive.replace(no_drive.find("libgazebo_ros_skid_steer_drive.so"), 33, "libother_plugin.so");
-  ExpectError(no_drive, "skid_steer_drive");
-  std::string no_sensor = MiniUrdf("", "<gazebo reference='lidar'><material>x</material></gazebo>");
-  ExpectError(no_sensor, "sensor");
+  ExpectError(no_drive, "no drive plugin");
   ExpectError(MiniUrdf("", "", "nosuchjoint"), "nosuchjoint");
   ExpectError(MiniUrdf("<updateRate>fast</updateRate>"), "updateRate");
   std::string bad_range = MiniUrdf();
@@ -146,6 +154,14 @@ TEST(RobotModelTest, BadInputIsNamed) {
   ExpectError(bad_ref, "nolink");
 }
 
+// A laser needs no more than it is given, but a robot may have none: the simulator then publishes
+// no scans.
+TEST(RobotModelTest, ARobotWithoutLaserIsFine) {
+  const RobotModel m =
+      ParseRobotModel(MiniUrdf("", "<gazebo reference='lidar'><material>x</material></gazebo>"));
+  EXPECT_TRUE(m.lasers.empty());
+}
+
 TEST(RobotModelTest, UnknownPluginsAndTagsWarnOnce) {
   const std::string extra_sensor =
       "<gazebo reference='lidar'><sensor type='ray' name='s'><update_rate>5</update_rate>"
@@ -154,9 +170,18 @@ TEST(RobotModelTest, UnknownPluginsAndTagsWarnOnce) {
       "<plugin name='p' filename='libgazebo_ros_laser.so'/></sensor>"
       "<wobble>1</wobble></gazebo><gazebo><plugin name='x' filename='libmystery.so'/></gazebo>";
   const RobotModel m = ParseRobotModel(MiniUrdf("", extra_sensor));
-  ASSERT_EQ(m.warnings.size(), 2u);
-  EXPECT_NE(m.warnings[0].find("wobble"), std::string::npos);
-  EXPECT_NE(m.warnings[1].find("libmystery.so"), std::string::npos);
+  auto count = [&m](const std::string& needle) {
+    int n = 0;
+    for (const auto& w : m.warnings) n += w.find(needle) != std::string::npos;
+    return n;
+  };
+  EXPECT_EQ(count("<wobble>"), 1);
+  EXPECT_EQ(count("libmystery.so"), 1);
+  // A laser plugin without topicName/frameName gets Gazebo's defaults, with a warning.
+  EXPECT_EQ(count("Gazebo's defaults /world"), 1);
+  ASSERT_EQ(m.lasers.size(), 1u);
+  EXPECT_EQ(m.lasers[0].topic, "/world");
+  EXPECT_EQ(m.lasers[0].frame_id, "world");
 }
 
 }  // namespace

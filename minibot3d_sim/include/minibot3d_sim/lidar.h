@@ -22,19 +22,19 @@ using minibot3d_common::Pose2;
 class Lidar {
  public:
   // `slice` must be cut at the sensor's height and outlive the Lidar.
-  Lidar(const LidarSpec& spec, const WorldSlice* slice, unsigned seed);
+  Lidar(const LaserSpec& spec, const WorldSlice* slice, unsigned seed);
 
   // Ranges of one scan with the robot's root frame at `root_pose` (world frame).
   void Scan(const Pose2& root_pose, std::vector<float>* ranges);
 
   double angle_increment() const { return increment_; }
-  const LidarSpec& spec() const { return spec_; }
+  const LaserSpec& spec() const { return spec_; }
   void Reseed(unsigned seed) { rng_.seed(seed); }
   // Rays cast so far (for benchmarks).
   long rays_cast() const { return rays_cast_; }
 
  private:
-  LidarSpec spec_;
+  LaserSpec spec_;
   const WorldSlice* slice_;
   Pose2 sensor_in_root_;
   double increment_ = 0.0;

@@ -1,7 +1,8 @@
-// The physics extension point: how the robot's body moves given wheel speed targets.
+// The physics extension point: how the robot's body moves given its drive's targets (wheel speed
+// targets, or the body velocity of a holonomic base).
 //
 // Lifecycle: construct with the robot model and the world → SetPose(spawn) → repeatedly
-// SetWheelTargets() and Step(dt) with a fixed dt → read pose()/twist()/wheel_*(). The simulator
+// SetTargets() and Step(dt) with a fixed dt → read pose()/twist()/wheel_*(). The simulator
 // owns the clock; a backend never looks at wall time.
 #ifndef MINIBOT3D_SIM_PHYSICS_BACKEND_H_
 #define MINIBOT3D_SIM_PHYSICS_BACKEND_H_
@@ -14,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "minibot3d_common/geometry2d.h"
+#include "minibot3d_sim/drive.h"
 #include "minibot3d_sim/robot_model.h"
 #include "minibot3d_sim/world.h"
 
@@ -42,8 +44,9 @@ class PhysicsBackend {
   // angles are kept, wheel speeds zeroed.
   virtual void SetPose(const Pose2& pose) = 0;
 
-  // Target wheel joint speeds (rad/s) in WheelIndex order, as the drive plugin's motors command.
-  virtual void SetWheelTargets(const std::array<double, 4>& omega) = 0;
+  // What the drive asks for the next steps: wheel joint speeds (rad/s, RobotModel::wheels order)
+  // as its motors command, or the body's velocity.
+  virtual void SetTargets(const DriveTargets& targets) = 0;
 
   // Advances by dt seconds. Appends to *contacts the robot–world contacts present after the step
   // (may be null).
@@ -51,12 +54,11 @@ class PhysicsBackend {
 
   virtual Pose2 pose() const = 0;    // true pose of the root frame in the world
   virtual Twist2 twist() const = 0;  // true body-frame twist of the root frame
-  virtual std::array<double, 4> wheel_velocities() const = 0;  // joint speeds (rad/s)
-  virtual std::array<double, 4> wheel_positions() const = 0;   // joint angles (rad), unwrapped
+  virtual const std::vector<double>& wheel_velocities() const = 0;  // joint speeds (rad/s)
+  virtual const std::vector<double>& wheel_positions() const = 0;   // joint angles (rad), unwrapped
 };
 
-// Factory: "bullet", "kinematic", or "bullet_naive" (the full rigid-body model, kept to measure
-// against). Throws std::invalid_argument naming an unknown backend.
+// Factory: "bullet" or "kinematic". Throws std::invalid_argument naming an unknown backend.
 std::unique_ptr<PhysicsBackend> MakePhysicsBackend(const std::string& name,
                                                    const RobotModel& robot, const World& world);
 

@@ -1,20 +1,29 @@
 // The simulated robot, as read from a URDF with Gazebo extension tags.
 //
-// The URDF (urdfdom) gives the kinematic tree, link masses and collision boxes; the <gazebo> blocks
-// give what Gazebo's plugins would have read: the skid-steer drive plugin (wheel joints,
-// wheelSeparation, wheelDiameter, torque, topics, frames, covariances), per-link wheel friction
-// (mu1, mu2, kp, kd) and the ray sensor on the lidar link (samples, angles, ranges, noise, rate,
-// topic and frame of its ROS plugin).
+// urdfdom gives the kinematic tree, link masses and collision geometry; the <gazebo> blocks give
+// what Gazebo's ROS plugins would have read, with the plugins' own tag names and defaults: one drive
+// plugin (skid-steer, diff-drive, planar-move, or gazebo_ros_control with a diff_drive_controller
+// configured on the parameter server), per-link wheel friction (mu1, mu2, kp, kd), and any number of
+// sensors (ray / gpu_ray lasers, IMUs, depth and colour cameras, ground truth). Each plugin and
+// sensor reads its tags through an option table (gazebo_plugins.h), which also writes the plugin
+// reference of the docs; a tag no table reads is named once in a warning.
+//
+// The model is taken at zero joint positions: a mobile base whose wheels and casters turn about
+// their axles keeps its shape.
 #ifndef MINIBOT3D_SIM_ROBOT_MODEL_H_
 #define MINIBOT3D_SIM_ROBOT_MODEL_H_
 
-#include <array>
 #include <cmath>
+#include <functional>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
+
+#include "minibot3d_sim/gazebo_plugins.h"
+#include "minibot3d_sim/world.h"
 
 namespace minibot3d_sim {
 
@@ -23,13 +32,12 @@ class RobotModelError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Wheel order used everywhere in the simulator.
-enum WheelIndex { kFrontLeft = 0, kFrontRight = 1, kRearLeft = 2, kRearRight = 3 };
-
+// A driven wheel.
 struct WheelSpec {
-  std::string joint;                                  // e.g. front_left_wheel_hinge
+  std::string joint;                                   // e.g. front_left_wheel_hinge
   std::string link;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // wheel centre in the root frame (m)
+  bool left = true;                                    // on the robot's left (+y) side
   double radius = 0.0;
   double width = 0.0;
   double mass = 0.0;
@@ -38,57 +46,85 @@ struct WheelSpec {
   double kp = 1e6, kd = 1.0;    // contact stiffness / damping (Gazebo/ODE meaning)
   double effort_limit = 0.0;    // from <limit effort>, N m (0: none given)
   double velocity_limit = 0.0;  // from <limit velocity>, rad/s (0: none given)
+  double torque = 0.0;          // the motor's torque limit the drive sets (N m)
 };
 
-struct DriveSpec {  // libgazebo_ros_skid_steer_drive.so
-  double update_rate = 100.0;
-  std::string command_topic = "cmd_vel";
-  std::string odometry_topic = "odom";
-  std::string odometry_frame = "odom";
-  std::string robot_base_frame = "base_footprint";
-  bool broadcast_tf = true;
-  double wheel_separation = 0.0;
-  double wheel_diameter = 0.0;
-  double torque = 0.0;  // per wheel, N m
-  double covariance_x = 1e-4, covariance_y = 1e-4, covariance_yaw = 1e-2;
-  std::array<std::string, 4> joints;  // FL, FR, RL, RR
+// A link touching the floor that is not driven (a caster ball or wheel): it carries load, not
+// traction.
+struct SupportPoint {
+  std::string link;
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();  // root frame (m)
 };
 
-struct LidarSpec {  // <sensor type="ray"> + libgazebo_ros_laser.so
-  std::string link;                   // the URDF link it is attached to
-  std::string frame_id;               // <frameName>
-  std::string topic = "scan";         // <topicName>
-  Eigen::Isometry3d pose_in_root = Eigen::Isometry3d::Identity();  // ray origin (link ∘ <pose>)
-  Eigen::Isometry3d link_in_root = Eigen::Isometry3d::Identity();  // the frame_id's frame
-  int samples = 360;
-  double min_angle = -M_PI, max_angle = M_PI;
-  double min_range = 0.15, max_range = 12.0;
-  double resolution = 0.01;
-  double update_rate = 10.0;
-  double noise_mean = 0.0, noise_stddev = 0.0;
+// One collision shape of one link, in the root frame at zero joint positions.
+struct CollisionShape {
+  std::string link;
+  Shape shape;  // its pose is the root frame's, not the world's
+  // Extent seen from above (convex, root frame, counter-clockwise) and in height.
+  std::vector<Eigen::Vector2d> outline;
+  double z_min = 0.0, z_max = 0.0;
+};
+
+// A movable joint robot_state_publisher needs a state for.
+struct JointSpec {
+  std::string name;
+  std::string type;  // revolute, continuous, prismatic
 };
 
 struct RobotModel {
   std::string name;
-  std::string root_link;  // base_footprint
+  std::string root_link;  // usually base_footprint
   double total_mass = 0.0;
-  // Body (everything but the wheels) as one box in the root frame: for contacts and footprint.
+  // Yaw inertia of the whole robot about the vertical axis through the root (kg m^2).
+  double body_inertia_z = 0.0;
+  // Everything but the driven wheels as one box in the root frame (the body's extent).
   Eigen::Vector3d body_size = Eigen::Vector3d::Zero();
   Eigen::Isometry3d body_pose = Eigen::Isometry3d::Identity();
   double body_mass = 0.0;
-  double body_inertia_z = 0.0;  // whole robot about the vertical axis through the root (kg m^2)
-  std::array<WheelSpec, 4> wheels;
-  DriveSpec drive;
-  LidarSpec lidar;
-  // Convex outline of the body and wheels seen from above, root frame, counter-clockwise.
+  std::vector<WheelSpec> wheels;  // in the drive plugin's order
+  std::vector<SupportPoint> supports;
+  std::vector<CollisionShape> collisions;
+  std::vector<JointSpec> joints;
+  // Root-frame pose of every link at zero joint positions.
+  std::map<std::string, Eigen::Isometry3d> link_poses;
+  // Convex outline of every collision shape seen from above, root frame, counter-clockwise.
   std::vector<Eigen::Vector2d> footprint;
-  // Non-fatal findings (unknown plugins or tags), one line each, to be logged once.
+
+  DrivePluginSpec drive;
+  std::vector<LaserSpec> lasers;
+  std::vector<ImuSpec> imus;
+  std::vector<CameraSpec> cameras;
+  std::vector<GroundTruthSpec> ground_truths;
+  std::vector<JointStatePublisherSpec> joint_state_publishers;
+
+  // Non-fatal findings (a tag or plugin nothing reads), one line each, to be logged once.
   std::vector<std::string> warnings;
+
+  // Root-frame pose of a link; throws RobotModelError naming it when there is none.
+  const Eigen::Isometry3d& LinkPose(const std::string& link) const;
+  bool HasLink(const std::string& link) const { return link_poses.count(link) > 0; }
 };
 
-// Parses an expanded URDF document. Throws RobotModelError naming the tag/link/joint at fault
-// (missing skid-steer plugin, missing ray sensor, wheel joint not found, ...).
-RobotModel ParseRobotModel(const std::string& urdf_xml);
+// Where gazebo_ros_control's controllers are configured: for each controller namespace under
+// the robot's namespace, its keys as text (nested keys joined with '/', e.g. "linear/x/max_velocity";
+// lists as "[a, b]"). The simulator node fills it from the parameter server.
+using ControllerParams = std::map<std::string, std::map<std::string, std::string>>;
+
+struct RobotModelOptions {
+  // The namespace given to every plugin without a <robotNamespace>, as Gazebo's spawn_model does.
+  std::string spawn_namespace = "/";
+  // Controllers on the parameter server (gazebo_ros_control only).
+  ControllerParams controllers;
+  // Turns a collision mesh's URL into a file path; empty: package:// through ROS_PACKAGE_PATH,
+  // file:// and plain paths as they are.
+  std::function<std::string(const std::string& url)> resolve_mesh_url;
+};
+
+// Parses an expanded URDF document. Throws RobotModelError naming the tag, link, joint or plugin
+// at fault (no drive plugin, two drive plugins, a joint or link the URDF lacks, a camera wider than
+// 2^15 pixels, a mesh that will not load, a controller missing its wheels, ...).
+RobotModel ParseRobotModel(const std::string& urdf_xml,
+                           const RobotModelOptions& options = RobotModelOptions());
 
 }  // namespace minibot3d_sim
 

@@ -1,26 +1,28 @@
-// The simulator core, ROS-free: robot + world + physics backend + lidar + wheel odometry, advanced
+// The simulator core, ROS-free: robot + world + physics backend + drive plugin + sensors, advanced
 // in fixed steps of `physics_step` seconds. It owns the clock — time is steps × physics_step, never
 // read from a wall clock — so a run is reproducible and can go at any real-time factor; the ROS node
-// (sim_node.cpp) only converts its outputs to messages and paces it against the wall clock.
+// only converts its outputs to messages and paces it against the wall clock.
 //
-// Per step: the drive plugin's motors get wheel targets from the last cmd_vel (zero once it is older
-// than cmd_timeout), the backend advances, odometry integrates the wheel joint speeds exactly over
-// the step (so it drifts when the wheels slip, as on the real robot), and contacts that begin are
-// turned into collision events.
+// Per step: the drive plugin turns the last command into targets (wheel speeds or, for a holonomic
+// base, the body's velocity), the backend advances, the drive observes the step (its odometry), and
+// contacts that begin are turned into collision events. Sensors fire when sim time reaches a
+// multiple of their period (every step for a rate of 0).
 #ifndef MINIBOT3D_SIM_SIMULATOR_H_
 #define MINIBOT3D_SIM_SIMULATOR_H_
 
 #include <cstdint>
-#include <memory>
+#include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "minibot3d_common/geometry2d.h"
+#include "minibot3d_sim/drive.h"
+#include "minibot3d_sim/imu.h"
 #include "minibot3d_sim/lidar.h"
 #include "minibot3d_sim/physics_backend.h"
 #include "minibot3d_sim/robot_model.h"
-#include "minibot3d_sim/skid_steer.h"
 #include "minibot3d_sim/world.h"
 #include "minibot3d_sim/world_slice.h"
 
@@ -30,20 +32,14 @@ using minibot3d_common::Pose2;
 using minibot3d_common::Twist2;
 
 struct SimulatorOptions {
-  std::string physics = "bullet";  // "bullet", "bullet_naive" or "kinematic"
+  std::string physics = "bullet";  // "bullet" or "kinematic"
   double physics_step = 0.001;     // s
-  double cmd_timeout = 0.5;        // s of sim time
+  double cmd_timeout = 0.5;        // s of sim time (drives without a timeout of their own)
   Pose2 spawn;
-  unsigned seed = 1;               // lidar noise
-  // Odometry's effective track = wheel_separation × this (diff_drive_controller's
-  // wheel_separation_multiplier). A skid-steer robot turning in place slips sideways, so its wheels
-  // turn (a² + b²)/b² times more than a no-slip model expects (a: half wheelbase, b: half track);
-  // real skid-steer robots calibrate this. 1.0 integrates the raw wheel speeds.
+  unsigned seed = 1;               // sensor noise
+  // Skid-steer only: the odometry's and the command's effective track as multiples of
+  // wheelSeparation (see DriveSettings).
   double odom_wheel_separation_multiplier = 1.0;
-  // The drive's effective track when it turns cmd_vel into wheel speeds (the same
-  // multiplier of diff_drive_controller, applied on the command side): with the slip factor
-  // above, commanded yaw rates are then achieved instead of b²/(a² + b²) of them, which a local
-  // planner predicting arcs relies on. 1.0 is the Gazebo skid-steer plugin (no compensation).
   double cmd_wheel_separation_multiplier = 1.0;
 };
 
@@ -56,12 +52,32 @@ struct CollisionEvent {
   std::string shape_name;
 };
 
+// When a sensor with a rate fires: at origin + k / rate (every step for a rate of 0).
+class SensorClock {
+ public:
+  explicit SensorClock(double rate) : rate_(rate) {}
+  bool Due(double t) const { return rate_ <= 0.0 || t + 1e-9 >= origin_ + count_ / rate_; }
+  void Fired() { ++count_; }
+  double rate() const { return rate_; }
+
+ private:
+  double rate_;
+  double origin_ = 0.0;
+  double count_ = 0.0;
+};
+
 class Simulator {
  public:
-  Simulator(const RobotModel& robot, World world, const SimulatorOptions& options);
+  using BackendFactory =
+      std::function<std::unique_ptr<PhysicsBackend>(const RobotModel&, const World&)>;
 
-  // Body twist command (m/s, rad/s), as received on cmd_vel; stamped with the current sim time.
-  void SetCommand(double v, double w);
+  // `make_backend` replaces the factory of options.physics (benchmarks measure other backends).
+  Simulator(const RobotModel& robot, World world, const SimulatorOptions& options,
+            const BackendFactory& make_backend = nullptr);
+
+  // A body twist command (m/s, m/s, rad/s), as received on cmd_vel; stamped with the sim time.
+  void Command(const Twist2& command);
+  void SetCommand(double v, double w) { Command(Twist2{v, 0.0, w}); }
   void Step();
 
   double time() const { return static_cast<double>(steps_) * options_.physics_step; }
@@ -70,17 +86,26 @@ class Simulator {
 
   Pose2 true_pose() const { return backend_->pose(); }
   Twist2 true_twist() const { return backend_->twist(); }
-  Pose2 odom_pose() const { return odom_pose_; }
-  Twist2 odom_twist() const { return odom_twist_; }
-  std::array<double, 4> wheel_positions() const { return backend_->wheel_positions(); }
-  std::array<double, 4> wheel_velocities() const { return backend_->wheel_velocities(); }
-  bool command_active() const;
+  const DrivePlugin& drive() const { return *drive_; }
+  Pose2 odom_pose() const { return drive_->odometry_pose(); }
+  Twist2 odom_twist() const { return drive_->odometry_twist(); }
+  const std::vector<double>& wheel_positions() const { return backend_->wheel_positions(); }
+  const std::vector<double>& wheel_velocities() const { return backend_->wheel_velocities(); }
 
-  // The lidar fires when sim time reaches a multiple of 1/update_rate.
-  bool ScanDue() const;
+  // Lasers, in RobotModel::lasers order.
+  size_t laser_count() const { return lidars_.size(); }
+  bool ScanDue(size_t laser) const { return scan_clocks_[laser].Due(time()); }
   // Casts the scan for the current pose and schedules the next one.
-  void TakeScan(std::vector<float>* ranges);
-  const Lidar& lidar() const { return *lidar_; }
+  void TakeScan(size_t laser, std::vector<float>* ranges);
+  const Lidar& lidar(size_t laser) const { return *lidars_[laser]; }
+
+  // IMUs and ground-truth plugins, in RobotModel order.
+  size_t imu_count() const { return imus_.size(); }
+  bool ImuDue(size_t i) const { return imu_clocks_[i].Due(time()); }
+  ImuReading TakeImu(size_t i);
+  size_t ground_truth_count() const { return ground_truths_.size(); }
+  bool GroundTruthDue(size_t i) const { return truth_clocks_[i].Due(time()); }
+  GroundTruthReading TakeGroundTruth(size_t i);
 
   // Collision events since the last call: one each time the body starts touching a world shape it
   // has not touched for kContactRelease seconds (a robot pushing against a wall keeps flickering in
@@ -107,19 +132,18 @@ class Simulator {
   RobotModel robot_;
   World world_;
   SimulatorOptions options_;
-  SkidSteerGeometry geometry_;       // the drive: cmd_vel → wheel speeds
-  SkidSteerGeometry odom_geometry_;  // odometry: wheel speeds → twist
+  std::unique_ptr<DrivePlugin> drive_;
   std::unique_ptr<PhysicsBackend> backend_;
-  std::unique_ptr<WorldSlice> lidar_slice_;
+  // One slice per distinct laser height (keyed by the height in µm), and the body's.
+  std::map<long long, std::unique_ptr<WorldSlice>> laser_slices_;  // NOLINT(runtime/int)
   std::unique_ptr<WorldSlice> body_slice_;
-  std::unique_ptr<Lidar> lidar_;
+  std::vector<std::unique_ptr<Lidar>> lidars_;
+  std::vector<SensorClock> scan_clocks_;
+  std::vector<Imu> imus_;
+  std::vector<SensorClock> imu_clocks_;
+  std::vector<GroundTruth> ground_truths_;
+  std::vector<SensorClock> truth_clocks_;
   std::uint64_t steps_ = 0;
-  std::uint64_t scans_ = 0;  // scans taken; the next is due at scans_ / update_rate
-  double scan_origin_ = 0.0;  // sim time of the first scan
-  double cmd_v_ = 0.0, cmd_w_ = 0.0;
-  double cmd_time_ = -1e9;
-  Pose2 odom_pose_;
-  Twist2 odom_twist_;
   std::vector<Contact> contacts_;
   static constexpr double kContactRelease = 0.25;  // s
   std::map<int, double> last_touch_;  // world shape → sim time it was last touched

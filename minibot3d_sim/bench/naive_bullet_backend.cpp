@@ -25,7 +25,10 @@ btTransform RootTransform(const Pose2& pose) {
 }  // namespace
 
 NaiveBulletBackend::NaiveBulletBackend(const RobotModel& robot, const World& world) {
-  torque_limit_ = robot.drive.torque;
+  if (robot.wheels.size() != 4) {
+    throw std::invalid_argument("NaiveBulletBackend: a four-wheel robot only");
+  }
+  torque_limit_ = robot.wheels[0].torque;
   if (!(torque_limit_ > 0.0)) {
     throw std::invalid_argument("NaiveBulletBackend: the drive plugin's torque must be > 0");
   }
@@ -80,7 +83,7 @@ NaiveBulletBackend::NaiveBulletBackend(const RobotModel& robot, const World& wor
 
   for (int i = 0; i < 4; ++i) {
     const WheelSpec& spec = robot.wheels[i];
-    const double r = spec.radius > 0.0 ? spec.radius : robot.drive.wheel_diameter / 2.0;
+    const double r = spec.radius;
     const double half_width = spec.width > 0.0 ? spec.width / 2.0 : 0.25 * r;
     wheel_in_root_[i] = btVector3(spec.position.x(), spec.position.y(), spec.position.z());
     // Cylinder along the body's y axis = the axle.
@@ -147,7 +150,9 @@ void NaiveBulletBackend::SetPose(const Pose2& pose) {
   }
 }
 
-void NaiveBulletBackend::SetWheelTargets(const std::array<double, 4>& omega) { targets_ = omega; }
+void NaiveBulletBackend::SetTargets(const DriveTargets& targets) {
+  for (int i = 0; i < 4; ++i) targets_[i] = targets.wheel_speeds[i];
+}
 
 double NaiveBulletBackend::WheelSpeed(int i) const {
   const btVector3 axle = chassis_->getWorldTransform().getBasis() *
@@ -216,12 +221,15 @@ Twist2 NaiveBulletBackend::twist() const {
   return Twist2{c * v.x() + s * v.y(), -s * v.x() + c * v.y(), chassis_->getAngularVelocity().z()};
 }
 
-std::array<double, 4> NaiveBulletBackend::wheel_velocities() const {
-  std::array<double, 4> out{};
-  for (int i = 0; i < 4; ++i) out[i] = WheelSpeed(i);
-  return out;
+const std::vector<double>& NaiveBulletBackend::wheel_velocities() const {
+  velocities_out_.resize(4);
+  for (int i = 0; i < 4; ++i) velocities_out_[i] = WheelSpeed(i);
+  return velocities_out_;
 }
 
-std::array<double, 4> NaiveBulletBackend::wheel_positions() const { return angles_; }
+const std::vector<double>& NaiveBulletBackend::wheel_positions() const {
+  positions_out_.assign(angles_.begin(), angles_.end());
+  return positions_out_;
+}
 
 }  // namespace minibot3d_sim

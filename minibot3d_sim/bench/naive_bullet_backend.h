@@ -1,5 +1,6 @@
-// NaiveBulletBackend ("bullet_naive"): the textbook Bullet vehicle, kept as the yardstick the
-// default BulletBackend was measured against (see bullet_backend.h and the README).
+// NaiveBulletBackend: the textbook Bullet vehicle, the yardstick the default BulletBackend is
+// measured against (bench/physics_bench.cpp, test/bullet_backend_test.cpp); it ships in no library
+// (a four-wheel skid-steer robot only).
 //
 // Model: a full 3-D btDiscreteDynamicsWorld under gravity. The chassis is a box body; each wheel
 // is a cylinder body joined to it by a btHingeConstraint whose angular motor drives it towards
@@ -36,13 +37,13 @@ class NaiveBulletBackend : public PhysicsBackend {
 
   std::string name() const override { return "bullet_naive"; }
   void SetPose(const Pose2& pose) override;
-  void SetWheelTargets(const std::array<double, 4>& omega) override;
+  void SetTargets(const DriveTargets& targets) override;
   void Step(double dt, std::vector<Contact>* contacts) override;
 
   Pose2 pose() const override;
   Twist2 twist() const override;
-  std::array<double, 4> wheel_velocities() const override;
-  std::array<double, 4> wheel_positions() const override;
+  const std::vector<double>& wheel_velocities() const override;
+  const std::vector<double>& wheel_positions() const override;
 
  private:
   // Wheel joint speed: the wheel's angular velocity relative to the chassis about its axle.
@@ -54,6 +55,7 @@ class NaiveBulletBackend : public PhysicsBackend {
   std::array<btVector3, 4> wheel_in_root_;   // wheel centres in the root frame
   std::array<double, 4> targets_{};
   std::array<double, 4> angles_{};
+  mutable std::vector<double> velocities_out_, positions_out_;
 
   std::unique_ptr<btDefaultCollisionConfiguration> collision_config_;
   std::unique_ptr<btCollisionDispatcher> dispatcher_;

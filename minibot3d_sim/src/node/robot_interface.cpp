@@ -1,0 +1,259 @@
+#include "robot_interface.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <geometry_msgs/TransformStamped.h>
+#include <sensor_msgs/Imu.h>
+#include <urdf/model.h>
+
+#include "minibot3d_ros/conversions.h"
+
+namespace minibot3d_sim {
+namespace {
+
+nav_msgs::Odometry MakeOdometry(const ros::Time& stamp, const std::string& frame,
+                                const std::string& child, const Pose2& pose, const Twist2& twist) {
+  nav_msgs::Odometry m;
+  m.header.stamp = stamp;
+  m.header.frame_id = frame;
+  m.child_frame_id = child;
+  m.pose.pose.position.x = pose.x;
+  m.pose.pose.position.y = pose.y;
+  m.pose.pose.orientation = minibot3d_ros::YawToQuaternion(pose.yaw);
+  m.twist.twist.linear.x = twist.vx;
+  m.twist.twist.linear.y = twist.vy;
+  m.twist.twist.angular.z = twist.wz;
+  return m;
+}
+
+// tf frame names have no leading slash.
+std::string Frame(const std::string& name) {
+  return !name.empty() && name[0] == '/' ? name.substr(1) : name;
+}
+
+geometry_msgs::Quaternion ToMsg(const Eigen::Quaterniond& q) {
+  geometry_msgs::Quaternion m;
+  m.x = q.x();
+  m.y = q.y();
+  m.z = q.z();
+  m.w = q.w();
+  return m;
+}
+
+}  // namespace
+
+std::string RobotInterface::Resolve(const std::string& ns, const std::string& topic) {
+  if (!topic.empty() && topic[0] == '/') return topic;
+  std::string prefix = ns.empty() ? "/" : ns;
+  if (prefix[0] != '/') prefix = "/" + prefix;
+  if (prefix.back() != '/') prefix += "/";
+  return prefix + topic;
+}
+
+RobotInterface::RobotInterface(Simulator* sim, const std::string& urdf_xml, const Options& options,
+                               ros::CallbackQueue* cmd_queue)
+    : sim_(sim), options_(options) {
+  const RobotModel& robot = sim_->robot();
+  const DriveInterface& d = sim_->drive().interface();
+  // Joint states: the driven wheels first (their positions and speeds), then every other movable
+  // joint robot_state_publisher needs (casters, ...) at 0.
+  for (const auto& w : robot.wheels) joint_state_.name.push_back(w.joint);
+  for (const auto& j : robot.joints) {
+    bool wheel = false;
+    for (const auto& w : robot.wheels) wheel |= w.joint == j.name;
+    if (!wheel) joint_state_.name.push_back(j.name);
+  }
+  joint_state_.position.assign(joint_state_.name.size(), 0.0);
+  joint_state_.velocity.assign(joint_state_.name.size(), 0.0);
+  // The robot's fixed joints, for tf_static: published by the simulator too (see
+  // PublishStaticTransforms), so they are there when sim time starts.
+  urdf::Model model;
+  model.initString(urdf_xml);
+  for (const auto& j : model.joints_) {
+    if (j.second->type != urdf::Joint::FIXED) continue;
+    const urdf::Pose& o = j.second->parent_to_joint_origin_transform;
+    geometry_msgs::TransformStamped t;
+    t.header.frame_id = j.second->parent_link_name;
+    t.child_frame_id = j.second->child_link_name;
+    t.transform.translation.x = o.position.x;
+    t.transform.translation.y = o.position.y;
+    t.transform.translation.z = o.position.z;
+    t.transform.rotation.x = o.rotation.x;
+    t.transform.rotation.y = o.rotation.y;
+    t.transform.rotation.z = o.rotation.z;
+    t.transform.rotation.w = o.rotation.w;
+    static_tf_.transforms.push_back(t);
+  }
+
+  odom_period_ = d.odometry_rate > 0 ? 1.0 / d.odometry_rate : sim_->physics_step();
+  // Joint states go out with the odometry unless the drive publishes them at a rate of its own.
+  joints_with_odometry_ = d.joint_state_topic.empty();
+  joint_period_ = d.joint_state_rate > 0 ? 1.0 / d.joint_state_rate : odom_period_;
+  // In lock-step a participant counts on receiving every message the simulator queued to it, so
+  // outgoing queues must not drop: roscpp drops the oldest message when a subscriber's socket is
+  // backed up past the queue size. Free-running keeps small queues.
+  const auto q = [this](int free_running) { return options_.lockstep ? 100000 : free_running; };
+  const std::string& ns = d.robot_namespace;
+  if (!d.odometry_topic.empty()) {
+    odom_pub_ = nh_.advertise<nav_msgs::Odometry>(Resolve(ns, d.odometry_topic), q(20));
+  }
+  tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf", q(100));
+  tf_static_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf_static", 1, true);
+  joint_pub_ = nh_.advertise<sensor_msgs::JointState>(Resolve(ns, "joint_states"), q(20));
+  if (options_.publish_ground_truth) {
+    truth_pub_ = nh_.advertise<nav_msgs::Odometry>(Resolve(ns, "ground_truth/odom"), q(20));
+  }
+  for (size_t i = 0; i < robot.lasers.size(); ++i) {
+    const LaserSpec& l = robot.lasers[i];
+    scan_pubs_.push_back(nh_.advertise<sensor_msgs::LaserScan>(Resolve(l.robot_namespace, l.topic), q(5)));
+    sensor_msgs::LaserScan scan;
+    scan.header.frame_id = Frame(l.frame_id);
+    scan.angle_min = l.min_angle;
+    scan.angle_max = l.max_angle;
+    scan.angle_increment = sim_->lidar(i).angle_increment();
+    scan.time_increment = 0.0;  // every beam of a simulated scan is taken at the same instant
+    scan.scan_time = l.update_rate > 0 ? 1.0 / l.update_rate : sim_->physics_step();
+    scan.range_min = l.min_range;
+    scan.range_max = l.max_range;
+    scans_.push_back(scan);
+  }
+  for (const auto& imu : robot.imus) {
+    imu_pubs_.push_back(nh_.advertise<sensor_msgs::Imu>(Resolve(imu.robot_namespace, imu.topic), q(20)));
+  }
+  for (const auto& g : robot.ground_truths) {
+    gt_pubs_.push_back(
+        nh_.advertise<nav_msgs::Odometry>(Resolve(g.robot_namespace, g.options.topic_name), q(20)));
+  }
+  // Commands have their own queue: in lock-step they are applied once every participant's
+  // messages have arrived, never in the middle of a round.
+  ros::NodeHandle cmd_nh(nh_);
+  cmd_nh.setCallbackQueue(cmd_queue);
+  cmd_sub_ = cmd_nh.subscribe(Resolve(ns, d.command_topic), 5, &RobotInterface::OnCommand, this,
+                              ros::TransportHints().tcpNoDelay());
+}
+
+void RobotInterface::OnCommand(const ros::MessageEvent<const geometry_msgs::Twist>& event) {
+  const geometry_msgs::Twist::ConstPtr& msg = event.getConstMessage();
+  const double vx = msg->linear.x, vy = msg->linear.y, w = msg->angular.z;
+  if (!std::isfinite(vx) || !std::isfinite(vy) || !std::isfinite(w)) {
+    ROS_WARN_THROTTLE(2.0, "minibot3d_sim: ignoring cmd_vel with non-finite linear.x=%g "
+                      "linear.y=%g angular.z=%g from %s", vx, vy, w,
+                      event.getPublisherName().c_str());
+    return;
+  }
+  sim_->Command(Twist2{vx, vy, w});
+}
+
+void RobotInterface::Publish(bool all) {
+  const double t = sim_->time();
+  const ros::Time stamp(t);
+  if (all || t + 1e-9 >= next_odom_) {
+    next_odom_ = (std::floor(t / odom_period_ + 1e-6) + 1.0) * odom_period_;
+    PublishOdometry(stamp);
+  }
+  if (!joints_with_odometry_ && (all || t + 1e-9 >= next_joints_)) {
+    next_joints_ = (std::floor(t / joint_period_ + 1e-6) + 1.0) * joint_period_;
+    PublishJointStates(stamp);
+  }
+  for (size_t i = 0; i < scan_pubs_.size(); ++i) {
+    if (!sim_->ScanDue(i)) continue;
+    sim_->TakeScan(i, &ranges_);
+    scans_[i].header.stamp = stamp;
+    scans_[i].ranges = ranges_;
+    scan_pubs_[i].publish(scans_[i]);
+  }
+  for (size_t i = 0; i < imu_pubs_.size(); ++i) {
+    if (!sim_->ImuDue(i)) continue;
+    const ImuReading r = sim_->TakeImu(i);
+    sensor_msgs::Imu m;
+    m.header.stamp = stamp;
+    m.header.frame_id = sim_->robot().imus[i].frame_id;
+    m.orientation = ToMsg(r.orientation);
+    m.angular_velocity.x = r.angular_velocity.x();
+    m.angular_velocity.y = r.angular_velocity.y();
+    m.angular_velocity.z = r.angular_velocity.z();
+    m.linear_acceleration.x = r.linear_acceleration.x();
+    m.linear_acceleration.y = r.linear_acceleration.y();
+    m.linear_acceleration.z = r.linear_acceleration.z();
+    for (int k : {0, 4, 8}) {
+      m.orientation_covariance[k] = r.variance;
+      m.angular_velocity_covariance[k] = r.variance;
+      m.linear_acceleration_covariance[k] = r.variance;
+    }
+    imu_pubs_[i].publish(m);
+  }
+  for (size_t i = 0; i < gt_pubs_.size(); ++i) {
+    if (!sim_->GroundTruthDue(i)) continue;
+    const GroundTruthReading r = sim_->TakeGroundTruth(i);
+    const GroundTruthSpec& g = sim_->robot().ground_truths[i];
+    nav_msgs::Odometry m;
+    m.header.stamp = stamp;
+    m.header.frame_id = Frame(g.options.frame_name);
+    m.child_frame_id = g.options.body_name;
+    m.pose.pose.position.x = r.pose.translation().x();
+    m.pose.pose.position.y = r.pose.translation().y();
+    m.pose.pose.position.z = r.pose.translation().z();
+    m.pose.pose.orientation = ToMsg(Eigen::Quaterniond(r.pose.linear()));
+    m.twist.twist.linear.x = r.linear.x();
+    m.twist.twist.linear.y = r.linear.y();
+    m.twist.twist.linear.z = r.linear.z();
+    m.twist.twist.angular.x = r.angular.x();
+    m.twist.twist.angular.y = r.angular.y();
+    m.twist.twist.angular.z = r.angular.z();
+    for (int k = 0; k < 6; ++k) {
+      m.pose.covariance[7 * k] = r.variance;
+      m.twist.covariance[7 * k] = r.variance;
+    }
+    gt_pubs_[i].publish(m);
+  }
+}
+
+void RobotInterface::PublishOdometry(const ros::Time& stamp) {
+  const DriveInterface& d = sim_->drive().interface();
+  const Pose2 o = sim_->odom_pose();
+  if (odom_pub_) {
+    nav_msgs::Odometry odom = MakeOdometry(stamp, Frame(d.odometry_frame), Frame(d.base_frame), o,
+                                           sim_->odom_twist());
+    std::copy(d.pose_covariance.begin(), d.pose_covariance.end(), odom.pose.covariance.begin());
+    std::copy(d.twist_covariance.begin(), d.twist_covariance.end(), odom.twist.covariance.begin());
+    odom_pub_.publish(odom);
+    if (d.odometry_tf) {
+      geometry_msgs::TransformStamped tf;
+      tf.header = odom.header;
+      tf.child_frame_id = odom.child_frame_id;
+      tf.transform.translation.x = o.x;
+      tf.transform.translation.y = o.y;
+      tf.transform.rotation = odom.pose.pose.orientation;
+      tf2_msgs::TFMessage m;
+      m.transforms.push_back(tf);
+      tf_pub_.publish(m);
+    }
+  }
+  if (joints_with_odometry_) PublishJointStates(stamp);
+  if (options_.publish_ground_truth) {
+    truth_pub_.publish(MakeOdometry(stamp, options_.world_frame, Frame(d.base_frame),
+                                    sim_->true_pose(), sim_->true_twist()));
+  }
+}
+
+void RobotInterface::PublishJointStates(const ros::Time& stamp) {
+  const auto& q = sim_->wheel_positions();
+  const auto& w = sim_->wheel_velocities();
+  joint_state_.header.stamp = stamp;
+  for (size_t i = 0; i < q.size(); ++i) {
+    joint_state_.position[i] = q[i];
+    joint_state_.velocity[i] = w[i];
+  }
+  joint_pub_.publish(joint_state_);
+}
+
+// robot_state_publisher publishes the same transforms, but only once its own sim-time timer
+// has fired: under lock-step that is after participants need them (base_link -> laser for the
+// first scan). Identical static transforms from two publishers are harmless to tf2.
+void RobotInterface::PublishStaticTransforms() {
+  for (auto& t : static_tf_.transforms) t.header.stamp = ros::Time(sim_->time());
+  tf_static_pub_.publish(static_tf_);
+}
+
+}  // namespace minibot3d_sim

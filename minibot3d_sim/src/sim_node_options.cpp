@@ -1,0 +1,112 @@
+#include "minibot3d_sim/sim_node_options.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace minibot3d_sim {
+
+using minibot3d_common::options::Field;
+using minibot3d_common::options::Num;
+using minibot3d_common::options::OptionTable;
+using minibot3d_common::options::Problems;
+
+const OptionTable<SimNodeOptions>& SimNodeOptionTable() {
+  using O = SimNodeOptions;
+  static const OptionTable<O> t(
+      "minibot3d_sim",
+      {Field("world", &O::world,
+             "The world: a Gazebo SDF .world/.sdf, or a map_server floor plan .yaml (occupied "
+             "pixels become walls); empty: the package's worlds/default.world."),
+       Field("floorplan_wall_height", &O::floorplan_wall_height,
+             "Height (m) of the walls a floor plan's occupied pixels become."),
+       Field("x", &O::x, "Spawn position x of the robot's root link (m, world frame)."),
+       Field("y", &O::y, "Spawn position y (m)."),
+       Field("yaw", &O::yaw, "Spawn heading (rad)."),
+       Field("robot_namespace", &O::robot_namespace,
+             "Namespace given to every plugin of robot_description without a <robotNamespace>, "
+             "as Gazebo's spawn_model does."),
+       Field("physics", &O::physics,
+             "bullet: planar rigid body with wheel slip, torque and friction limits and wall "
+             "contacts; kinematic: the commanded motion exactly, steps into obstacles refused."),
+       Field("physics_step", &O::physics_step, "Fixed physics step (s of sim time), in (0, 0.02]."),
+       Field("cmd_timeout", &O::cmd_timeout,
+             "A command older than this (s of sim time) stops drives without a timeout of their "
+             "own (the skid-steer and diff-drive plugins)."),
+       Field("odom_wheel_separation_multiplier", &O::odom_wheel_separation_multiplier,
+             "Skid-steer plugin: the odometry's track as a multiple of wheelSeparation "
+             "(diff_drive_controller's wheel_separation_multiplier; skid-steer bases slip "
+             "sideways when they turn)."),
+       Field("cmd_wheel_separation_multiplier", &O::cmd_wheel_separation_multiplier,
+             "Skid-steer plugin: the same multiplier on the command side, so that commanded yaw "
+             "rates are achieved despite the slip."),
+       Field("seed", &O::seed, "Seed of every sensor's noise (one stream per sensor)."),
+       Field("real_time_factor", &O::real_time_factor,
+             "Sim seconds per wall second; 0: as fast as the CPU allows."),
+       Field("paused", &O::paused, "Start paused (~unpause starts time)."),
+       Field("clock_period", &O::clock_period,
+             "Sim time between /clock messages when free-running (s), in [physics_step, 0.1]."),
+       Field("pub_clock_frequency", &O::pub_clock_frequency,
+             "At most this many /clock messages per wall second (Gazebo's pub_clock_frequency)."),
+       Field("world_frame", &O::world_frame,
+             "Frame of the ground truth and the collision reports."),
+       Field("publish_ground_truth", &O::publish_ground_truth,
+             "Publish the root link's true pose and twist on ground_truth/odom (in world_frame)."),
+       Field("lockstep_quantum", &O::lockstep_quantum,
+             "Lock-step: sim time between rounds (s), a whole number of physics steps."),
+       Field("lockstep_timeout", &O::lockstep_timeout,
+             "Lock-step: wall seconds a participant may take to acknowledge a tick before it is "
+             "dropped."),
+       Field("lockstep_start_timeout", &O::lockstep_start_timeout,
+             "Lock-step: wall seconds to wait for lockstep_participants before time starts "
+             "without them."),
+       Field("lockstep_participants", &O::lockstep_participants,
+             "Lock-step: nodes (a list, or names separated by spaces) time waits for before it "
+             "starts.")});
+  return t;
+}
+
+void ValidateSimNodeOptions(const SimNodeOptions& o, bool lockstep) {
+  Problems p("minibot3d_sim");
+  p.Require(o.physics == "bullet" || o.physics == "kinematic",
+            "physics='" + o.physics + "' must be bullet or kinematic");
+  p.Check(o.physics_step > 0.0 && o.physics_step <= 0.02, "physics_step", o.physics_step,
+          "in (0, 0.02] s");
+  p.Positive("cmd_timeout", o.cmd_timeout);
+  p.Positive("odom_wheel_separation_multiplier", o.odom_wheel_separation_multiplier);
+  p.Positive("cmd_wheel_separation_multiplier", o.cmd_wheel_separation_multiplier);
+  p.Finite("x", o.x);
+  p.Finite("y", o.y);
+  p.Finite("yaw", o.yaw);
+  p.Require(o.seed >= 0, "seed=" + std::to_string(o.seed) + " must be >= 0");
+  p.Check(std::isfinite(o.real_time_factor) && o.real_time_factor >= 0.0, "real_time_factor",
+          o.real_time_factor, ">= 0 (0: as fast as possible)");
+  p.Check(o.clock_period >= o.physics_step && o.clock_period <= 0.1, "clock_period",
+          o.clock_period, "in [physics_step = " + Num(o.physics_step) + ", 0.1] s");
+  p.Positive("pub_clock_frequency", o.pub_clock_frequency);
+  p.Positive("floorplan_wall_height", o.floorplan_wall_height);
+  p.Require(!o.world_frame.empty(), "world_frame must not be empty");
+  p.Positive("lockstep_quantum", o.lockstep_quantum);
+  p.Positive("lockstep_timeout", o.lockstep_timeout);
+  p.Positive("lockstep_start_timeout", o.lockstep_start_timeout);
+  if (lockstep && o.physics_step > 0.0 && o.lockstep_quantum > 0.0) {
+    const double q = o.lockstep_quantum / o.physics_step;
+    p.Require(std::fabs(q - std::round(q)) <= 1e-6,
+              "lockstep_quantum=" + Num(o.lockstep_quantum) +
+                  " must be a whole number of physics_step=" + Num(o.physics_step));
+  }
+  p.ThrowIfAny();
+}
+
+SimulatorOptions ToSimulatorOptions(const SimNodeOptions& o) {
+  SimulatorOptions s;
+  s.physics = o.physics;
+  s.physics_step = o.physics_step;
+  s.cmd_timeout = o.cmd_timeout;
+  s.spawn = Pose2{o.x, o.y, o.yaw};
+  s.seed = static_cast<unsigned>(o.seed);
+  s.odom_wheel_separation_multiplier = o.odom_wheel_separation_multiplier;
+  s.cmd_wheel_separation_multiplier = o.cmd_wheel_separation_multiplier;
+  return s;
+}
+
+}  // namespace minibot3d_sim
