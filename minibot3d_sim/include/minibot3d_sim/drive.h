@@ -107,6 +107,20 @@ struct DriveSettings {
 // The drive of `robot` (its RobotModel::drive). Throws std::invalid_argument naming what is wrong.
 std::unique_ptr<DrivePlugin> MakeDrive(const RobotModel& robot, const DriveSettings& settings);
 
+// The body twist wheel joint speeds give without slip, from the robot's true geometry: each side's
+// mean rim speed (speed × the wheel's own radius), and the distance between the sides' mean
+// lateral positions. What a wheeled drive's targets ask of the kinematic backend.
+class WheelKinematics {
+ public:
+  explicit WheelKinematics(const RobotModel& robot);
+  Twist2 operator()(const std::vector<double>& wheel_speeds) const;
+
+ private:
+  std::vector<double> radius_;
+  std::vector<bool> left_;
+  double track_ = 0.0;
+};
+
 // Exact integration of a constant body twist over dt (a straight line or a circular arc; with a
 // sideways component, the arc of the holonomic motion).
 Pose2 IntegrateTwist(const Pose2& p, const Twist2& twist, double dt);

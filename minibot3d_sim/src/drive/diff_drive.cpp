@@ -15,7 +15,7 @@ std::array<double, 36> GazeboPoseCovariance() {
 }
 
 DiffDrive::DiffDrive(const RobotModel& robot, const DriveSettings& settings)
-    : options_(robot.drive.diff_drive) {
+    : options_(robot.drive.diff_drive), kinematics_(robot) {
   if (robot.wheels.size() != 2) {
     throw std::invalid_argument("libgazebo_ros_diff_drive.so needs two wheels");
   }
@@ -71,8 +71,7 @@ DriveTargets DiffDrive::Actuate(double t, double /*dt*/) {
   }
   DriveTargets out;
   out.wheel_speeds = {joint_targets_[0], joint_targets_[1]};
-  const double vl = joint_targets_[0] * radius_, vr = joint_targets_[1] * radius_;
-  out.body_twist = Twist2{0.5 * (vl + vr), 0.0, (vr - vl) / options_.wheel_separation};
+  out.body_twist = kinematics_(out.wheel_speeds);
   return out;
 }
 

@@ -44,7 +44,7 @@ double SpeedLimiter::Limit(double v, double v0, double v1, double dt) const {
 }
 
 DiffDriveController::DiffDriveController(const RobotModel& robot, const DriveSettings& settings)
-    : o_(robot.drive.controller) {
+    : o_(robot.drive.controller), kinematics_(robot) {
   per_side_ = o_.left_wheel.size();
   if (robot.wheels.size() != 2 * per_side_ || per_side_ == 0) {
     throw std::invalid_argument("diff_drive_controller: the wheel lists do not match the model");
@@ -172,8 +172,7 @@ DriveTargets DiffDriveController::Actuate(double t, double /*dt*/) {
     out.wheel_speeds[k] = wheels_[0];
     out.wheel_speeds[per_side_ + k] = wheels_[1];
   }
-  const double vl = wheels_[0] * left_radius_, vr = wheels_[1] * right_radius_;
-  out.body_twist = Twist2{0.5 * (vl + vr), 0.0, (vr - vl) / separation_};
+  out.body_twist = kinematics_(out.wheel_speeds);
   return out;
 }
 

@@ -27,6 +27,31 @@ std::unique_ptr<DrivePlugin> MakeDrive(const RobotModel& robot, const DriveSetti
   throw std::invalid_argument("unknown drive");
 }
 
+WheelKinematics::WheelKinematics(const RobotModel& robot) {
+  double left_y = 0.0, right_y = 0.0;
+  int left = 0, right = 0;
+  for (const auto& w : robot.wheels) {
+    radius_.push_back(w.radius);
+    left_.push_back(w.left);
+    (w.left ? left_y : right_y) += w.position.y();
+    ++(w.left ? left : right);
+  }
+  if (left > 0 && right > 0) track_ = left_y / left - right_y / right;
+}
+
+Twist2 WheelKinematics::operator()(const std::vector<double>& wheel_speeds) const {
+  double left = 0.0, right = 0.0;
+  int nl = 0, nr = 0;
+  for (size_t i = 0; i < wheel_speeds.size() && i < radius_.size(); ++i) {
+    (left_[i] ? left : right) += wheel_speeds[i] * radius_[i];
+    ++(left_[i] ? nl : nr);
+  }
+  if (nl == 0 || nr == 0 || !(track_ > 0.0)) return Twist2{};
+  left /= nl;
+  right /= nr;
+  return Twist2{0.5 * (left + right), 0.0, (right - left) / track_};
+}
+
 Pose2 IntegrateTwist(const Pose2& p, const Twist2& twist, double dt) {
   const double dth = twist.wz * dt;
   Pose2 d;

@@ -34,6 +34,7 @@ class DiffDrive : public DrivePlugin {
 
  private:
   DiffDriveOptions options_;
+  WheelKinematics kinematics_;
   bool encoder_ = false;
   double radius_ = 0.0;
   double update_period_ = 0.0;

@@ -51,6 +51,7 @@ class DiffDriveController : public DrivePlugin {
   void Integrate(double linear, double angular);
 
   DiffDriveControllerOptions o_;
+  WheelKinematics kinematics_;
   size_t per_side_ = 0;
   double separation_ = 0.0, left_radius_ = 0.0, right_radius_ = 0.0;
   double period_ = 0.0;  // 0: every physics step
