@@ -8,7 +8,8 @@
 #include <tf2/utils.h>
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 
-#include "ros_util.h"
+#include "minibot3d_ros/conversions.h"
+#include "minibot3d_ros/params.h"
 #include "transform_age.h"
 
 namespace minibot3d_navigation {
@@ -23,56 +24,47 @@ int8_t Translate(uint8_t cost) {
   return static_cast<int8_t>(1 + (97 * (cost - 1)) / 251);
 }
 
-std::string Text(const ros::NodeHandle& nh, const std::string& key, const std::string& def) {
-  std::string v;
-  return nh.getParam(key, v) ? v : def;
-}
-
 }  // namespace
 
 CostmapRos::CostmapRos(const std::string& name, tf2_ros::Buffer* tf)
     : name_(name), tf_(tf), nh_("~" + name) {}
 
 void CostmapRos::Configure() {
-  std::vector<std::string> problems = ros_util::LoadParams(
-      nh_, nav::IsCostmapOptionName,
-      [this](const std::string& n, const std::string& t) { nav::SetCostmapOption(n, t, &options_); });
-  // Sources: "observation_sources: a b", then ~name/a: {...}.
-  std::string source_list = Text(nh_, "observation_sources", "");
-  std::istringstream names(source_list);
-  std::string src;
-  while (names >> src) {
+  minibot3d_ros::ParamReport report =
+      minibot3d_ros::LoadTable(nh_, nav::CostmapOptionTable(), &options_);
+  nav::CostmapSensorOptions sensors;
+  report.Also(minibot3d_ros::LoadTable(nh_, nav::CostmapSensorOptionTable(), &sensors));
+  std::vector<std::string> problems = report.problems;
+  try {
+    nav::ValidateCostmapSensorOptions(sensors);
+  } catch (const std::invalid_argument& e) {
+    problems.push_back(nh_.getNamespace() + ": " + e.what());
+  }
+  // Each source's keys live in the sub-namespace of its name; plugins' namespaces are not read
+  // (the layers follow static_map) and, like the sources', are no misspelt keys.
+  for (const std::string& layer : sensors.plugins) report.Known(layer);
+  for (const std::string& src : nav::ObservationSourceNames(sensors)) {
+    report.Known(src);
+    const ros::NodeHandle snh(nh_, src);
     auto s = std::make_unique<Source>();
     s->name = src;
-    ros::NodeHandle snh(nh_, src);
-    const std::string type = Text(snh, "data_type", "LaserScan");
-    if (type != "LaserScan") {
-      problems.push_back(nh_.getNamespace() + "/" + src + "/data_type: '" + type +
+    s->options = nav::DefaultObservationSource(src, options_);
+    const minibot3d_ros::ParamReport source_report =
+        minibot3d_ros::LoadTable(snh, nav::ObservationSourceOptionTable(), &s->options);
+    source_report.WarnUnknown("move_base");
+    problems.insert(problems.end(), source_report.problems.begin(), source_report.problems.end());
+    if (s->options.data_type != "LaserScan") {
+      problems.push_back(nh_.getNamespace() + "/" + src + "/data_type: '" + s->options.data_type +
                          "' is not supported (only LaserScan)");
       continue;
     }
-    s->topic = Text(snh, "topic", src);
-    s->sensor_frame = Text(snh, "sensor_frame", "");
-    snh.param("marking", s->marking, true);
-    snh.param("clearing", s->clearing, true);
-    snh.param("obstacle_range", s->obstacle_range, options_.obstacle_range);
-    snh.param("raytrace_range", s->raytrace_range, options_.raytrace_range);
-    snh.param("inf_is_valid", s->inf_is_valid, options_.inf_is_valid);
-    if (!(s->obstacle_range >= 0.0) || !(s->raytrace_range >= 0.0)) {
+    if (!(s->options.obstacle_range >= 0.0) || !(s->options.raytrace_range >= 0.0)) {
       problems.push_back(nh_.getNamespace() + "/" + src + ": obstacle_range and raytrace_range "
                          "must be >= 0");
     }
     sources_.push_back(std::move(s));
   }
-  for (const std::string& unknown : ros_util::UnknownParams(nh_, [](const std::string& n) {
-         return nav::IsCostmapOptionName(n) || n == "observation_sources" || n == "plugins";
-       })) {
-    // A source's own namespace shows up as a struct key; anything else is a
-    // probable misspelling.
-    bool is_source = false;
-    for (const auto& s : sources_) is_source |= unknown == nh_.getNamespace() + "/" + s->name;
-    if (!is_source) ROS_WARN("move_base: unknown parameter %s (ignored)", unknown.c_str());
-  }
+  report.WarnUnknown("move_base");
   try {
     nav::ValidateCostmapOptions(options_);
   } catch (const std::invalid_argument& e) {
@@ -102,8 +94,8 @@ void CostmapRos::Start() {
   }
   for (auto& s : sources_) {
     const std::string& frame = options_.global_frame;
-    s->sub = std::make_unique<message_filters::Subscriber<sensor_msgs::LaserScan>>(gnh_, s->topic,
-                                                                                    50);
+    s->sub = std::make_unique<message_filters::Subscriber<sensor_msgs::LaserScan>>(
+        gnh_, s->options.topic, 50);
     s->filter = std::make_unique<tf2_ros::MessageFilter<sensor_msgs::LaserScan>>(*s->sub, *tf_,
                                                                                  frame, 50, gnh_);
     Source* raw = s.get();
@@ -114,7 +106,7 @@ void CostmapRos::Start() {
                     tf2_ros::filter_failure_reasons::FilterFailureReason) {
           ROS_WARN_THROTTLE(5.0, "move_base: %s: scan on %s in frame '%s' cannot be transformed "
                             "into '%s': check the tf tree (is the localizer running?)",
-                            name_.c_str(), raw->topic.c_str(), scan->header.frame_id.c_str(),
+                            name_.c_str(), raw->options.topic.c_str(), scan->header.frame_id.c_str(),
                             options_.global_frame.c_str());
         });
   }
@@ -127,7 +119,7 @@ void CostmapRos::OnMap(const nav_msgs::OccupancyGrid::ConstPtr& map) {
              name_.c_str(), map->header.frame_id.c_str(), options_.global_frame.c_str());
   }
   try {
-    layered_->SetStaticMap(ros_util::GridFromMsg(*map));
+    layered_->SetStaticMap(minibot3d_ros::GridFromMsg(*map));
     have_map_ = true;
     next_update_ = ros::Time(0);
     ROS_INFO("move_base: %s: static map %ux%u at %.3f m", name_.c_str(), map->info.width,
@@ -138,8 +130,8 @@ void CostmapRos::OnMap(const nav_msgs::OccupancyGrid::ConstPtr& map) {
 }
 
 void CostmapRos::OnScan(const sensor_msgs::LaserScan::ConstPtr& scan, Source* source) {
-  const std::string frame = source->sensor_frame.empty() ? scan->header.frame_id
-                                                         : source->sensor_frame;
+  const nav::ObservationSourceOptions& o = source->options;
+  const std::string frame = o.sensor_frame.empty() ? scan->header.frame_id : o.sensor_frame;
   geometry_msgs::TransformStamped t;
   try {
     t = tf_->lookupTransform(options_.global_frame, frame, scan->header.stamp);
@@ -156,15 +148,15 @@ void CostmapRos::OnScan(const sensor_msgs::LaserScan::ConstPtr& scan, Source* so
   s.range_max = scan->range_max;
   tf2::Transform tt;
   tf2::fromMsg(t.transform, tt);
-  const nav::Pose2 sensor = ros_util::PoseFromTf(tt);
+  const nav::Pose2 sensor = minibot3d_ros::PoseFromTf(tt);
   try {
-    nav::Observation obs = nav::ObservationFromScan(
-        s, sensor, source->marking ? source->obstacle_range : 0.0,
-        source->clearing ? source->raytrace_range : 0.0, source->inf_is_valid);
+    nav::Observation obs =
+        nav::ObservationFromScan(s, sensor, o.marking ? o.obstacle_range : 0.0,
+                                 o.clearing ? o.raytrace_range : 0.0, o.inf_is_valid);
     layered_->obstacle_layer()->AddObservation(obs);
   } catch (const std::invalid_argument& e) {
     ROS_WARN_THROTTLE(5.0, "move_base: %s: scan from %s dropped: %s", name_.c_str(),
-                      source->topic.c_str(), e.what());
+                      o.topic.c_str(), e.what());
   }
 }
 
@@ -176,7 +168,7 @@ bool CostmapRos::RobotPose(nav::Pose2* pose, std::string* why, bool* clocks_disa
     const auto t = tf_->lookupTransform(global, base, ros::Time(0));
     tf2::Transform tt;
     tf2::fromMsg(t.transform, tt);
-    *pose = ros_util::PoseFromTf(tt);
+    *pose = minibot3d_ros::PoseFromTf(tt);
     const TransformAge age = CheckTransformAge(ros::Time::now().toSec(), t.header.stamp.toSec(),
                                                global, base, options_.transform_tolerance);
     if (!age.ok) {

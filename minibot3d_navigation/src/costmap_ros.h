@@ -1,10 +1,11 @@
 // Costmap2DROS equivalent: a LayeredCostmap (ROS-free core) fed from ROS.
 //
 // Reads the costmap_2d parameters of namespace ~<name> (global_costmap /
-// local_costmap), subscribes the static map (static_map: true) and every
-// observation source (observation_sources: "a b", each ~<name>/a: {topic,
-// sensor_frame, data_type: LaserScan, marking, clearing, obstacle_range,
-// raytrace_range, inf_is_valid}), and publishes the costmap as an
+// local_costmap) through the option tables of costmap_options.h, subscribes
+// the static map (static_map: true) and every observation source
+// (observation_sources: "a b", each ~<name>/a: {topic, sensor_frame,
+// data_type: LaserScan, marking, clearing, obstacle_range, raytrace_range,
+// inf_is_valid}), and publishes the costmap as an
 // OccupancyGrid on ~<name>/costmap with costmap_2d's value translation.
 // Scans are converted once, through a tf2 MessageFilter so they wait for
 // their transform into the costmap's frame.  All updates run in the caller's
@@ -59,9 +60,8 @@ class CostmapRos {
 
  private:
   struct Source {
-    std::string name, topic, sensor_frame;
-    bool marking = true, clearing = true, inf_is_valid = false;
-    double obstacle_range = 2.5, raytrace_range = 3.0;
+    std::string name;
+    nav::ObservationSourceOptions options;
     std::unique_ptr<message_filters::Subscriber<sensor_msgs::LaserScan>> sub;
     std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::LaserScan>> filter;
   };

@@ -34,8 +34,10 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
+#include "minibot3d_navigation/explore/explore_node_options.h"
 #include "minibot3d_navigation/explore/frontier_search.h"
-#include "ros_util.h"
+#include "minibot3d_ros/conversions.h"
+#include "minibot3d_ros/params.h"
 
 namespace minibot3d_navigation {
 namespace {
@@ -74,22 +76,18 @@ class ExploreNode {
            tm->getNumPublishers(ns + "/feedback") > 0;
   }
 
+  // Reads the private namespace (frontier search and loop); throws std::invalid_argument
+  // naming each problem.
   void Configure() {
-    std::vector<std::string> problems = ros_util::LoadParams(
-        pnh_, nav::IsExploreOptionName,
-        [this](const std::string& n, const std::string& t) { nav::SetExploreOption(n, t, &o_); });
-    pnh_.param<std::string>("global_frame", global_frame_, "map");
-    pnh_.param<std::string>("robot_base_frame", base_frame_, "base_link");
-    pnh_.param("planner_frequency", planner_frequency_, 0.5);
-    pnh_.param("progress_timeout", progress_timeout_, 20.0);
-    pnh_.param("switch_margin", switch_margin_, 1.0);
-    if (!(planner_frequency_ > 0.0)) problems.push_back("~planner_frequency must be > 0");
-    if (!(progress_timeout_ > 0.0)) problems.push_back("~progress_timeout must be > 0");
-    for (const auto& u : ros_util::UnknownParams(pnh_, [](const std::string& n) {
-           return nav::IsExploreOptionName(n) || n == "global_frame" || n == "robot_base_frame" ||
-                  n == "planner_frequency" || n == "progress_timeout" || n == "switch_margin";
-         })) {
-      ROS_WARN("explore: unknown parameter %s (ignored)", u.c_str());
+    minibot3d_ros::ParamReport report =
+        minibot3d_ros::LoadTable(pnh_, nav::ExploreOptionTable(), &o_);
+    report.Also(minibot3d_ros::LoadTable(pnh_, nav::ExploreNodeOptionTable(), &node_));
+    report.WarnUnknown("explore");
+    std::vector<std::string> problems = report.problems;
+    try {
+      nav::ValidateExploreNodeOptions(node_);
+    } catch (const std::invalid_argument& e) {
+      problems.push_back(e.what());
     }
     try {
       search_ = std::make_unique<nav::FrontierSearch>(o_);
@@ -107,7 +105,7 @@ class ExploreNode {
   void Start() {
     map_sub_ = nh_.subscribe("map", 1, &ExploreNode::OnMap, this);
     frontier_pub_ = pnh_.advertise<geometry_msgs::PoseArray>("frontiers", 1);
-    lockstep_.AddPeriodic(1.0 / planner_frequency_, [this](const ros::Time&) { OnTimer(); });
+    lockstep_.AddPeriodic(1.0 / node_.planner_frequency, [this](const ros::Time&) { OnTimer(); });
     start_time_ = ros::Time::now();
   }
 
@@ -119,14 +117,14 @@ class ExploreNode {
 
   bool RobotPose(nav::Pose2* pose) {
     try {
-      const auto t = tf_.lookupTransform(global_frame_, base_frame_, ros::Time(0));
+      const auto t = tf_.lookupTransform(node_.global_frame, node_.robot_base_frame, ros::Time(0));
       tf2::Transform tt;
       tf2::fromMsg(t.transform, tt);
-      *pose = ros_util::PoseFromTf(tt);
+      *pose = minibot3d_ros::PoseFromTf(tt);
       return true;
     } catch (const tf2::TransformException& e) {
       ROS_WARN_THROTTLE(5.0, "explore: no transform %s <- %s: %s (is SLAM running?)",
-                        global_frame_.c_str(), base_frame_.c_str(), e.what());
+                        node_.global_frame.c_str(), node_.robot_base_frame.c_str(), e.what());
       return false;
     }
   }
@@ -172,7 +170,7 @@ class ExploreNode {
     nav::Pose2 robot;
     if (!RobotPose(&robot)) return;
     const ros::Time now = ros::Time::now();
-    const nav::OccupancyGrid grid = ros_util::GridFromMsg(*map_);
+    const nav::OccupancyGrid grid = minibot3d_ros::GridFromMsg(*map_);
 
     if (have_goal_) {
       const auto state = client_.getState();
@@ -192,10 +190,10 @@ class ExploreNode {
         best_distance_ = std::min(best_distance_, d);
         progress_pose_ = robot;
         last_progress_ = now;
-      } else if ((now - last_progress_).toSec() > progress_timeout_) {
+      } else if ((now - last_progress_).toSec() > node_.progress_timeout) {
         client_.cancelGoal();
         std::ostringstream why;
-        why << "made no progress for " << progress_timeout_ << " s";
+        why << "made no progress for " << node_.progress_timeout << " s";
         GoalFailed(grid, why.str());
       }
     }
@@ -231,7 +229,7 @@ class ExploreNode {
         empty_at_map_ = map_count_;
         empty_since_ = now;
       } else if (map_count_ > empty_at_map_ ||
-                 (now - empty_since_).toSec() > 3.0 / planner_frequency_) {
+                 (now - empty_since_).toSec() > 3.0 / node_.planner_frequency) {
         ROS_INFO("explore: exploration complete: %.1f m^2 known free, %d goals, %.1f s sim",
                  r.known_free_area, goals_sent_, (now - start_time_).toSec());
         lockstep_.Leave();
@@ -244,7 +242,7 @@ class ExploreNode {
     if (have_goal_) {
       const double current = std::hypot(goal_.x - robot.x, goal_.y - robot.y);
       if (std::hypot(best.goal.x - goal_.x, best.goal.y - goal_.y) < o_.blacklist_radius ||
-          best.distance > current - switch_margin_) {
+          best.distance > current - node_.switch_margin) {
         return;  // keep the current goal
       }
     }
@@ -253,7 +251,7 @@ class ExploreNode {
 
   void SendGoal(const nav::Frontier& f, const nav::Pose2& robot, const ros::Time& now) {
     move_base_msgs::MoveBaseGoal g;
-    g.target_pose.header.frame_id = global_frame_;
+    g.target_pose.header.frame_id = node_.global_frame;
     g.target_pose.header.stamp = now;
     g.target_pose.pose.position.x = f.goal.x;
     g.target_pose.pose.position.y = f.goal.y;
@@ -279,7 +277,7 @@ class ExploreNode {
   void PublishFrontiers(const nav::FrontierSearchResult& r) {
     if (frontier_pub_.getNumSubscribers() == 0) return;
     geometry_msgs::PoseArray a;
-    a.header.frame_id = global_frame_;
+    a.header.frame_id = node_.global_frame;
     a.header.stamp = ros::Time::now();
     for (const auto& f : r.frontiers) {
       geometry_msgs::Pose p;
@@ -297,10 +295,9 @@ class ExploreNode {
   tf2_ros::TransformListener tf_listener_;
   Client client_;
   nav::ExploreOptions o_;
+  nav::ExploreNodeOptions node_;
   std::unique_ptr<nav::FrontierSearch> search_;
   std::unique_ptr<nav::ExplorationMemory> memory_;
-  std::string global_frame_, base_frame_;
-  double planner_frequency_ = 0.5, progress_timeout_ = 30.0, switch_margin_ = 1.0;
   ros::Subscriber map_sub_;
   ros::Publisher frontier_pub_;
   nav_msgs::OccupancyGrid::ConstPtr map_;

@@ -38,12 +38,19 @@
 #include "minibot3d_navigation/move_base/recovery_behavior.h"
 #include "minibot3d_navigation/planner/planner_factory.h"
 #include "minibot3d_navigation/planner/planner_options.h"
-#include "ros_util.h"
+#include "minibot3d_ros/conversions.h"
+#include "minibot3d_ros/params.h"
 
 namespace minibot3d_navigation {
 namespace {
 
 using MoveBaseServer = actionlib::SimpleActionServer<move_base_msgs::MoveBaseAction>;
+using minibot3d_ros::ParamReport;
+
+// Sub-namespaces of move_base's own whose keys the node reads with their own tables.
+const char* const kCostmapNamespaces[] = {"global_costmap", "local_costmap"};
+const char* const kLocalPlannerNamespaces[] = {"TrajectoryPlannerROS", "DWAPlannerROS"};
+const char* const kGlobalPlannerNamespaces[] = {"NavfnROS", "GlobalPlanner", "OmplPlanner"};
 
 std::string JoinLines(const std::vector<std::string>& v) {
   std::string s;
@@ -62,9 +69,14 @@ class MoveBaseNode {
 
   // Reads every parameter; throws std::invalid_argument naming each problem.
   void Configure() {
-    std::vector<std::string> problems = ros_util::LoadParams(
-        pnh_, nav::IsMoveBaseOptionName,
-        [this](const std::string& n, const std::string& t) { nav::SetMoveBaseOption(n, t, &mb_); });
+    ParamReport report = minibot3d_ros::LoadTable(pnh_, nav::MoveBaseOptionTable(), &mb_);
+    for (const char* ns : kCostmapNamespaces) report.Known(ns);
+    for (const char* ns : kLocalPlannerNamespaces) report.Known(ns);
+    for (const char* ns : kGlobalPlannerNamespaces) report.Known(ns);
+    // ROS move_base's recoveries read ~<name>/; ours take theirs from move_base's own keys.
+    for (const std::string& name : RecoveryNames()) report.Known(name);
+    report.WarnUnknown("move_base");
+    std::vector<std::string> problems = report.problems;
     try {
       nav::ValidateMoveBaseOptions(mb_);
     } catch (const std::invalid_argument& e) {
@@ -80,29 +92,26 @@ class MoveBaseNode {
                          "dwa_local_planner/DWAPlannerROS (both run minibot3d's DWA)");
     }
     local_ns_ = dwa_ns ? "DWAPlannerROS" : "TrajectoryPlannerROS";
-    ros::NodeHandle lnh(pnh_, local_ns_);
-    for (const auto& p : ros_util::LoadParams(lnh, nav::dwa::IsDwaOptionName,
-                                              [this](const std::string& n, const std::string& t) {
-                                                nav::dwa::SetDwaOption(n, t, &dwa_);
-                                              })) {
-      problems.push_back(p);
+    const ros::NodeHandle lnh(pnh_, local_ns_);
+    ParamReport local = minibot3d_ros::LoadTable(lnh, nav::dwa::DwaOptionTable(), &dwa_);
+    const ParamReport aliases = minibot3d_ros::LoadTable(lnh, nav::dwa::DwaAliasOptionTable(), &dwa_);
+    for (const std::string& name : aliases.read) {
+      if (nav::dwa::IsSymmetricRotationName(name)) nav::dwa::ApplySymmetricRotation(&dwa_);
     }
-    for (const auto& u : ros_util::UnknownParams(lnh, nav::dwa::IsDwaOptionName)) {
-      ROS_WARN("move_base: unknown parameter %s (ignored)", u.c_str());
-    }
+    local.Also(aliases);
+    for (const std::string& name : nav::dwa::DwaIgnoredOptionNames()) local.Known(name);
+    local.WarnUnknown("move_base");
+    problems.insert(problems.end(), local.problems.begin(), local.problems.end());
     dwa_.controller_frequency = mb_.controller_frequency;
 
     // Global planner parameters: ~NavfnROS, ~GlobalPlanner, ~OmplPlanner.
     planner_.base_global_planner = mb_.base_global_planner;
-    for (const char* ns : {"NavfnROS", "GlobalPlanner", "OmplPlanner"}) {
-      ros::NodeHandle gnh(pnh_, ns);
-      for (const auto& p : ros_util::LoadParams(
-               gnh, nav::IsGlobalPlannerOptionName,
-               [this](const std::string& n, const std::string& t) {
-                 nav::SetGlobalPlannerOption(n, t, &planner_);
-               })) {
-        problems.push_back(p);
-      }
+    for (const char* ns : kGlobalPlannerNamespaces) {
+      const ParamReport global =
+          minibot3d_ros::LoadTable(ros::NodeHandle(pnh_, ns), nav::GlobalPlannerOptionTable(),
+                                   &planner_);
+      global.WarnUnknown("move_base");
+      problems.insert(problems.end(), global.problems.begin(), global.problems.end());
     }
 
     for (CostmapRos* c : {&global_costmap_, &local_costmap_}) {
@@ -154,16 +163,21 @@ class MoveBaseNode {
   bool Spin() { return lockstep_.Spin(); }
 
  private:
-  void BuildRecoveries() {
+  // recovery_behaviors, or move_base's default list (after back_out when it is on).
+  std::vector<std::string> RecoveryNames() const {
     std::vector<std::string> names = mb_.recovery_behaviors;
     if (names.empty()) {
-      names = {};
       if (mb_.back_out_distance > 0.0) names.push_back("back_out");
       names.push_back("conservative_reset");
       if (mb_.clearing_rotation_allowed) names.push_back("rotate_recovery");
       names.push_back("aggressive_reset");
       if (mb_.clearing_rotation_allowed) names.push_back("rotate_recovery");
     }
+    return names;
+  }
+
+  void BuildRecoveries() {
+    const std::vector<std::string> names = RecoveryNames();
     nav::RotateRecoveryOptions rot;
     rot.max_rotational_vel = dwa_.max_vel_theta;
     rot.min_rotational_vel = dwa_.min_in_place_vel_theta;
@@ -264,7 +278,7 @@ class MoveBaseNode {
     cg.header.stamp = ros::Time::now();
     cg.pose.position.x = g.x;
     cg.pose.position.y = g.y;
-    cg.pose.orientation = tf2::toMsg(ros_util::TfFromPose(g).getRotation());
+    cg.pose.orientation = tf2::toMsg(minibot3d_ros::TfFromPose(g).getRotation());
     goal_pub_.publish(cg);
   }
 
@@ -298,7 +312,7 @@ class MoveBaseNode {
       ps.header = msg.header;
       ps.pose.position.x = p.x;
       ps.pose.position.y = p.y;
-      ps.pose.orientation = tf2::toMsg(ros_util::TfFromPose(p).getRotation());
+      ps.pose.orientation = tf2::toMsg(minibot3d_ros::TfFromPose(p).getRotation());
       msg.poses.push_back(ps);
     }
     return msg;
@@ -385,7 +399,7 @@ class MoveBaseNode {
         fb.base_position.pose.position.x = state.global_pose.x;
         fb.base_position.pose.position.y = state.global_pose.y;
         fb.base_position.pose.orientation =
-            tf2::toMsg(ros_util::TfFromPose(state.global_pose).getRotation());
+            tf2::toMsg(minibot3d_ros::TfFromPose(state.global_pose).getRotation());
         server_->publishFeedback(fb);
         if (!r.message.empty() && r.message != last_message_) {
           ROS_WARN("move_base: %s", r.message.c_str());
@@ -480,8 +494,11 @@ int main(int argc, char** argv) {
     for (const auto& n : nav::dwa::DwaOptionNames()) {
       std::cout << "TrajectoryPlannerROS/" << n << "\n";
     }
-    for (const char* ns : {"global_costmap", "local_costmap"}) {
+    for (const char* ns : minibot3d_navigation::kCostmapNamespaces) {
       for (const auto& n : nav::CostmapOptionNames()) std::cout << ns << "/" << n << "\n";
+      for (const auto& n : nav::CostmapSensorOptionTable().Names()) {
+        std::cout << ns << "/" << n << "\n";
+      }
     }
     for (const auto& n : nav::GlobalPlannerOptionNames()) std::cout << "NavfnROS/" << n << "\n";
     for (const auto& n : nav::MoveBaseOptionNames()) std::cout << "/" << n << "\n";

@@ -82,6 +82,28 @@ TEST(CostmapOptionsTest, SetParsesEveryTypeAndRejectsUnknownNames) {
   for (const std::string& n : CostmapOptionNames()) EXPECT_TRUE(IsCostmapOptionName(n)) << n;
 }
 
+TEST(CostmapOptionsTest, ObservationSourcesAreSpaceSeparatedWithTheCostmapsRanges) {
+  CostmapSensorOptions sensors;
+  CostmapSensorOptionTable().Set("observation_sources", " laser  rear_laser ", &sensors);
+  EXPECT_EQ(ObservationSourceNames(sensors), (std::vector<std::string>{"laser", "rear_laser"}));
+  EXPECT_NO_THROW(ValidateCostmapSensorOptions(sensors));
+  sensors.observation_sources = "[laser, rear_laser]";  // a YAML list, not costmap_2d's form
+  EXPECT_THROW(ValidateCostmapSensorOptions(sensors), std::invalid_argument);
+
+  CostmapOptions costmap;
+  costmap.obstacle_range = 4.0;
+  costmap.inf_is_valid = true;
+  ObservationSourceOptions source = DefaultObservationSource("laser", costmap);
+  EXPECT_EQ(source.topic, "laser");
+  EXPECT_DOUBLE_EQ(source.obstacle_range, 4.0);
+  EXPECT_DOUBLE_EQ(source.raytrace_range, costmap.raytrace_range);
+  EXPECT_TRUE(source.inf_is_valid);
+  ObservationSourceOptionTable().Set("topic", "scan", &source);
+  ObservationSourceOptionTable().Set("marking", "false", &source);
+  EXPECT_EQ(source.topic, "scan");
+  EXPECT_FALSE(source.marking);
+}
+
 TEST(CostmapOptionsTest, ValidationNamesEveryOffendingParameter) {
   CostmapOptions o;
   o.rolling_window = true;

@@ -78,6 +78,26 @@ TEST(DwaOptionsTest, SetsByRosNameAndAlias) {
   EXPECT_NO_THROW(ValidateDwaOptions(o));
 }
 
+TEST(DwaOptionsTest, AliasTableSetsTheSameFieldsAsSetDwaOption) {
+  DwaOptions by_table, by_name;
+  for (const std::string& name : DwaAliasOptionTable().Names()) {
+    const std::string text = name == "use_dwa" ? "false" : name == "vth_samples" ? "7" : "0.7";
+    DwaAliasOptionTable().Set(name, text, &by_table);
+    if (IsSymmetricRotationName(name)) ApplySymmetricRotation(&by_table);
+    SetDwaOption(name, text, &by_name);
+  }
+  EXPECT_DOUBLE_EQ(by_table.max_vel_theta, 0.7);
+  EXPECT_DOUBLE_EQ(by_table.min_vel_theta, -0.7);
+  EXPECT_DOUBLE_EQ(by_table.min_vel_theta, by_name.min_vel_theta);
+  EXPECT_DOUBLE_EQ(by_table.rot_stopped_vel, by_name.rot_stopped_vel);
+  EXPECT_EQ(by_table.vtheta_samples, 7);
+  EXPECT_FALSE(by_table.dwa);
+  for (const std::string& name : DwaAliasOptionTable().Names()) {
+    EXPECT_FALSE(DwaOptionTable().Has(name)) << name;
+    EXPECT_FALSE(IsIgnoredDwaOptionName(name)) << name;
+  }
+}
+
 TEST(DwaOptionsTest, HolonomicOnlyNamesAreAcceptedAndIgnored) {
   DwaOptions o;
   const DwaOptions before = o;

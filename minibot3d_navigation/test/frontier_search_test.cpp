@@ -2,7 +2,8 @@
 // goal on the robot's side and in sight of its frontier, unreachable frontiers
 // dropped, excluded viewpoints, "nothing left" once a room is closed; and the
 // exploration memory (reached viewpoints never again, unreachable goals retried
-// once the map round them changes, a limit on attempts).
+// once the map round them changes, a limit on attempts); the explore node's
+// options.
 #include "minibot3d_navigation/explore/frontier_search.h"
 
 #include <gtest/gtest.h>
@@ -10,6 +11,8 @@
 #include <cmath>
 #include <string>
 #include <vector>
+
+#include "minibot3d_navigation/explore/explore_node_options.h"
 
 namespace minibot3d_navigation {
 namespace nav {
@@ -332,6 +335,24 @@ TEST(FrontierSearch, BadInputIsRejectedSayingWhy) {
   o = ExploreOptions();
   o.look_radius = 0.2;  // below goal_search_radius 0.4
   EXPECT_THROW(FrontierSearch{o}, std::invalid_argument);
+}
+
+TEST(ExploreNodeOptionsTest, ValidationNamesEveryBadValue) {
+  ExploreNodeOptions o;
+  EXPECT_NO_THROW(ValidateExploreNodeOptions(o));
+  ExploreNodeOptionTable().Set("planner_frequency", "0", &o);
+  o.progress_timeout = -1.0;
+  o.global_frame = " ";
+  try {
+    ValidateExploreNodeOptions(o);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    const std::string msg = e.what();
+    for (const char* expected : {"planner_frequency=0 must be > 0",
+                                 "progress_timeout=-1 must be > 0", "global_frame"}) {
+      EXPECT_NE(msg.find(expected), std::string::npos) << "missing '" << expected << "' in " << msg;
+    }
+  }
 }
 
 }  // namespace

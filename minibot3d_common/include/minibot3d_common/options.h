@@ -19,6 +19,7 @@
 #ifndef MINIBOT3D_COMMON_OPTIONS_H_
 #define MINIBOT3D_COMMON_OPTIONS_H_
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -101,9 +102,12 @@ inline std::vector<std::string> ParseList(const std::string& text) {
 }
 
 // Formats a number for messages and the docs: the shortest text that reads back as the same
-// double ("0.1", "1e-06", "inf").
+// double ("0.1", "1e-06", "inf"), with every digit of the integer part ("10", not "1e+01").
 inline std::string Num(double v) {
-  for (int precision = 1; precision <= 17; ++precision) {
+  const double magnitude = std::fabs(v);
+  const int integer_digits =
+      std::isfinite(v) && magnitude >= 1.0 ? static_cast<int>(std::log10(magnitude)) + 1 : 1;
+  for (int precision = std::min(integer_digits, 17); precision <= 17; ++precision) {
     std::ostringstream os;
     os << std::setprecision(precision) << v;
     if (std::strtod(os.str().c_str(), nullptr) == v || !std::isfinite(v)) return os.str();

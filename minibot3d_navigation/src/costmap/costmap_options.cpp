@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 
 #include "minibot3d_common/options.h"
@@ -16,36 +17,6 @@ namespace {
 using options::Field;
 using options::Num;
 using O = CostmapOptions;
-
-const options::OptionTable<O>& Table() {
-  static const options::OptionTable<O> table(
-      "costmap",
-      {Field("global_frame", &O::global_frame),
-       Field("robot_base_frame", &O::robot_base_frame),
-       Field("update_frequency", &O::update_frequency),
-       Field("publish_frequency", &O::publish_frequency),
-       Field("transform_tolerance", &O::transform_tolerance),
-       Field("rolling_window", &O::rolling_window),
-       Field("width", &O::width),
-       Field("height", &O::height),
-       Field("resolution", &O::resolution),
-       Field("origin_x", &O::origin_x),
-       Field("origin_y", &O::origin_y),
-       Field("static_map", &O::static_map),
-       Field("track_unknown_space", &O::track_unknown_space),
-       Field("unknown_cost_value", &O::unknown_cost_value),
-       Field("lethal_cost_threshold", &O::lethal_cost_threshold),
-       Field("trinary_costmap", &O::trinary_costmap),
-       Field("footprint", &O::footprint),
-       Field("robot_radius", &O::robot_radius),
-       Field("footprint_padding", &O::footprint_padding),
-       Field("obstacle_range", &O::obstacle_range),
-       Field("raytrace_range", &O::raytrace_range),
-       Field("inf_is_valid", &O::inf_is_valid),
-       Field("inflation_radius", &O::inflation_radius),
-       Field("cost_scaling_factor", &O::cost_scaling_factor)});
-  return table;
-}
 
 bool Finite(double v) { return std::isfinite(v); }
 
@@ -61,6 +32,142 @@ double InscribedRadiusOrNaN(const CostmapOptions& o) {
 }
 
 }  // namespace
+
+const options::OptionTable<CostmapOptions>& CostmapOptionTable() {
+  static const options::OptionTable<O> table(
+      "costmap",
+      {Field("global_frame", &O::global_frame,
+             "Frame the costmap is kept in (map for a global costmap on a map, odom for a local "
+             "one); the global costmap's is the frame of goals and plans."),
+       Field("robot_base_frame", &O::robot_base_frame,
+             "The robot's base frame: its pose in global_frame places the footprint and a rolling "
+             "window."),
+       Field("update_frequency", &O::update_frequency,
+             "Rate (Hz) at which the layers are updated from the map and the sensors, checked on "
+             "each control cycle; 0: every control cycle."),
+       Field("publish_frequency", &O::publish_frequency,
+             "Rate (Hz) at which the costmap (an OccupancyGrid on costmap in the costmap's "
+             "namespace) and the footprint (on footprint) are published to subscribers; 0: "
+             "never."),
+       Field("transform_tolerance", &O::transform_tolerance,
+             "Largest age (s) of the global_frame -> robot_base_frame transform; an older one "
+             "leaves the robot's pose unknown and move_base stops the robot."),
+       Field("rolling_window", &O::rolling_window,
+             "A window of width x height centred on the robot and moving with it (a local "
+             "costmap) instead of a fixed grid."),
+       Field("width", &O::width,
+             "Size in x (m) of a rolling window, or of a fixed costmap without static_map; a "
+             "fixed costmap with a static map takes the map's size."),
+       Field("height", &O::height,
+             "Size in y (m) of a rolling window, or of a fixed costmap without static_map; a "
+             "fixed costmap with a static map takes the map's size."),
+       Field("resolution", &O::resolution,
+             "Cell size (m); a fixed costmap with a static map takes the map's resolution."),
+       Field("origin_x", &O::origin_x,
+             "x (m, global_frame) of the outer corner of cell (0, 0) of a fixed costmap without a "
+             "static map."),
+       Field("origin_y", &O::origin_y,
+             "y (m, global_frame) of the outer corner of cell (0, 0) of a fixed costmap without a "
+             "static map."),
+       Field("static_map", &O::static_map,
+             "Add a static layer fed from the map topic (costmap_2d's old-style flag); the "
+             "costmap is not used until a map has arrived."),
+       Field("track_unknown_space", &O::track_unknown_space,
+             "Keep space neither the map nor a sensor has shown as unknown (cost 255) instead of "
+             "free."),
+       Field("unknown_cost_value", &O::unknown_cost_value,
+             "Map value that means unknown (-1 and 255 both mean the OccupancyGrid's -1)."),
+       Field("lethal_cost_threshold", &O::lethal_cost_threshold,
+             "Map values (0..100) at or above this are lethal obstacles."),
+       Field("trinary_costmap", &O::trinary_costmap,
+             "Map values below lethal_cost_threshold are free; false: scaled to costs "
+             "proportionally (value / lethal_cost_threshold x 254)."),
+       Field("footprint", &O::footprint,
+             "The robot's outline, \"[[x0, y0], [x1, y1], ...]\" (m, robot frame, at least three "
+             "points); empty: a circle of robot_radius."),
+       Field("robot_radius", &O::robot_radius,
+             "Radius (m) of a round robot, used when footprint is empty."),
+       Field("footprint_padding", &O::footprint_padding,
+             "Distance (m) each footprint vertex is moved outwards in x and in y (costmap_2d's "
+             "padding)."),
+       Field("obstacle_range", &O::obstacle_range,
+             "Default of every observation source: only returns closer than this (m) to the "
+             "sensor mark obstacles."),
+       Field("raytrace_range", &O::raytrace_range,
+             "Default of every observation source: beams clear free space up to this distance "
+             "(m)."),
+       Field("inf_is_valid", &O::inf_is_valid,
+             "Default of every observation source: a reading of +inf means nothing within "
+             "range_max and clears the whole beam; false: it is dropped."),
+       Field("inflation_radius", &O::inflation_radius,
+             "Distance (m) from an obstacle up to which costs are inflated."),
+       Field("cost_scaling_factor", &O::cost_scaling_factor,
+             "Decay rate (1/m) of the inflated cost beyond the inscribed radius: cost = 252 "
+             "exp(-factor (d - inscribed radius)).")});
+  return table;
+}
+
+const options::OptionTable<CostmapSensorOptions>& CostmapSensorOptionTable() {
+  using S = CostmapSensorOptions;
+  static const options::OptionTable<S> table(
+      "costmap",
+      {Field("observation_sources", &S::observation_sources,
+             "Space-separated names of the sensors that mark and clear obstacles; each has its "
+             "keys in the sub-namespace of its name (below)."),
+       Field("plugins", &S::plugins,
+             "costmap_2d's layer list: accepted and not used; the layers are static (with "
+             "static_map), obstacle and inflation.")});
+  return table;
+}
+
+const options::OptionTable<ObservationSourceOptions>& ObservationSourceOptionTable() {
+  using S = ObservationSourceOptions;
+  static const options::OptionTable<S> table(
+      "observation source",
+      {Field("topic", &S::topic, "Topic of the source's scans; default: the source's name."),
+       Field("sensor_frame", &S::sensor_frame,
+             "Frame of the sensor, used instead of the scan's frame_id; empty: the scan's "
+             "frame_id."),
+       Field("data_type", &S::data_type, "Message type; only LaserScan is supported."),
+       Field("marking", &S::marking, "The source's returns mark obstacles."),
+       Field("clearing", &S::clearing, "The source's beams clear free space."),
+       Field("obstacle_range", &S::obstacle_range,
+             "Only returns closer than this (m) to the sensor mark; default: the costmap's "
+             "obstacle_range."),
+       Field("raytrace_range", &S::raytrace_range,
+             "Beams clear free space up to this distance (m); default: the costmap's "
+             "raytrace_range."),
+       Field("inf_is_valid", &S::inf_is_valid,
+             "A reading of +inf clears the whole beam up to range_max; default: the costmap's "
+             "inf_is_valid.")});
+  return table;
+}
+
+ObservationSourceOptions DefaultObservationSource(const std::string& name,
+                                                  const CostmapOptions& costmap) {
+  ObservationSourceOptions s;
+  s.topic = name;
+  s.obstacle_range = costmap.obstacle_range;
+  s.raytrace_range = costmap.raytrace_range;
+  s.inf_is_valid = costmap.inf_is_valid;
+  return s;
+}
+
+void ValidateCostmapSensorOptions(const CostmapSensorOptions& o) {
+  options::Problems p("costmap");
+  p.Require(o.observation_sources.find_first_of("[],") == std::string::npos,
+            "observation_sources='" + o.observation_sources +
+                "' must be source names separated by spaces (costmap_2d's form), not a list");
+  p.ThrowIfAny();
+}
+
+std::vector<std::string> ObservationSourceNames(const CostmapSensorOptions& options) {
+  std::vector<std::string> names;
+  std::istringstream in(options.observation_sources);
+  std::string name;
+  while (in >> name) names.push_back(name);
+  return names;
+}
 
 int CostmapCells(double metres, double resolution) {
   const double cells = std::round(metres / resolution);
@@ -161,10 +268,10 @@ std::vector<std::string> CostmapOptionWarnings(const CostmapOptions& o) {
 }
 
 void SetCostmapOption(const std::string& name, const std::string& text, CostmapOptions* o) {
-  Table().Set(name, text, o);
+  CostmapOptionTable().Set(name, text, o);
 }
-bool IsCostmapOptionName(const std::string& name) { return Table().Has(name); }
-std::vector<std::string> CostmapOptionNames() { return Table().Names(); }
+bool IsCostmapOptionName(const std::string& name) { return CostmapOptionTable().Has(name); }
+std::vector<std::string> CostmapOptionNames() { return CostmapOptionTable().Names(); }
 
 }  // namespace nav
 }  // namespace minibot3d_navigation

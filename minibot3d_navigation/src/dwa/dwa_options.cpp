@@ -19,67 +19,9 @@ using O = DwaOptions;
 
 constexpr char kOwner[] = "TrajectoryPlannerROS";
 
-const options::OptionTable<O>& Table() {
-  static const options::OptionTable<O> table(
-      kOwner,
-      {Field("acc_lim_x", &O::acc_lim_x),
-       Field("acc_lim_y", &O::acc_lim_y),
-       Field("acc_lim_theta", &O::acc_lim_theta),
-       Field("max_vel_x", &O::max_vel_x),
-       Field("min_vel_x", &O::min_vel_x),
-       Field("max_vel_theta", &O::max_vel_theta),
-       Field("min_vel_theta", &O::min_vel_theta),
-       Field("min_in_place_vel_theta", &O::min_in_place_vel_theta),
-       Field("escape_vel", &O::escape_vel),
-       Field("holonomic_robot", &O::holonomic_robot),
-       Field("yaw_goal_tolerance", &O::yaw_goal_tolerance),
-       Field("xy_goal_tolerance", &O::xy_goal_tolerance),
-       Field("latch_xy_goal_tolerance", &O::latch_xy_goal_tolerance),
-       Field("trans_stopped_vel", &O::trans_stopped_vel),
-       Field("rot_stopped_vel", &O::rot_stopped_vel),
-       Field("sim_time", &O::sim_time),
-       Field("sim_granularity", &O::sim_granularity),
-       Field("angular_sim_granularity", &O::angular_sim_granularity),
-       Field("vx_samples", &O::vx_samples),
-       Field("vtheta_samples", &O::vtheta_samples),
-       Field("controller_frequency", &O::controller_frequency),
-       Field("path_distance_bias", &O::path_distance_bias),
-       Field("goal_distance_bias", &O::goal_distance_bias),
-       Field("occdist_scale", &O::occdist_scale),
-       Field("heading_lookahead", &O::heading_lookahead),
-       Field("dwa", &O::dwa),
-       Field("meter_scoring", &O::meter_scoring),
-       Field("oscillation_reset_dist", &O::oscillation_reset_dist),
-       Field("escape_reset_dist", &O::escape_reset_dist),
-       Field("escape_reset_theta", &O::escape_reset_theta),
-       Field("prune_plan", &O::prune_plan),
-       Field("rotate_to_path_angle", &O::rotate_to_path_angle),
-       Field("max_centripetal_acc", &O::max_centripetal_acc),
-       Field("full_margin_vel", &O::full_margin_vel)});
-  return table;
-}
-
-// Other spellings of the same fields: older TrajectoryPlannerROS names and
-// DWAPlannerROS names that mean the same for a differential drive.
-const options::OptionTable<O>& Aliases() {
-  static const options::OptionTable<O> table(
-      kOwner,
-      {Field("acc_lim_th", &O::acc_lim_theta),
-       Field("min_in_place_rotational_vel", &O::min_in_place_vel_theta),
-       Field("min_rot_vel", &O::min_in_place_vel_theta),
-       Field("backup_vel", &O::escape_vel),
-       Field("theta_stopped_vel", &O::rot_stopped_vel),
-       Field("vth_samples", &O::vtheta_samples),
-       Field("pdist_scale", &O::path_distance_bias),
-       Field("gdist_scale", &O::goal_distance_bias),
-       Field("use_dwa", &O::dwa)});
-  return table;
-}
-
-// Symmetric rotational limit (DWAPlannerROS max_rot_vel, TrajectoryPlannerROS
-// max_rotational_vel): sets max_vel_theta = v, min_vel_theta = -v.
-const char* const kSymmetricThetaNames[] = {"max_rot_vel",
-                                            "max_rotational_vel"};
+// One symmetric rotational limit |vtheta| <= v: DWAPlannerROS's max_rot_vel (up
+// to kinetic) and TrajectoryPlannerROS's max_rotational_vel.
+const char* const kSymmetricRotationNames[] = {"max_rot_vel", "max_rotational_vel"};
 
 // Accepted and ignored.  Holonomic-only: y_vels, *_vel_y, vy_samples.
 // TrajectoryPlannerROS scoring variants we do not implement: heading_scoring,
@@ -118,14 +60,142 @@ const char* const kIgnoredNames[] = {
     "restore_defaults",
 };
 
-bool IsSymmetricThetaName(const std::string& name) {
-  for (const char* n : kSymmetricThetaNames) {
-    if (name == n) return true;
-  }
-  return false;
+}  // namespace
+
+const options::OptionTable<DwaOptions>& DwaOptionTable() {
+  static const options::OptionTable<O> table(
+      kOwner,
+      {Field("acc_lim_x", &O::acc_lim_x,
+             "Forward acceleration limit (m/s^2): bounds the dynamic window and the braking the "
+             "safety check assumes."),
+       Field("acc_lim_y", &O::acc_lim_y,
+             "Sideways acceleration limit (m/s^2): accepted, not used (the base cannot move "
+             "sideways)."),
+       Field("acc_lim_theta", &O::acc_lim_theta,
+             "Rotational acceleration limit (rad/s^2): bounds the dynamic window, the braking and "
+             "the final rotation to the goal yaw."),
+       Field("max_vel_x", &O::max_vel_x, "Largest forward speed (m/s)."),
+       Field("min_vel_x", &O::min_vel_x,
+             "Smallest forward speed (m/s) of a sampled command other than a rotation on the "
+             "spot; negative: the window includes reversing."),
+       Field("max_vel_theta", &O::max_vel_theta,
+             "Largest rotational speed (rad/s, counter-clockwise)."),
+       Field("min_vel_theta", &O::min_vel_theta,
+             "Most negative (clockwise) rotational speed (rad/s), < 0 as in TrajectoryPlannerROS; "
+             "DWAPlannerROS's min_vel_theta (the smallest absolute speed) is "
+             "min_in_place_vel_theta here."),
+       Field("min_in_place_vel_theta", &O::min_in_place_vel_theta,
+             "Smallest absolute rotational speed (rad/s) of a rotation on the spot."),
+       Field("escape_vel", &O::escape_vel,
+             "Speed (m/s, <= 0) of backing up when the robot is stuck in the inscribed band; 0 "
+             "disables escaping."),
+       Field("holonomic_robot", &O::holonomic_robot,
+             "Must be false: the skid-steer base cannot move sideways (TrajectoryPlannerROS's "
+             "default is true)."),
+       Field("yaw_goal_tolerance", &O::yaw_goal_tolerance,
+             "Heading error (rad) within which the goal's yaw counts as reached."),
+       Field("xy_goal_tolerance", &O::xy_goal_tolerance,
+             "Distance (m) to the goal within which its position counts as reached."),
+       Field("latch_xy_goal_tolerance", &O::latch_xy_goal_tolerance,
+             "Once within xy_goal_tolerance, only rotate to the goal yaw, even if rotating moves "
+             "the robot out of the tolerance."),
+       Field("trans_stopped_vel", &O::trans_stopped_vel,
+             "Forward speed (m/s) at or below which the robot counts as stopped (goal reached, "
+             "start of the final rotation)."),
+       Field("rot_stopped_vel", &O::rot_stopped_vel,
+             "Rotational speed (rad/s) at or below which the robot counts as stopped "
+             "(DWAPlannerROS's name up to kinetic)."),
+       Field("sim_time", &O::sim_time,
+             "Time (s) each sampled command is simulated forward; at least one control period."),
+       Field("sim_granularity", &O::sim_granularity,
+             "Largest distance (m) between the poses of a simulated trajectory that are checked "
+             "against the costmap."),
+       Field("angular_sim_granularity", &O::angular_sim_granularity,
+             "Largest rotation (rad) between checked poses; < 0: same as sim_granularity."),
+       Field("vx_samples", &O::vx_samples, "Forward speeds sampled from the window."),
+       Field("vtheta_samples", &O::vtheta_samples,
+             "Rotational speeds sampled per forward speed, and rotations on the spot sampled."),
+       Field("controller_frequency", &O::controller_frequency,
+             "Control rate (Hz): one period is the dynamic window's span and the time a command "
+             "is held before braking; move_base sets it from its own controller_frequency."),
+       Field("path_distance_bias", &O::path_distance_bias,
+             "Weight of a trajectory end's distance from the plan in its cost."),
+       Field("goal_distance_bias", &O::goal_distance_bias,
+             "Weight of a trajectory end's distance from the plan's end (the local goal) in its "
+             "cost."),
+       Field("occdist_scale", &O::occdist_scale,
+             "Weight of the highest costmap cost under the footprint along a trajectory in its "
+             "cost."),
+       Field("heading_lookahead", &O::heading_lookahead,
+             "Distance (m) ahead of a rotated robot at which a rotation on the spot is scored by "
+             "its distance to the goal; also the least distance of the plan point whose bearing "
+             "rotate_to_path_angle is checked against."),
+       Field("dwa", &O::dwa,
+             "Sample the commands reachable within one control period (dynamic window); false: "
+             "within sim_time (trajectory rollout)."),
+       Field("meter_scoring", &O::meter_scoring,
+             "Path and goal distances in metres instead of cells (occdist_scale is scaled by the "
+             "resolution too)."),
+       Field("oscillation_reset_dist", &O::oscillation_reset_dist,
+             "Distance (m) the robot must travel before a flip between turning left and right, or "
+             "forward and backward, is allowed again."),
+       Field("escape_reset_dist", &O::escape_reset_dist,
+             "Backing up ends once the robot has moved this far (m)."),
+       Field("escape_reset_theta", &O::escape_reset_theta,
+             "Backing up ends once the robot has turned this far (rad)."),
+       Field("prune_plan", &O::prune_plan,
+             "Drop the part of the plan behind the pose nearest the robot."),
+       Field("rotate_to_path_angle", &O::rotate_to_path_angle,
+             "With the plan ahead more than this (rad) off the heading (a quarter of it at "
+             "creeping speed or stopped), stop and turn on the spot towards it first; >= pi "
+             "disables."),
+       Field("max_centripetal_acc", &O::max_centripetal_acc,
+             "Largest centripetal acceleration, abs(vx x vtheta) (m/s^2), of a sampled arc, since "
+             "a skid-steer base turns tighter than commanded when it corners hard; 0: no limit."),
+       Field("full_margin_vel", &O::full_margin_vel,
+             "Speed (m/s) from which trajectories keep the footprint a whole inscribed radius "
+             "from obstacles; slower, the margin shrinks to none at creeping speed "
+             "(the larger of min_vel_x and -escape_vel).")});
+  return table;
 }
 
-}  // namespace
+const options::OptionTable<DwaOptions>& DwaAliasOptionTable() {
+  static const options::OptionTable<O> table(
+      kOwner,
+      {Field("acc_lim_th", &O::acc_lim_theta,
+             "Same as acc_lim_theta (the name older TrajectoryPlannerROS releases use)."),
+       Field("min_in_place_rotational_vel", &O::min_in_place_vel_theta,
+             "Same as min_in_place_vel_theta (the name TrajectoryPlannerROS deprecates)."),
+       Field("min_rot_vel", &O::min_in_place_vel_theta,
+             "Same as min_in_place_vel_theta (the name DWAPlannerROS uses up to kinetic)."),
+       Field("backup_vel", &O::escape_vel,
+             "Same as escape_vel (the name TrajectoryPlannerROS deprecates)."),
+       Field("theta_stopped_vel", &O::rot_stopped_vel,
+             "Same as rot_stopped_vel (the name DWAPlannerROS uses since melodic)."),
+       Field("vth_samples", &O::vtheta_samples,
+             "Same as vtheta_samples (the name DWAPlannerROS uses)."),
+       Field("pdist_scale", &O::path_distance_bias,
+             "Same as path_distance_bias (the name TrajectoryPlannerROS deprecates)."),
+       Field("gdist_scale", &O::goal_distance_bias,
+             "Same as goal_distance_bias (the name TrajectoryPlannerROS deprecates)."),
+       Field("use_dwa", &O::dwa, "Same as dwa (the name DWAPlannerROS uses)."),
+       Field(kSymmetricRotationNames[0], &O::max_vel_theta,
+             "Sets max_vel_theta to the value and min_vel_theta to minus it (the name "
+             "DWAPlannerROS uses up to kinetic)."),
+       Field(kSymmetricRotationNames[1], &O::max_vel_theta,
+             "Sets max_vel_theta to the value and min_vel_theta to minus it (the name "
+             "TrajectoryPlannerROS reads).")});
+  return table;
+}
+
+bool IsSymmetricRotationName(const std::string& name) {
+  return name == kSymmetricRotationNames[0] || name == kSymmetricRotationNames[1];
+}
+
+void ApplySymmetricRotation(DwaOptions* options) {
+  options->min_vel_theta = -options->max_vel_theta;
+}
+
 
 double EffectiveAngularSimGranularity(const DwaOptions& o) {
   return o.angular_sim_granularity < 0.0 ? o.sim_granularity
@@ -134,14 +204,11 @@ double EffectiveAngularSimGranularity(const DwaOptions& o) {
 
 void SetDwaOption(const std::string& name, const std::string& text,
                   DwaOptions* options) {
-  if (IsSymmetricThetaName(name)) {
-    const double v = options::ParseDouble(kOwner, name, text);
-    options->max_vel_theta = v;
-    options->min_vel_theta = -v;
-  } else if (Aliases().Has(name)) {
-    Aliases().Set(name, text, options);
+  if (DwaAliasOptionTable().Has(name)) {
+    DwaAliasOptionTable().Set(name, text, options);
+    if (IsSymmetricRotationName(name)) ApplySymmetricRotation(options);
   } else if (!IsIgnoredDwaOptionName(name)) {
-    Table().Set(name, text, options);  // throws for an unknown name
+    DwaOptionTable().Set(name, text, options);  // throws for an unknown name
   }
 }
 
@@ -153,11 +220,11 @@ bool IsIgnoredDwaOptionName(const std::string& name) {
 }
 
 bool IsDwaOptionName(const std::string& name) {
-  return Table().Has(name) || Aliases().Has(name) ||
-         IsSymmetricThetaName(name) || IsIgnoredDwaOptionName(name);
+  return DwaOptionTable().Has(name) || DwaAliasOptionTable().Has(name) ||
+         IsIgnoredDwaOptionName(name);
 }
 
-std::vector<std::string> DwaOptionNames() { return Table().Names(); }
+std::vector<std::string> DwaOptionNames() { return DwaOptionTable().Names(); }
 
 std::vector<std::string> DwaIgnoredOptionNames() {
   return std::vector<std::string>(std::begin(kIgnoredNames),

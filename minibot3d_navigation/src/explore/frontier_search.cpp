@@ -21,21 +21,6 @@ using options::Field;
 using options::Num;
 using O = ExploreOptions;
 
-const options::OptionTable<O>& Table() {
-  static const options::OptionTable<O> table(
-      "explore", {Field("min_frontier_size", &O::min_frontier_size),
-                  Field("clearance", &O::clearance),
-                  Field("goal_clearance", &O::goal_clearance),
-                  Field("free_threshold", &O::free_threshold),
-                  Field("blacklist_radius", &O::blacklist_radius),
-                  Field("goal_search_radius", &O::goal_search_radius),
-                  Field("look_radius", &O::look_radius),
-                  Field("retry_window", &O::retry_window),
-                  Field("retry_map_change", &O::retry_map_change),
-                  Field("max_goal_attempts", &O::max_goal_attempts)});
-  return table;
-}
-
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // 0 free, 1 unknown, 2 occupied.
@@ -165,11 +150,43 @@ void ValidateExploreOptions(const ExploreOptions& o) {
   p.ThrowIfAny();
 }
 
-void SetExploreOption(const std::string& name, const std::string& text, ExploreOptions* o) {
-  Table().Set(name, text, o);
+const options::OptionTable<ExploreOptions>& ExploreOptionTable() {
+  static const options::OptionTable<O> table(
+      "explore",
+      {Field("min_frontier_size", &O::min_frontier_size,
+             "Shortest frontier (m, cells x resolution) that counts; shorter ones are noise "
+             "(explore_lite)."),
+       Field("clearance", &O::clearance,
+             "Distance (m) from occupied cells that the cells of a path to a goal must keep."),
+       Field("goal_clearance", &O::goal_clearance,
+             "Distance (m) from occupied cells a goal must keep, so that the robot can turn there; "
+             "at least clearance."),
+       Field("free_threshold", &O::free_threshold,
+             "Map values 0..this are free; higher ones occupied, -1 unknown."),
+       Field("blacklist_radius", &O::blacklist_radius,
+             "Radius (m) round a reached goal (for good) or an unreachable one (until the map "
+             "there changes) within which no new goal is chosen."),
+       Field("goal_search_radius", &O::goal_search_radius,
+             "Distance (m) from a frontier cell within which its goal (a cell that sees past "
+             "it) is looked for."),
+       Field("look_radius", &O::look_radius,
+             "Distance (m) from a reached goal within which frontier cells it saw that stay "
+             "unknown stop counting as frontier; at least goal_search_radius."),
+       Field("retry_window", &O::retry_window,
+             "Half the side (m) of the square watched round an unreachable goal."),
+       Field("retry_map_change", &O::retry_map_change,
+             "Area (m^2) of that square that must change (free, occupied, unknown) before the "
+             "goal may be tried again."),
+       Field("max_goal_attempts", &O::max_goal_attempts,
+             "Goals sent near one place before it is given up for good.")});
+  return table;
 }
-bool IsExploreOptionName(const std::string& name) { return Table().Has(name); }
-std::vector<std::string> ExploreOptionNames() { return Table().Names(); }
+
+void SetExploreOption(const std::string& name, const std::string& text, ExploreOptions* o) {
+  ExploreOptionTable().Set(name, text, o);
+}
+bool IsExploreOptionName(const std::string& name) { return ExploreOptionTable().Has(name); }
+std::vector<std::string> ExploreOptionNames() { return ExploreOptionTable().Names(); }
 
 FrontierSearch::FrontierSearch(const ExploreOptions& options) : options_(options) {
   ValidateExploreOptions(options_);

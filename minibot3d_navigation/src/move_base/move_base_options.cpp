@@ -14,34 +14,68 @@ using options::Field;
 using options::Num;
 using O = MoveBaseOptions;
 
-const options::OptionTable<O>& Table() {
-  static const options::OptionTable<O> table(
-      "move_base",
-      {Field("base_global_planner", &O::base_global_planner),
-       Field("base_local_planner", &O::base_local_planner),
-       Field("planner_frequency", &O::planner_frequency),
-       Field("controller_frequency", &O::controller_frequency),
-       Field("planner_patience", &O::planner_patience),
-       Field("controller_patience", &O::controller_patience),
-       Field("max_planning_retries", &O::max_planning_retries),
-       Field("oscillation_timeout", &O::oscillation_timeout),
-       Field("oscillation_distance", &O::oscillation_distance),
-       Field("recovery_behavior_enabled", &O::recovery_behavior_enabled),
-       Field("clearing_rotation_allowed", &O::clearing_rotation_allowed),
-       Field("conservative_reset_dist", &O::conservative_reset_dist),
-       Field("shutdown_costmaps", &O::shutdown_costmaps),
-       Field("recovery_behaviors", &O::recovery_behaviors),
-       Field("back_out_distance", &O::back_out_distance),
-       Field("back_out_vel", &O::back_out_vel),
-       Field("blocked_radius", &O::blocked_radius),
-       Field("blocked_lookahead", &O::blocked_lookahead),
-       Field("recovery_reset_distance", &O::recovery_reset_distance)});
-  return table;
-}
-
 bool Finite(double v) { return std::isfinite(v); }
 
 }  // namespace
+
+const options::OptionTable<MoveBaseOptions>& MoveBaseOptionTable() {
+  static const options::OptionTable<O> table(
+      "move_base",
+      {Field("base_global_planner", &O::base_global_planner,
+             "Global planner: navfn/NavfnROS, global_planner/GlobalPlanner or astar (all "
+             "minibot3d's A*), or ompl; its keys are read from ~NavfnROS/, ~GlobalPlanner/ and "
+             "~OmplPlanner/."),
+       Field("base_local_planner", &O::base_local_planner,
+             "Local planner: base_local_planner/TrajectoryPlannerROS (keys in "
+             "~TrajectoryPlannerROS/) or dwa_local_planner/DWAPlannerROS (keys in "
+             "~DWAPlannerROS/); both run minibot3d's DWA."),
+       Field("planner_frequency", &O::planner_frequency,
+             "Rate (Hz) of replanning while following a plan; 0: plan once per goal, and again "
+             "only when control fails."),
+       Field("controller_frequency", &O::controller_frequency,
+             "Rate (Hz) of the control loop (sim time): costmap updates, planning and velocity "
+             "commands."),
+       Field("planner_patience", &O::planner_patience,
+             "Time (s) without a valid plan before the recovery behaviours run."),
+       Field("controller_patience", &O::controller_patience,
+             "Time (s) without a valid velocity command before the recovery behaviours run."),
+       Field("max_planning_retries", &O::max_planning_retries,
+             "Failed planning attempts before the recovery behaviours run; -1: only "
+             "planner_patience counts."),
+       Field("oscillation_timeout", &O::oscillation_timeout,
+             "Time (s) the robot may take to move oscillation_distance before the recovery "
+             "behaviours run; 0: no limit."),
+       Field("oscillation_distance", &O::oscillation_distance,
+             "Distance (m) the robot must move within oscillation_timeout not to count as "
+             "oscillating."),
+       Field("recovery_behavior_enabled", &O::recovery_behavior_enabled,
+             "Run the recovery behaviours; false: a failure aborts the goal."),
+       Field("clearing_rotation_allowed", &O::clearing_rotation_allowed,
+             "The default recovery list includes the rotations on the spot (rotate_recovery)."),
+       Field("conservative_reset_dist", &O::conservative_reset_dist,
+             "Side (m) of the square round the robot that conservative_reset keeps while it "
+             "clears the rest of the costmaps' obstacles."),
+       Field("shutdown_costmaps", &O::shutdown_costmaps,
+             "Accepted and not used: the costmaps always run."),
+       Field("recovery_behaviors", &O::recovery_behaviors,
+             "Recovery behaviours in order, by name (back_out, conservative_reset, "
+             "rotate_recovery, aggressive_reset; a {name, type} list as in move_base); empty: "
+             "move_base's list, after back_out if back_out_distance > 0."),
+       Field("back_out_distance", &O::back_out_distance,
+             "Distance (m) the back_out recovery reverses along the way the robot came when "
+             "the way ahead is blocked; 0: no back_out in the default list."),
+       Field("back_out_vel", &O::back_out_vel, "Speed (m/s) of the back_out recovery."),
+       Field("blocked_radius", &O::blocked_radius,
+             "When control fails or the robot oscillates, a disc of this radius (m) round the "
+             "plan point blocked_lookahead ahead is kept out of later plans for the goal; 0: "
+             "off."),
+       Field("blocked_lookahead", &O::blocked_lookahead,
+             "Distance (m) along the plan ahead of the robot of the centre of a blocked disc."),
+       Field("recovery_reset_distance", &O::recovery_reset_distance,
+             "The recovery list starts again from its first behaviour once the robot is this far "
+             "(m) from where the last recovery began; 0: never within a goal.")});
+  return table;
+}
 
 void ValidateMoveBaseOptions(const MoveBaseOptions& o) {
   options::Problems p("move_base");
@@ -86,10 +120,10 @@ void ValidateMoveBaseOptions(const MoveBaseOptions& o) {
 }
 
 void SetMoveBaseOption(const std::string& name, const std::string& text, MoveBaseOptions* o) {
-  Table().Set(name, text, o);
+  MoveBaseOptionTable().Set(name, text, o);
 }
-bool IsMoveBaseOptionName(const std::string& name) { return Table().Has(name); }
-std::vector<std::string> MoveBaseOptionNames() { return Table().Names(); }
+bool IsMoveBaseOptionName(const std::string& name) { return MoveBaseOptionTable().Has(name); }
+std::vector<std::string> MoveBaseOptionNames() { return MoveBaseOptionTable().Names(); }
 
 }  // namespace nav
 }  // namespace minibot3d_navigation

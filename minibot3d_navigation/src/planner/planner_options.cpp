@@ -21,25 +21,6 @@ using options::Field;
 using options::Num;
 using O = GlobalPlannerOptions;
 
-const options::OptionTable<O>& Table() {
-  static const options::OptionTable<O> table(
-      "global planner",
-      {Field("base_global_planner", &O::base_global_planner),
-       Field("default_tolerance", &O::default_tolerance),
-       Field("allow_unknown", &O::allow_unknown),
-       Field("neutral_cost", &O::neutral_cost),
-       Field("cost_factor", &O::cost_factor),
-       Field("lethal_cost", &O::lethal_cost),
-       Field("smooth_path", &O::smooth_path),
-       Field("orientation_mode", &O::orientation_mode),
-       Field("ompl_planner", &O::ompl_planner),
-       Field("ompl_planning_time", &O::ompl_planning_time),
-       Field("ompl_simplify", &O::ompl_simplify),
-       Field("ompl_interpolation_resolution", &O::ompl_interpolation_resolution),
-       Field("ompl_seed", &O::ompl_seed)});
-  return table;
-}
-
 const char* const kAStarNames[] = {"astar", "navfn/NavfnROS",
                                    "global_planner/GlobalPlanner"};
 const char* const kOmplPlannerNames[] = {"rrtstar", "prmstar", "rrtconnect"};
@@ -53,14 +34,58 @@ std::string JoinNames(const char* const (&names)[N]) {
 
 }  // namespace
 
-void SetGlobalPlannerOption(const std::string& name, const std::string& text,
-                            GlobalPlannerOptions* options) {
-  Table().Set(name, text, options);
+const options::OptionTable<GlobalPlannerOptions>& GlobalPlannerOptionTable() {
+  static const options::OptionTable<O> table(
+      "global planner",
+      {Field("base_global_planner", &O::base_global_planner,
+             "The planner: astar (also by the names navfn/NavfnROS and "
+             "global_planner/GlobalPlanner) or ompl; move_base sets it from its own "
+             "base_global_planner."),
+       Field("default_tolerance", &O::default_tolerance,
+             "When the goal cell cannot be entered, plan to the nearest cell that can within this "
+             "distance (m) of the goal; 0: the goal itself must be free (navfn)."),
+       Field("allow_unknown", &O::allow_unknown,
+             "Paths may cross unknown cells (cost 255)."),
+       Field("neutral_cost", &O::neutral_cost,
+             "Cost per cell length of a step onto a free cell; onto a cell of cost c it is "
+             "neutral_cost + cost_factor x c (global_planner)."),
+       Field("cost_factor", &O::cost_factor,
+             "Weight of a cell's costmap cost in a step's cost (global_planner)."),
+       Field("lethal_cost", &O::lethal_cost,
+             "Cells of this cost and above (below 255) cannot be entered; 253: the robot's centre "
+             "keeps out of cells where its inscribed circle would touch an obstacle."),
+       Field("smooth_path", &O::smooth_path,
+             "A*: shorten the grid path by line-of-sight shortcuts through cells no costlier than "
+             "those they replace, then resample it at the costmap's resolution; false: the cell "
+             "centres."),
+       Field("orientation_mode", &O::orientation_mode,
+             "Yaw of the path poses before the last (which takes the goal's): 0 zero, 1 along the "
+             "path, 2 interpolated from the start's to the goal's (global_planner's None, "
+             "Forward, Interpolate; its default is 0)."),
+       Field("ompl_planner", &O::ompl_planner,
+             "The OMPL algorithm: rrtstar, prmstar or rrtconnect."),
+       Field("ompl_planning_time", &O::ompl_planning_time,
+             "Time budget (s, wall clock) of one OMPL plan."),
+       Field("ompl_simplify", &O::ompl_simplify,
+             "Shorten the OMPL solution with OMPL's simplifySolution."),
+       Field("ompl_interpolation_resolution", &O::ompl_interpolation_resolution,
+             "Spacing (m) of the poses along an OMPL path."),
+       Field("ompl_seed", &O::ompl_seed,
+             "Seed of OMPL's random generator, set before each plan (a plan that ends on its "
+             "first solution, rrtconnect, is then repeatable); 0: OMPL's random seed.")});
+  return table;
 }
 
-bool IsGlobalPlannerOptionName(const std::string& name) { return Table().Has(name); }
+void SetGlobalPlannerOption(const std::string& name, const std::string& text,
+                            GlobalPlannerOptions* options) {
+  GlobalPlannerOptionTable().Set(name, text, options);
+}
 
-std::vector<std::string> GlobalPlannerOptionNames() { return Table().Names(); }
+bool IsGlobalPlannerOptionName(const std::string& name) {
+  return GlobalPlannerOptionTable().Has(name);
+}
+
+std::vector<std::string> GlobalPlannerOptionNames() { return GlobalPlannerOptionTable().Names(); }
 
 std::vector<std::string> GlobalPlannerNames() {
   std::vector<std::string> names(std::begin(kAStarNames), std::end(kAStarNames));

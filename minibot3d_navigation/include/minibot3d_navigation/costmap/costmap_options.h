@@ -3,7 +3,7 @@
 // Names and defaults are costmap_2d's (Costmap2DROS plus the static, obstacle
 // and inflation layers, ROS 1 navigation), in the "old style" flat form that
 // the move_base tutorials' costmap_common_params.yaml use, so those YAML files
-// load parameter by parameter through SetCostmapOption().  The algorithm they
+// load parameter by parameter through CostmapOptionTable().  The algorithm they
 // configure is described in layered_costmap.h (Lu, Hershberger & Smart,
 // "Layered costmaps for context-sensitive navigation", IROS 2014).
 #ifndef MINIBOT3D_NAVIGATION_COSTMAP_COSTMAP_OPTIONS_H_
@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "minibot3d_common/options.h"
 #include "minibot3d_navigation/costmap/footprint.h"
 
 namespace minibot3d_navigation {
@@ -76,18 +77,58 @@ void ValidateCostmapOptions(const CostmapOptions& options);
 // given (robot_radius is ignored).  Empty when nothing is suspicious.
 std::vector<std::string> CostmapOptionWarnings(const CostmapOptions& options);
 
-// Sets the option called `name` (costmap_2d parameter name) from its text
-// form ("0.05", "true", "[[0.2, 0.15], ...]").  Throws std::invalid_argument
-// for an unknown name or text that does not parse as the option's type.  Does
-// not validate ranges; call ValidateCostmapOptions() once all are set.
+// The costmap_2d names of CostmapOptions, each with its documentation (parsing
+// by name, the docs' reference).  Setting does not validate ranges; call
+// ValidateCostmapOptions() once all are set.
+const minibot3d_common::options::OptionTable<CostmapOptions>& CostmapOptionTable();
+
+// Thin wrappers of CostmapOptionTable(): Set throws std::invalid_argument for an
+// unknown name or text that does not parse ("0.05", "true", "[[0.2, 0.15], ...]").
 void SetCostmapOption(const std::string& name, const std::string& text,
                       CostmapOptions* options);
-
-// True if `name` is an option SetCostmapOption() understands.
 bool IsCostmapOptionName(const std::string& name);
+std::vector<std::string> CostmapOptionNames();  // declaration order
 
-// All option names, in declaration order.
-std::vector<std::string> CostmapOptionNames();
+// The keys of a costmap's namespace that say where its obstacles come from,
+// read by the ROS node (costmap_2d's old-style observation sources).
+struct CostmapSensorOptions {
+  // Space-separated names of the observation sources; each names a
+  // sub-namespace with ObservationSourceOptions.
+  std::string observation_sources;
+  // costmap_2d's layer list ([{name, type}, ...]): accepted, not used; the
+  // layers are the static (with static_map), obstacle and inflation layers.
+  std::vector<std::string> plugins;
+};
+
+const minibot3d_common::options::OptionTable<CostmapSensorOptions>& CostmapSensorOptionTable();
+
+// Throws std::invalid_argument when observation_sources is not names
+// separated by spaces (a YAML list, say).
+void ValidateCostmapSensorOptions(const CostmapSensorOptions& options);
+
+// One observation source (a sub-namespace named in observation_sources).
+struct ObservationSourceOptions {
+  std::string topic;         // DefaultObservationSource: the source's name
+  std::string sensor_frame;  // empty: the scan's own frame
+  std::string data_type = "LaserScan";
+  bool marking = true;
+  bool clearing = true;
+  // Defaults: the costmap's obstacle_range, raytrace_range and inf_is_valid.
+  double obstacle_range = 2.5;
+  double raytrace_range = 3.0;
+  bool inf_is_valid = false;
+};
+
+const minibot3d_common::options::OptionTable<ObservationSourceOptions>&
+ObservationSourceOptionTable();
+
+// The settings of source `name` before its own keys are read: topic `name`,
+// ranges and inf_is_valid from the costmap.
+ObservationSourceOptions DefaultObservationSource(const std::string& name,
+                                                  const CostmapOptions& costmap);
+
+// The names in observation_sources ("a b" -> {a, b}).
+std::vector<std::string> ObservationSourceNames(const CostmapSensorOptions& options);
 
 // The footprint the costmap uses: `footprint` parsed if given, else a circle
 // of robot_radius (MakeCircleFootprint), then padded by footprint_padding

@@ -2,9 +2,9 @@
 //
 // Names and defaults are base_local_planner's TrajectoryPlannerROS ones, so a
 // move_base YAML written for TrajectoryPlannerROS loads parameter by parameter
-// through SetDwaOption().  The DWAPlannerROS spellings that mean the same thing
-// for a differential / skid-steer base are accepted as aliases (listed next to
-// each field).  Parameters of either planner that only matter for holonomic
+// through DwaOptionTable().  The DWAPlannerROS spellings that mean the same thing
+// for a differential / skid-steer base are accepted as aliases
+// (DwaAliasOptionTable()).  Parameters of either planner that only matter for holonomic
 // robots or for ROS plumbing are accepted and ignored (DwaIgnoredOptionNames());
 // holonomic_robot itself must stay false: minibot3d is a skid-steer.
 #ifndef MINIBOT3D_NAVIGATION_DWA_DWA_OPTIONS_H_
@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "minibot3d_common/options.h"
 #include "minibot3d_navigation/nav_types.h"
 
 namespace minibot3d_navigation {
@@ -118,6 +119,22 @@ struct DwaOptions {
 // with its value, e.g. "invalid DWA local planner (TrajectoryPlannerROS)
 // parameters: min_vel_x=0.6 > max_vel_x=0.5; vx_samples=0 must be >= 1".
 void ValidateDwaOptions(const DwaOptions& options);
+
+// The canonical options (TrajectoryPlannerROS names), each with its
+// documentation.  Setting does not validate ranges: call ValidateDwaOptions()
+// after setting them all.
+const minibot3d_common::options::OptionTable<DwaOptions>& DwaOptionTable();
+
+// The other spellings of the same fields (older TrajectoryPlannerROS names,
+// DWAPlannerROS names).  The symmetric rotation limits (IsSymmetricRotationName)
+// set max_vel_theta here; ApplySymmetricRotation then sets min_vel_theta.
+const minibot3d_common::options::OptionTable<DwaOptions>& DwaAliasOptionTable();
+
+// max_rot_vel (DWAPlannerROS up to kinetic) and max_rotational_vel
+// (TrajectoryPlannerROS): one bound |vtheta| <= v.
+bool IsSymmetricRotationName(const std::string& name);
+// min_vel_theta = -max_vel_theta, after a symmetric name has set max_vel_theta.
+void ApplySymmetricRotation(DwaOptions* options);
 
 // Sets the option called `name` (TrajectoryPlannerROS / DWAPlannerROS name or
 // alias) from its text form ("0.25", "20", "true").  Ignored names (see

@@ -37,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "minibot3d_common/options.h"
 #include "minibot3d_navigation/nav_types.h"
 
 namespace minibot3d_navigation {
@@ -58,6 +59,8 @@ struct ExploreOptions {
 
 // Throws std::invalid_argument listing every offending value.
 void ValidateExploreOptions(const ExploreOptions& options);
+// The options by name, each with its documentation; thin wrappers below.
+const minibot3d_common::options::OptionTable<ExploreOptions>& ExploreOptionTable();
 void SetExploreOption(const std::string& name, const std::string& text, ExploreOptions* options);
 bool IsExploreOptionName(const std::string& name);
 std::vector<std::string> ExploreOptionNames();

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "minibot3d_common/options.h"
+
 namespace minibot3d_navigation {
 namespace nav {
 
@@ -34,7 +36,7 @@ struct MoveBaseOptions {
   // move_base's default list, preceded by back_out when back_out_distance > 0.
   std::vector<std::string> recovery_behaviors;
 
-  // --- Not in ROS move_base (issue 18: getting out of clutter) ---
+  // --- Not in ROS move_base: getting out of clutter ---
   // All off by default: on the 50 clutter worlds they do not yet beat
   // move_base's own behaviour (README, "Mapless navigation"); typical values
   // to try: back_out_distance 0.6, blocked_radius 0.2,
@@ -60,8 +62,13 @@ struct MoveBaseOptions {
 
 // Throws std::invalid_argument listing every offending value.
 void ValidateMoveBaseOptions(const MoveBaseOptions& options);
-// Sets one option from text; throws std::invalid_argument for an unknown
-// name or unparsable text.  recovery_behaviors takes a comma-separated list.
+
+// The options by move_base name, each with its documentation.
+const minibot3d_common::options::OptionTable<MoveBaseOptions>& MoveBaseOptionTable();
+
+// Thin wrappers of MoveBaseOptionTable(): Set throws std::invalid_argument for
+// an unknown name or unparsable text.  recovery_behaviors takes a
+// comma-separated list.
 void SetMoveBaseOption(const std::string& name, const std::string& text,
                        MoveBaseOptions* options);
 bool IsMoveBaseOptionName(const std::string& name);

@@ -3,7 +3,7 @@
 // Names and defaults follow the ROS 1 global planners (navfn/NavfnROS and
 // global_planner/GlobalPlanner: default_tolerance, allow_unknown, neutral_cost,
 // cost_factor, lethal_cost, orientation_mode) so existing YAML files load
-// parameter by parameter through SetGlobalPlannerOption(); the OMPL planner's
+// parameter by parameter through GlobalPlannerOptionTable(); the OMPL planner's
 // own parameters carry an `ompl_` prefix.  `base_global_planner` is
 // move_base's parameter choosing the planner (see planner_factory.h).
 //
@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "minibot3d_common/options.h"
 #include "minibot3d_navigation/costmap/costmap_2d.h"
 #include "minibot3d_navigation/nav_types.h"
 
@@ -67,9 +68,12 @@ struct GlobalPlannerOptions {
 // [1, 1000000]; ompl_planner='rrt' is not one of rrtstar, prmstar, rrtconnect".
 void ValidateGlobalPlannerOptions(const GlobalPlannerOptions& options);
 
-// Sets the option `name` from its text form ("0.25", "true", "rrtstar").
-// Throws std::invalid_argument for an unknown name or unparsable text; does
-// not check ranges (call ValidateGlobalPlannerOptions once all are set).
+// The options by name, each with its documentation.  Setting does not check
+// ranges (call ValidateGlobalPlannerOptions once all are set).
+const minibot3d_common::options::OptionTable<GlobalPlannerOptions>& GlobalPlannerOptionTable();
+
+// Thin wrappers of GlobalPlannerOptionTable(): Set throws std::invalid_argument
+// for an unknown name or unparsable text ("0.25", "true", "rrtstar").
 void SetGlobalPlannerOption(const std::string& name, const std::string& text,
                             GlobalPlannerOptions* options);
 bool IsGlobalPlannerOptionName(const std::string& name);
