@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Writes docs/parameters/*.md from the option tables: runs the print_parameter_docs program of every
-# package that builds one (its CMakeLists.txt names the target). A package whose program is not
+# package that builds one (its CMakeLists.txt gives a target that OUTPUT_NAME). A package whose program is not
 # built is skipped with a note. With --check, compares the pages instead of writing them and exits
 # non-zero when one is out of date.
 set -euo pipefail
@@ -18,7 +18,7 @@ out=docs/parameters
 mkdir -p "$out"
 status=0
 for cmake in minibot3d_*/CMakeLists.txt; do
-  grep -q 'add_executable(print_parameter_docs' "$cmake" || continue
+  grep -q 'OUTPUT_NAME print_parameter_docs' "$cmake" || continue
   package=$(dirname "$cmake")
   program=devel/lib/$package/print_parameter_docs
   if [[ ! -x "$program" ]]; then

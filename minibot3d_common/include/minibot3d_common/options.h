@@ -232,6 +232,7 @@ class OptionTable {
     for (const auto& f : fields_) {
       std::string value = Text(f, defaults);
       if (value.empty()) value = "\"\"";
+      if (f.double_field && std::isnan(defaults.*(f.double_field))) value = "unset";
       os << "| `" << f.name << "` | " << TypeName(f) << " | `" << value << "` | " << f.doc
          << " |\n";
     }
