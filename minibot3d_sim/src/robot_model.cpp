@@ -777,6 +777,12 @@ void ReadSensors(const GazeboBlocks& blocks, const RobotModelOptions& o, RobotMo
         std::vector<std::pair<std::string, std::string>> tags;
         Flatten(s, "", {"plugin"}, &tags);
         ReadTags(ImuSensorTable(), tags, where, &so, &m->warnings);
+        for (const std::string* type : {&so.av_x_type, &so.av_y_type, &so.av_z_type, &so.la_x_type,
+                                        &so.la_y_type, &so.la_z_type}) {
+          if (!type->empty() && *type != "gaussian") {
+            throw RobotModelError(where + ": noise type '" + *type + "' is not supported (gaussian)");
+          }
+        }
         bool published = false;
         for (auto* p = s->FirstChildElement("plugin"); p; p = p->NextSiblingElement("plugin")) {
           const std::string file = Attribute(p, "filename");

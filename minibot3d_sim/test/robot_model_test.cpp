@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "urdf_fixtures.h"
+
 namespace minibot3d_sim {
 namespace {
 
@@ -182,6 +184,142 @@ TEST(RobotModelTest, UnknownPluginsAndTagsWarnOnce) {
   ASSERT_EQ(m.lasers.size(), 1u);
   EXPECT_EQ(m.lasers[0].topic, "/world");
   EXPECT_EQ(m.lasers[0].frame_id, "world");
+}
+
+}  // namespace
+}  // namespace minibot3d_sim
+
+namespace minibot3d_sim {
+namespace {
+
+using testing::DiffDriveUrdf;
+using testing::FourWheelRosControlUrdf;
+
+// A depth camera, an IMU sensor, a second laser and ground truth on the diff-drive robot.
+std::string SensorBlocks(int width = 320) {
+  return "<gazebo reference='base_scan'><sensor type='ray' name='front'><update_rate>5</update_rate>"
+         "<pose>0 0 0 0 0 1.5707963267948966</pose><ray><scan><horizontal><samples>360</samples>"
+         "<resolution>1</resolution><min_angle>0</min_angle><max_angle>6.28319</max_angle>"
+         "</horizontal></scan><range><min>0.12</min><max>3.5</max><resolution>0.015</resolution>"
+         "</range><noise type='gaussian'><mean>0</mean><stddev>0.01</stddev></noise></ray>"
+         "<plugin name='l' filename='libgazebo_ros_laser.so'><topicName>scan</topicName>"
+         "<frameName>base_scan</frameName></plugin></sensor></gazebo>"
+         "<gazebo reference='base_link'><sensor type='imu' name='imu'><update_rate>200"
+         "</update_rate><imu><angular_velocity><z><noise type='gaussian'><mean>0</mean><stddev>"
+         "0.0002</stddev><bias_mean>0.0000075</bias_mean><bias_stddev>0.0000008</bias_stddev>"
+         "</noise></z></angular_velocity></imu><plugin name='i' filename='libgazebo_ros_imu_sensor.so'>"
+         "<topicName>imu</topicName><frameName>base_link</frameName><updateRateHZ>100"
+         "</updateRateHZ></plugin></sensor>"
+         "<sensor type='depth' name='cam'><update_rate>15</update_rate><pose>0.1 0 0.2 0 0 0</pose>"
+         "<camera><horizontal_fov>1.0472</horizontal_fov><image><width>" + std::to_string(width) +
+         "</width><height>240</height><format>R8G8B8</format></image><clip><near>0.05</near>"
+         "<far>8</far></clip><depth_camera/></camera>"
+         "<plugin name='c' filename='libgazebo_ros_openni_kinect.so'><cameraName>camera</cameraName>"
+         "<frameName>base_link</frameName><pointCloudTopicName>depth/points</pointCloudTopicName>"
+         "</plugin></sensor></gazebo>"
+         "<gazebo><plugin name='gt' filename='libgazebo_ros_p3d.so'><bodyName>base_link</bodyName>"
+         "<topicName>truth</topicName><updateRate>50</updateRate></plugin></gazebo>";
+}
+
+TEST(RobotModelTest, DiffDriveRobotWithSensors) {
+  const RobotModel m = ParseRobotModel(DiffDriveUrdf("", SensorBlocks()));
+  ASSERT_EQ(m.drive.kind, DriveKind::kDiffDrive);
+  EXPECT_EQ(m.drive.robot_namespace, "/");  // injected, as spawn_model does
+  ASSERT_EQ(m.wheels.size(), 2u);
+  EXPECT_EQ(m.wheels[0].joint, "wheel_left_joint");
+  EXPECT_NEAR(m.wheels[0].radius, 0.033, 1e-12);
+  EXPECT_DOUBLE_EQ(m.wheels[0].torque, 5.0);  // wheelTorque's default
+  // The caster ball touches the floor: it carries load.
+  ASSERT_EQ(m.supports.size(), 1u);
+  EXPECT_EQ(m.supports[0].link, "caster");
+  ASSERT_EQ(m.lasers.size(), 1u);
+  EXPECT_EQ(m.lasers[0].frame_id, "base_scan");
+  EXPECT_NEAR(m.lasers[0].pose_in_root.translation().z(), 0.17, 1e-12);
+  EXPECT_DOUBLE_EQ(m.lasers[0].noise_stddev, 0.01);
+  ASSERT_EQ(m.imus.size(), 1u);
+  EXPECT_EQ(m.imus[0].topic, "imu");
+  EXPECT_TRUE(m.imus[0].gravity);
+  EXPECT_DOUBLE_EQ(m.imus[0].update_rate, 100.0);  // the plugin's rate below the sensor's
+  EXPECT_DOUBLE_EQ(m.imus[0].noise.av_z_stddev, 0.0002);
+  ASSERT_EQ(m.cameras.size(), 1u);
+  const CameraSpec& c = m.cameras[0];
+  EXPECT_TRUE(c.depth);
+  EXPECT_EQ(c.sensor.width, 320);
+  EXPECT_DOUBLE_EQ(c.ros.point_cloud_cutoff_max, 5.0);  // openni_kinect's default
+  EXPECT_EQ(c.ros.point_cloud_topic_name, "depth/points");
+  EXPECT_EQ(c.ros.depth_image_topic_name, "depth/image_raw");
+  EXPECT_DOUBLE_EQ(c.update_rate, 15.0);
+  EXPECT_NEAR(c.pose_in_root.translation().x(), 0.1, 1e-12);
+  ASSERT_EQ(m.ground_truths.size(), 1u);
+  EXPECT_EQ(m.ground_truths[0].options.frame_name, "world");
+  EXPECT_TRUE(m.warnings.empty()) << m.warnings.front();
+}
+
+// A robot description's plugins live in the namespace the simulator spawns it in unless they
+// name their own.
+TEST(RobotModelTest, SpawnNamespace) {
+  RobotModelOptions o;
+  o.spawn_namespace = "/robot2";
+  const RobotModel m = ParseRobotModel(DiffDriveUrdf("", SensorBlocks()), o);
+  EXPECT_EQ(m.drive.robot_namespace, "/robot2");
+  EXPECT_EQ(m.lasers[0].robot_namespace, "/robot2");
+  const RobotModel own = ParseRobotModel(DiffDriveUrdf("<robotNamespace>/mine</robotNamespace>"), o);
+  EXPECT_EQ(own.drive.robot_namespace, "/mine");
+}
+
+void ExpectError(const std::string& xml, const RobotModelOptions& o, const std::string& needle) {
+  try {
+    ParseRobotModel(xml, o);
+    ADD_FAILURE() << "no error; expected one mentioning '" << needle << "'";
+  } catch (const RobotModelError& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+TEST(RobotModelTest, BadInputOfOtherRobotsIsNamed) {
+  const RobotModelOptions none;
+  // A plugin naming a joint the URDF lacks.
+  std::string xml = DiffDriveUrdf();
+  const std::string left = "<leftJoint>wheel_left_joint";
+  xml.replace(xml.find(left), left.size(), "<leftJoint>no_such_joint");
+  ExpectError(xml, none, "no_such_joint");
+  // Two drive plugins.
+  ExpectError(DiffDriveUrdf("", "<gazebo><plugin name='second' filename='libgazebo_ros_planar_move.so'/>"
+                                "</gazebo>"),
+              none, "two drive plugins");
+  // A sensor on a link that does not exist.
+  ExpectError(DiffDriveUrdf("", "<gazebo reference='no_such_link'><sensor type='ray' name='s'/>"
+                                "</gazebo>"),
+              none, "no_such_link");
+  // A camera wider than 2^15 pixels.
+  ExpectError(DiffDriveUrdf("", SensorBlocks(40000)), none, "40000");
+  // A mesh that will not load.
+  std::string mesh = DiffDriveUrdf();
+  const std::string box = "<box size='0.3 0.2 0.1'/>";
+  mesh.replace(mesh.find(box), box.size(), "<mesh filename='file:///no/such/mesh.stl'/>");
+  ExpectError(mesh, none, "/no/such/mesh.stl");
+  // gazebo_ros_control without a controller, and a controller missing a wheel.
+  ExpectError(FourWheelRosControlUrdf(), none, "no diff_drive_controller");
+  RobotModelOptions c;
+  c.controllers["base"] = {{"type", "diff_drive_controller/DiffDriveController"},
+                           {"left_wheel", "[front_left_wheel, rear_left_wheel]"},
+                           {"right_wheel", "[front_right_wheel]"},
+                           {"pose_covariance_diagonal", "[1, 1, 1, 1, 1, 1]"},
+                           {"twist_covariance_diagonal", "[1, 1, 1, 1, 1, 1]"}};
+  ExpectError(FourWheelRosControlUrdf(), c, "'left_wheel' has 2 joints and 'right_wheel' 1");
+  c.controllers["base"].erase("right_wheel");
+  ExpectError(FourWheelRosControlUrdf(), c, "'right_wheel'");
+  c.controllers["base"]["right_wheel"] = "[front_right_wheel, rear_right_whee]";
+  ExpectError(FourWheelRosControlUrdf(), c, "rear_right_whee");
+  c.controllers["base"]["right_wheel"] = "[front_left_wheel, rear_left_wheel]";
+  c.controllers["base"]["left_wheel"] = "[front_right_wheel, rear_right_wheel]";
+  ExpectError(FourWheelRosControlUrdf(), c, "is listed in left_wheel but is on the right");
+  // A bad odometrySource and a laser with several ranges per beam.
+  ExpectError(DiffDriveUrdf("<odometrySource>gps</odometrySource>"), none, "odometrySource");
+  std::string res = SensorBlocks();
+  const std::string one = "<resolution>1</resolution>";
+  res.replace(res.find(one), one.size(), "<resolution>2</resolution>");
+  ExpectError(DiffDriveUrdf("", res), none, "<horizontal><resolution>");
 }
 
 }  // namespace

@@ -212,6 +212,8 @@ struct ImuSensorOptions {
   double la_x_mean = 0, la_x_stddev = 0, la_x_bias_mean = 0, la_x_bias_stddev = 0;
   double la_y_mean = 0, la_y_stddev = 0, la_y_bias_mean = 0, la_y_bias_stddev = 0;
   double la_z_mean = 0, la_z_stddev = 0, la_z_bias_mean = 0, la_z_bias_stddev = 0;
+  // Each axis's noise type: gaussian, or empty for none.
+  std::string av_x_type, av_y_type, av_z_type, la_x_type, la_y_type, la_z_type;
 };
 
 // The two IMU plugins: libgazebo_ros_imu_sensor.so (on an imu sensor) and libgazebo_ros_imu.so
