@@ -19,6 +19,7 @@
 #ifndef MINIBOT3D_COMMON_OPTIONS_H_
 #define MINIBOT3D_COMMON_OPTIONS_H_
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -101,9 +102,14 @@ inline std::vector<std::string> ParseList(const std::string& text) {
 }
 
 // Formats a number for messages and the docs: the shortest text that reads back as the same
-// double ("0.1", "1e-06", "inf").
+// double ("0.1", "80", "1e-06", "inf").
 inline std::string Num(double v) {
-  for (int precision = 1; precision <= 17; ++precision) {
+  // Below the number of its integer digits, %g writes an exponent ("8e+01" for 80): start there.
+  int start = 1;
+  if (std::isfinite(v) && std::fabs(v) >= 1.0) {
+    start = std::min(17, static_cast<int>(std::floor(std::log10(std::fabs(v)))) + 1);
+  }
+  for (int precision = start; precision <= 17; ++precision) {
     std::ostringstream os;
     os << std::setprecision(precision) << v;
     if (std::strtod(os.str().c_str(), nullptr) == v || !std::isfinite(v)) return os.str();
@@ -265,6 +271,10 @@ class Problems {
     Check(std::isfinite(v) && v >= 0.0 && v <= 1.0, name, v, "in [0, 1]");
   }
   void Finite(const std::string& name, double v) { Check(std::isfinite(v), name, v, "finite"); }
+  // A frame id, topic or file name that must be given.
+  void NonEmpty(const std::string& name, const std::string& v) {
+    Require(!v.empty(), name + " must not be empty");
+  }
   bool empty() const { return list_.empty(); }
   void ThrowIfAny() const {
     if (list_.empty()) return;
