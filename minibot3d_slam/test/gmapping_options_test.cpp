@@ -1,10 +1,13 @@
-// Tests of the gmapping options: validation messages and setting by name.
+// Tests of the gmapping options: validation messages, setting by name, the shipped configuration.
 #include "minibot3d_slam/gmapping_options.h"
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <stdexcept>
 #include <string>
+
+#include "minibot3d_slam/node_options.h"
 
 namespace minibot3d_slam {
 namespace {
@@ -224,6 +227,50 @@ TEST(GmappingOptionsTest, SetOptionRejectsBadValuesAndNames) {
     EXPECT_NE(std::string(e.what()).find("maxurange"), std::string::npos) << e.what();
   }
   EXPECT_EQ(o.particles, 30);  // unchanged by the failures
+}
+
+// slam_gmapping reads every key of the shipped configuration through its two tables (so it warns
+// about none of them), and every value parses and validates.
+TEST(GmappingOptionsTest, ShippedConfigIsReadByTheTables) {
+  const YAML::Node root = YAML::LoadFile(std::string(MINIBOT3D_SLAM_SOURCE_DIR) + "/../config/gmapping.yaml");
+  GmappingOptions o;
+  SlamGmappingNodeOptions node;
+  int keys = 0;
+  for (const auto& kv : root) {
+    const std::string name = kv.first.as<std::string>();
+    const std::string value = kv.second.as<std::string>();
+    ++keys;
+    if (SlamGmappingNodeOptionTable().Has(name)) {
+      EXPECT_NO_THROW(SlamGmappingNodeOptionTable().Set(name, value, &node)) << name;
+    } else {
+      EXPECT_NO_THROW(SetOption(&o, name, value)) << name;
+    }
+  }
+  EXPECT_GE(keys, 30);
+  EXPECT_NO_THROW(ValidateOptions(o));
+  EXPECT_NO_THROW(ValidateSlamGmappingNodeOptions(node));
+  EXPECT_EQ(node.base_frame, "base_footprint");
+  EXPECT_EQ(o.clearMaxRange, 1);
+}
+
+TEST(GmappingOptionsTest, NodeOptionsAreValidated) {
+  EXPECT_NO_THROW(ValidateSlamGmappingNodeOptions(SlamGmappingNodeOptions{}));
+  SlamGmappingNodeOptions node;
+  node.throttle_scans = 0;
+  node.map_update_interval = 0.0;
+  node.transform_publish_period = -1.0;
+  node.odom_frame = "";
+  try {
+    ValidateSlamGmappingNodeOptions(node);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    const std::string m = e.what();
+    for (const char* part : {"throttle_scans=0 must be >= 1", "map_update_interval=0 must be > 0",
+                             "transform_publish_period=-1 must be >= 0", "odom_frame must not be empty"}) {
+      EXPECT_NE(m.find(part), std::string::npos) << part << " not in: " << m;
+    }
+  }
+  EXPECT_THROW(ValidateMapServerOptions(MapServerOptions{""}), std::invalid_argument);
 }
 
 }  // namespace
