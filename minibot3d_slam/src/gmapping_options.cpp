@@ -1,214 +1,222 @@
-// Validation and by-name setting of the gmapping options (gmapping_options.h).
+// The gmapping options' table (names, parsing, documentation) and their validation
+// (gmapping_options.h).
 #include "minibot3d_slam/gmapping_options.h"
 
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
-#include <limits>
-#include <sstream>
 #include <stdexcept>
 #include <string>
-#include <vector>
 
 namespace minibot3d_slam {
 
-namespace {
+namespace options = minibot3d_common::options;
 
-class Problems {
- public:
-  template <class T>
-  void Check(bool ok, const char* name, T value, const char* requirement) {
-    if (ok) return;
-    std::ostringstream s;
-    s << name << " = " << value << " (must be " << requirement << ")";
-    items_.push_back(s.str());
+const options::OptionTable<GmappingOptions>& GmappingOptionTable() {
+  using options::Field;
+  using O = GmappingOptions;
+  static const options::OptionTable<O> table(
+      "gmapping",
+      {Field("particles", &O::particles,
+             "Particles of the filter; each carries its own trajectory and map."),
+       Field("resampleThreshold", &O::resampleThreshold,
+             "Resample when the effective number of particles N_eff falls below this fraction "
+             "of particles, in (0, 1]."),
+       Field("srr", &O::srr,
+             "Odometry noise: standard deviation of translation per metre translated (m/m), and "
+             "0.3 x this sideways."),
+       Field("srt", &O::srt,
+             "Odometry noise: standard deviation of translation per radian turned (m/rad)."),
+       Field("str", &O::str,
+             "Odometry noise: standard deviation of rotation per metre translated (rad/m)."),
+       Field("stt", &O::stt,
+             "Odometry noise: standard deviation of rotation per radian turned (rad/rad)."),
+       Field("linearUpdate", &O::linearUpdate,
+             "Process a scan once the odometry has travelled this far (m, path length) since the "
+             "last processed scan."),
+       Field("angularUpdate", &O::angularUpdate,
+             "Process a scan once the odometry has turned this much (rad, summed) since the last "
+             "processed scan."),
+       Field("temporalUpdate", &O::temporalUpdate,
+             "Process a scan once more than this time (s) has passed since the last processed "
+             "scan, even without motion; < 0 disables."),
+       Field("sigma", &O::sigma,
+             "Width of the scan matcher's score: an endpoint at distance d (m) from its matched "
+             "obstacle scores exp(-d^2 / sigma)."),
+       Field("kernelSize", &O::kernelSize,
+             "Half-width (cells) of the window around each endpoint searched for its matching "
+             "obstacle; 0: the endpoint's cell only."),
+       Field("lstep", &O::lstep, "Initial translation step (m) of the scan matcher's hill climb."),
+       Field("astep", &O::astep, "Initial rotation step (rad) of the scan matcher's hill climb."),
+       Field("iterations", &O::iterations,
+             "Step halvings of the hill climb: when no step improves the score, both steps are "
+             "halved, at most this many times, then the climb stops."),
+       Field("lsigma", &O::lsigma,
+             "Width of the likelihood that weights a particle: each matched endpoint adds "
+             "-d^2 / lsigma to its log-likelihood (d in m), an unmatched one -0.5 / lsigma."),
+       Field("ogain", &O::ogain,
+             "Smoothing of the weights: a particle's weight is exp((l - l_max) / (ogain x "
+             "particles)), l its log-likelihood summed since the last resampling."),
+       Field("lskip", &O::lskip,
+             "Beams skipped between two matched ones: every (lskip+1)-th beam is matched; all "
+             "beams update the map."),
+       Field("minimumScore", &O::minimumScore,
+             "Scan-match score (sum of exp(-d^2 / sigma) over the endpoints) the match must "
+             "exceed to be trusted; otherwise the particle keeps its odometry pose."),
+       Field("subcellMatch", &O::subcellMatch,
+             "1: each matched pose is refined below the cell size (point-to-line least squares); "
+             "0: the hill climb's pose as is. Not in gmapping."),
+       Field("sampleProposal", &O::sampleProposal,
+             "1: the improved proposal as published (a pose drawn from a Gaussian fitted to the "
+             "likelihood around the match, weighted by the mean likelihood there); 0: as "
+             "gmapping's code (the matched pose, weighted by its likelihood). Not in gmapping."),
+       Field("llsamplerange", &O::llsamplerange,
+             "Half-width (m) in x and y of the poses sampled around the match (sampleProposal "
+             "1)."),
+       Field("llsamplestep", &O::llsamplestep,
+             "Step (m) in x and y of the poses sampled around the match (sampleProposal 1)."),
+       Field("lasamplerange", &O::lasamplerange,
+             "Half-width (rad) in heading of the poses sampled around the match (sampleProposal "
+             "1)."),
+       Field("lasamplestep", &O::lasamplestep,
+             "Step (rad) in heading of the poses sampled around the match (sampleProposal 1)."),
+       Field("delta", &O::delta, "Map resolution (m per cell)."),
+       Field("maxUrange", &O::maxUrange,
+             "Readings up to this range (m) mark their endpoint and are matched; longer ones are "
+             "cut to it and only clear free space."),
+       Field("maxRange", &O::maxRange,
+             "Readings at or beyond this range (m), or the scan's range_max if smaller, are "
+             "no-returns and update nothing (see clearMaxRange); 0: the scan's range_max."),
+       Field("clearMaxRange", &O::clearMaxRange,
+             "1: a reading of +inf or at or beyond the maximum range clears free space out to "
+             "maxUrange and marks nothing (slam_toolbox's clear_max_range); 0: it updates "
+             "nothing, as in gmapping. Not in gmapping."),
+       Field("xmin", &O::xmin,
+             "Initial map extent, smallest x (m, map frame); the map grows beyond it as needed."),
+       Field("ymin", &O::ymin,
+             "Initial map extent, smallest y (m, map frame); the map grows beyond it as needed."),
+       Field("xmax", &O::xmax,
+             "Initial map extent, largest x (m, map frame); the map grows beyond it as needed."),
+       Field("ymax", &O::ymax,
+             "Initial map extent, largest y (m, map frame); the map grows beyond it as needed."),
+       Field("occ_thresh", &O::occ_thresh,
+             "A seen cell is published occupied (100) when more than this fraction of the beams "
+             "that reached it ended in it, free (0) otherwise; unseen cells are -1."),
+       Field("loopClosure", &O::loopClosure,
+             "1: loop closure (the best particle's submaps searched for revisits, its trajectory "
+             "optimised as a pose graph and the map rebuilt from it); 0: the plain filter. Not "
+             "in gmapping."),
+       Field("loopSearchWindow", &O::loopSearchWindow,
+             "Smallest half-width (m) of the square searched for a revisit; a submap is searched "
+             "when a pose of it lies within the window of the estimate."),
+       Field("loopDriftRate", &O::loopDriftRate,
+             "Growth of the search window (m per m of path since the submap ended or the last "
+             "loop constraint), also the disagreement per m of path allowed between two "
+             "constraints that confirm each other; 0: a fixed loopSearchWindow."),
+       Field("loopMaxSearchWindow", &O::loopMaxSearchWindow,
+             "Largest half-width (m) of the loop-closure search window."),
+       Field("loopCorridors", &O::loopCorridors,
+             "1: a match in a corridor seen along its axis still constrains the pose across it "
+             "and the heading (weakly along it); 0: such matches are dropped as ambiguous."),
+       Field("loopSearchAngle", &O::loopSearchAngle,
+             "Half-width (rad) of the headings searched for a revisit."),
+       Field("loopMinScore", &O::loopMinScore,
+             "Lowest score of a revisit match (mean blurred occupancy of the submap at the "
+             "scan's endpoints, 0 to 1)."),
+       Field("loopSubmapScans", &O::loopSubmapScans, "Processed scans per submap."),
+       Field("loopMinTravel", &O::loopMinTravel,
+             "Path (m) driven since a submap ended before scans are matched against it."),
+       Field("threads", &O::threads,
+             "Threads matching the particles' scans (and slam_offline's second pass); 0: one per "
+             "CPU core. Any count gives the same result."),
+       Field("seed", &O::seed,
+             "Seed of the filter's random draws: the same seed and input give the same map and "
+             "trajectory.")});
+  return table;
+}
+
+void SetOption(GmappingOptions* o, const std::string& name, const std::string& value) {
+  const auto& table = GmappingOptionTable();
+  GmappingOptions set = *o;
+  table.Set(name, value, &set);
+  // A YAML's .inf or .nan is no usable gmapping number; say so where it is written.
+  for (const auto& f : table.fields()) {
+    if (f.double_field != nullptr && name == f.name && !std::isfinite(set.*(f.double_field))) {
+      throw std::invalid_argument("gmapping parameter " + name + ": cannot use '" + value +
+                                  "' (not a finite number)");
+    }
   }
-  void ThrowIfAny() const {
-    if (items_.empty()) return;
-    std::string msg = "invalid gmapping options: ";
-    for (std::size_t i = 0; i < items_.size(); ++i) msg += (i ? "; " : "") + items_[i];
-    throw std::invalid_argument(msg);
-  }
-
- private:
-  std::vector<std::string> items_;
-};
-
-bool Finite(double v) { return std::isfinite(v); }
-
-}  // namespace
+  *o = set;
+}
 
 void ValidateOptions(const GmappingOptions& o) {
-  Problems p;
+  options::Problems p("gmapping");
+  const auto finite = [](double v) { return std::isfinite(v); };
   p.Check(o.particles >= 1, "particles", o.particles, ">= 1");
   p.Check(o.resampleThreshold > 0.0 && o.resampleThreshold <= 1.0, "resampleThreshold",
           o.resampleThreshold, "in (0, 1]");
-  p.Check(o.srr >= 0.0 && Finite(o.srr), "srr", o.srr, ">= 0");
-  p.Check(o.srt >= 0.0 && Finite(o.srt), "srt", o.srt, ">= 0");
-  p.Check(o.str >= 0.0 && Finite(o.str), "str", o.str, ">= 0");
-  p.Check(o.stt >= 0.0 && Finite(o.stt), "stt", o.stt, ">= 0");
-  p.Check(o.linearUpdate >= 0.0 && Finite(o.linearUpdate), "linearUpdate", o.linearUpdate, ">= 0");
-  p.Check(o.angularUpdate >= 0.0 && Finite(o.angularUpdate), "angularUpdate", o.angularUpdate, ">= 0");
-  p.Check(Finite(o.temporalUpdate), "temporalUpdate", o.temporalUpdate, "finite (< 0 disables)");
-  p.Check(o.sigma > 0.0 && Finite(o.sigma), "sigma", o.sigma, "> 0");
+  p.NonNegative("srr", o.srr);
+  p.NonNegative("srt", o.srt);
+  p.NonNegative("str", o.str);
+  p.NonNegative("stt", o.stt);
+  p.NonNegative("linearUpdate", o.linearUpdate);
+  p.NonNegative("angularUpdate", o.angularUpdate);
+  p.Check(finite(o.temporalUpdate), "temporalUpdate", o.temporalUpdate, "finite (< 0 disables)");
+  p.Positive("sigma", o.sigma);
   p.Check(o.kernelSize >= 0 && o.kernelSize <= 100, "kernelSize", o.kernelSize, "in [0, 100]");
-  p.Check(o.lstep >= 0.0 && Finite(o.lstep), "lstep", o.lstep, ">= 0");
-  p.Check(o.astep >= 0.0 && Finite(o.astep), "astep", o.astep, ">= 0");
+  p.NonNegative("lstep", o.lstep);
+  p.NonNegative("astep", o.astep);
   p.Check(o.iterations >= 0 && o.iterations <= 100, "iterations", o.iterations, "in [0, 100]");
-  p.Check(o.lsigma > 0.0 && Finite(o.lsigma), "lsigma", o.lsigma, "> 0");
-  p.Check(o.ogain > 0.0 && Finite(o.ogain), "ogain", o.ogain, "> 0");
+  p.Positive("lsigma", o.lsigma);
+  p.Positive("ogain", o.ogain);
   p.Check(o.lskip >= 0, "lskip", o.lskip, ">= 0");
   p.Check(o.subcellMatch == 0 || o.subcellMatch == 1, "subcellMatch", o.subcellMatch, "0 or 1");
-  p.Check(o.sampleProposal == 0 || o.sampleProposal == 1, "sampleProposal", o.sampleProposal, "0 or 1");
-  p.Check(Finite(o.minimumScore), "minimumScore", o.minimumScore, "finite");
-  p.Check(o.llsamplerange >= 0.0 && Finite(o.llsamplerange), "llsamplerange", o.llsamplerange, ">= 0");
-  p.Check(o.lasamplerange >= 0.0 && Finite(o.lasamplerange), "lasamplerange", o.lasamplerange, ">= 0");
+  p.Check(o.sampleProposal == 0 || o.sampleProposal == 1, "sampleProposal", o.sampleProposal,
+          "0 or 1");
+  p.Finite("minimumScore", o.minimumScore);
+  p.NonNegative("llsamplerange", o.llsamplerange);
+  p.NonNegative("lasamplerange", o.lasamplerange);
   // A step must be positive when it is used, and small enough that the sampled grid stays small.
   p.Check(o.llsamplerange == 0.0 || (o.llsamplestep > 0.0 && o.llsamplerange / o.llsamplestep <= 50.0),
           "llsamplestep", o.llsamplestep, "> 0 and >= llsamplerange / 50");
   p.Check(o.lasamplerange == 0.0 || (o.lasamplestep > 0.0 && o.lasamplerange / o.lasamplestep <= 50.0),
           "lasamplestep", o.lasamplestep, "> 0 and >= lasamplerange / 50");
-  p.Check(o.delta > 0.0 && Finite(o.delta), "delta", o.delta, "> 0");
-  p.Check(o.maxUrange > 0.0 && Finite(o.maxUrange), "maxUrange", o.maxUrange, "> 0");
-  p.Check(o.maxRange == 0.0 || (o.maxRange >= o.maxUrange && Finite(o.maxRange)), "maxRange",
+  p.Positive("delta", o.delta);
+  p.Positive("maxUrange", o.maxUrange);
+  p.Check(o.maxRange == 0.0 || (o.maxRange >= o.maxUrange && finite(o.maxRange)), "maxRange",
           o.maxRange, "0 (the sensor's range_max) or >= maxUrange");
   p.Check(o.clearMaxRange == 0 || o.clearMaxRange == 1, "clearMaxRange", o.clearMaxRange, "0 or 1");
-  p.Check(Finite(o.xmin) && Finite(o.xmax) && o.xmin < o.xmax, "xmin", o.xmin, "< xmax");
-  p.Check(Finite(o.xmin) && Finite(o.xmax) && o.xmin < o.xmax, "xmax", o.xmax, "> xmin");
-  p.Check(Finite(o.ymin) && Finite(o.ymax) && o.ymin < o.ymax, "ymin", o.ymin, "< ymax");
-  p.Check(Finite(o.ymin) && Finite(o.ymax) && o.ymin < o.ymax, "ymax", o.ymax, "> ymin");
-  if (o.delta > 0.0 && Finite(o.delta) && o.xmin < o.xmax && o.ymin < o.ymax && Finite(o.xmax - o.xmin) &&
-      Finite(o.ymax - o.ymin)) {
+  const bool x_ok = finite(o.xmin) && finite(o.xmax) && o.xmin < o.xmax;
+  const bool y_ok = finite(o.ymin) && finite(o.ymax) && o.ymin < o.ymax;
+  p.Check(x_ok, "xmin", o.xmin, "< xmax");
+  p.Check(x_ok, "xmax", o.xmax, "> xmin");
+  p.Check(y_ok, "ymin", o.ymin, "< ymax");
+  p.Check(y_ok, "ymax", o.ymax, "> ymin");
+  if (o.delta > 0.0 && finite(o.delta) && o.xmin < o.xmax && o.ymin < o.ymax &&
+      finite(o.xmax - o.xmin) && finite(o.ymax - o.ymin)) {
     // The initial extent is what Map() returns at least; keep it allocatable.
     const double cells = (o.xmax - o.xmin) / o.delta * ((o.ymax - o.ymin) / o.delta);
-    p.Check(cells <= 4e8, "delta", o.delta, "large enough that (xmax-xmin)·(ymax-ymin)/delta² <= 4e8 cells");
+    p.Check(cells <= 4e8, "delta", o.delta,
+            "large enough that (xmax-xmin)·(ymax-ymin)/delta² <= 4e8 cells");
   }
   p.Check(o.loopClosure == 0 || o.loopClosure == 1, "loopClosure", o.loopClosure, "0 or 1");
-  p.Check(o.loopSearchWindow > 0.0 && o.loopSearchWindow <= 50.0, "loopSearchWindow", o.loopSearchWindow,
-          "in (0, 50] m");
-  p.Check(o.loopDriftRate >= 0.0 && o.loopDriftRate <= 1.0, "loopDriftRate", o.loopDriftRate, "in [0, 1] m per m");
-  p.Check(o.loopMaxSearchWindow >= o.loopSearchWindow && o.loopMaxSearchWindow <= 100.0, "loopMaxSearchWindow",
-          o.loopMaxSearchWindow, "in [loopSearchWindow, 100] m");
+  p.Check(o.loopSearchWindow > 0.0 && o.loopSearchWindow <= 50.0, "loopSearchWindow",
+          o.loopSearchWindow, "in (0, 50] m");
+  p.Check(o.loopDriftRate >= 0.0 && o.loopDriftRate <= 1.0, "loopDriftRate", o.loopDriftRate,
+          "in [0, 1] m per m");
+  p.Check(o.loopMaxSearchWindow >= o.loopSearchWindow && o.loopMaxSearchWindow <= 100.0,
+          "loopMaxSearchWindow", o.loopMaxSearchWindow, "in [loopSearchWindow, 100] m");
   p.Check(o.loopCorridors == 0 || o.loopCorridors == 1, "loopCorridors", o.loopCorridors, "0 or 1");
-  p.Check(o.loopSearchAngle > 0.0 && o.loopSearchAngle <= M_PI, "loopSearchAngle", o.loopSearchAngle,
-          "in (0, pi] rad");
-  p.Check(o.loopMinScore > 0.0 && o.loopMinScore <= 1.0, "loopMinScore", o.loopMinScore, "in (0, 1]");
-  p.Check(o.loopSubmapScans >= 2 && o.loopSubmapScans <= 1000, "loopSubmapScans", o.loopSubmapScans,
-          "in [2, 1000]");
-  p.Check(o.loopMinTravel >= 0.0 && Finite(o.loopMinTravel), "loopMinTravel", o.loopMinTravel, ">= 0 m");
-  p.Check(o.occ_thresh >= 0.0 && o.occ_thresh <= 1.0, "occ_thresh", o.occ_thresh, "in [0, 1]");
-  p.Check(o.threads >= 0 && o.threads <= 256, "threads", o.threads, "in [0, 256] (0: one per CPU core)");
+  p.Check(o.loopSearchAngle > 0.0 && o.loopSearchAngle <= M_PI, "loopSearchAngle",
+          o.loopSearchAngle, "in (0, pi] rad");
+  p.Check(o.loopMinScore > 0.0 && o.loopMinScore <= 1.0, "loopMinScore", o.loopMinScore,
+          "in (0, 1]");
+  p.Check(o.loopSubmapScans >= 2 && o.loopSubmapScans <= 1000, "loopSubmapScans",
+          o.loopSubmapScans, "in [2, 1000]");
+  p.Check(o.loopMinTravel >= 0.0 && finite(o.loopMinTravel), "loopMinTravel", o.loopMinTravel,
+          ">= 0 m");
+  p.InUnitInterval("occ_thresh", o.occ_thresh);
+  p.Check(o.threads >= 0 && o.threads <= 256, "threads", o.threads,
+          "in [0, 256] (0: one per CPU core)");
   p.ThrowIfAny();
-}
-
-namespace {
-
-std::string Trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t\r\n");
-  return s.substr(b, e - b + 1);
-}
-
-[[noreturn]] void BadValue(const std::string& name, const std::string& value, const char* what) {
-  throw std::invalid_argument("gmapping option " + name + ": cannot use value '" + value + "' (" +
-                              what + ")");
-}
-
-double ParseDouble(const std::string& name, const std::string& value) {
-  const std::string v = Trim(value);
-  if (v.empty()) BadValue(name, value, "expected a number");
-  char* end = nullptr;
-  errno = 0;
-  const double d = std::strtod(v.c_str(), &end);
-  if (end != v.c_str() + v.size()) BadValue(name, value, "expected a number");
-  if (errno == ERANGE || !std::isfinite(d)) BadValue(name, value, "out of range");
-  return d;
-}
-
-long long ParseInteger(const std::string& name, const std::string& value, long long lo, long long hi) {
-  const std::string v = Trim(value);
-  if (v.empty()) BadValue(name, value, "expected an integer");
-  char* end = nullptr;
-  errno = 0;
-  const long long i = std::strtoll(v.c_str(), &end, 10);
-  if (end != v.c_str() + v.size()) BadValue(name, value, "expected an integer");
-  if (errno == ERANGE || i < lo || i > hi) BadValue(name, value, "out of range");
-  return i;
-}
-
-}  // namespace
-
-void SetOption(GmappingOptions* o, const std::string& name, const std::string& value) {
-  auto as_int = [&]() {
-    return static_cast<int>(ParseInteger(name, value, std::numeric_limits<int>::min(),
-                                         std::numeric_limits<int>::max()));
-  };
-  auto as_double = [&]() { return ParseDouble(name, value); };
-  struct Field {
-    const char* name;
-    double GmappingOptions::*d;
-    int GmappingOptions::*i;
-  };
-  static const Field kFields[] = {
-      {"particles", nullptr, &GmappingOptions::particles},
-      {"resampleThreshold", &GmappingOptions::resampleThreshold, nullptr},
-      {"srr", &GmappingOptions::srr, nullptr},
-      {"srt", &GmappingOptions::srt, nullptr},
-      {"str", &GmappingOptions::str, nullptr},
-      {"stt", &GmappingOptions::stt, nullptr},
-      {"linearUpdate", &GmappingOptions::linearUpdate, nullptr},
-      {"angularUpdate", &GmappingOptions::angularUpdate, nullptr},
-      {"temporalUpdate", &GmappingOptions::temporalUpdate, nullptr},
-      {"sigma", &GmappingOptions::sigma, nullptr},
-      {"kernelSize", nullptr, &GmappingOptions::kernelSize},
-      {"lstep", &GmappingOptions::lstep, nullptr},
-      {"astep", &GmappingOptions::astep, nullptr},
-      {"iterations", nullptr, &GmappingOptions::iterations},
-      {"lsigma", &GmappingOptions::lsigma, nullptr},
-      {"ogain", &GmappingOptions::ogain, nullptr},
-      {"lskip", nullptr, &GmappingOptions::lskip},
-      {"minimumScore", &GmappingOptions::minimumScore, nullptr},
-      {"subcellMatch", nullptr, &GmappingOptions::subcellMatch},
-      {"sampleProposal", nullptr, &GmappingOptions::sampleProposal},
-      {"llsamplerange", &GmappingOptions::llsamplerange, nullptr},
-      {"llsamplestep", &GmappingOptions::llsamplestep, nullptr},
-      {"lasamplerange", &GmappingOptions::lasamplerange, nullptr},
-      {"lasamplestep", &GmappingOptions::lasamplestep, nullptr},
-      {"delta", &GmappingOptions::delta, nullptr},
-      {"maxUrange", &GmappingOptions::maxUrange, nullptr},
-      {"maxRange", &GmappingOptions::maxRange, nullptr},
-      {"clearMaxRange", nullptr, &GmappingOptions::clearMaxRange},
-      {"xmin", &GmappingOptions::xmin, nullptr},
-      {"ymin", &GmappingOptions::ymin, nullptr},
-      {"xmax", &GmappingOptions::xmax, nullptr},
-      {"ymax", &GmappingOptions::ymax, nullptr},
-      {"occ_thresh", &GmappingOptions::occ_thresh, nullptr},
-      {"loopClosure", nullptr, &GmappingOptions::loopClosure},
-      {"loopSearchWindow", &GmappingOptions::loopSearchWindow, nullptr},
-      {"loopDriftRate", &GmappingOptions::loopDriftRate, nullptr},
-      {"loopMaxSearchWindow", &GmappingOptions::loopMaxSearchWindow, nullptr},
-      {"loopCorridors", nullptr, &GmappingOptions::loopCorridors},
-      {"loopSearchAngle", &GmappingOptions::loopSearchAngle, nullptr},
-      {"loopMinScore", &GmappingOptions::loopMinScore, nullptr},
-      {"loopSubmapScans", nullptr, &GmappingOptions::loopSubmapScans},
-      {"loopMinTravel", &GmappingOptions::loopMinTravel, nullptr},
-      {"threads", nullptr, &GmappingOptions::threads},
-  };
-  if (name == "seed") {
-    o->seed = static_cast<unsigned>(ParseInteger(name, value, 0, std::numeric_limits<unsigned>::max()));
-    return;
-  }
-  for (const Field& f : kFields) {
-    if (name != f.name) continue;
-    if (f.d != nullptr) {
-      o->*(f.d) = as_double();
-    } else {
-      o->*(f.i) = as_int();
-    }
-    return;
-  }
-  throw std::invalid_argument("unknown gmapping option '" + name + "'");
 }
 
 }  // namespace minibot3d_slam

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "minibot3d_ros/conversions.h"
 #include "minibot3d_slam/map_files.h"
 #include "minibot3d_slam/types.h"
 
@@ -103,19 +104,14 @@ double FloatToDouble(float f) {
   return static_cast<double>(f);
 }
 
+// The message's grid with the numbers the files should show: the float32 resolution as its
+// shortest decimal, and the yaw without the last-bit noise of the yaw -> quaternion -> yaw round
+// trip (snapped to 1e-12 rad), so a map served with yaw 0.1 is saved with 0.1 rather than
+// 0.09999999999999999.
 minibot3d_slam::GridMap ToGridMap(const nav_msgs::OccupancyGrid& msg) {
-  minibot3d_slam::GridMap map;
+  minibot3d_slam::GridMap map = minibot3d_ros::GridFromMsg(msg);
   map.resolution = FloatToDouble(msg.info.resolution);
-  map.origin_x = msg.info.origin.position.x;
-  map.origin_y = msg.info.origin.position.y;
-  const auto& q = msg.info.origin.orientation;
-  const double yaw = std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
-  // Snap away the last-bit noise of the yaw -> quaternion -> yaw round trip (1e-12 rad), so a
-  // map served with yaw 0.1 is saved with 0.1 rather than 0.09999999999999999.
-  map.origin_theta = std::round(yaw * 1e12) / 1e12;
-  map.width = static_cast<int>(msg.info.width);
-  map.height = static_cast<int>(msg.info.height);
-  map.data.assign(msg.data.begin(), msg.data.end());
+  map.origin_theta = std::round(map.origin_theta * 1e12) / 1e12;
   return map;
 }
 

@@ -9,11 +9,14 @@
 #include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
 
-#include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
 
+#include "minibot3d_ros/conversions.h"
+#include "minibot3d_ros/params.h"
 #include "minibot3d_slam/map_files.h"
+#include "minibot3d_slam/node_options.h"
 #include "minibot3d_slam/types.h"
 
 namespace {
@@ -21,25 +24,7 @@ namespace {
 constexpr char kUsage[] =
     "Usage: map_server MAP.yaml [_frame_id:=map]\n"
     "  Publishes the map latched on 'map' and 'map_metadata' and serves 'static_map'.\n"
-    "  Exit codes: 1 the map cannot be loaded, 2 bad arguments.\n";
-
-nav_msgs::OccupancyGrid ToMessage(const minibot3d_slam::GridMap& map, const std::string& frame_id) {
-  nav_msgs::OccupancyGrid msg;
-  msg.header.frame_id = frame_id;
-  msg.header.stamp = ros::Time::now();
-  msg.info.map_load_time = msg.header.stamp;
-  msg.info.resolution = static_cast<float>(map.resolution);
-  msg.info.width = static_cast<unsigned>(map.width);
-  msg.info.height = static_cast<unsigned>(map.height);
-  msg.info.origin.position.x = map.origin_x;
-  msg.info.origin.position.y = map.origin_y;
-  msg.info.origin.position.z = 0.0;
-  // A yaw-only rotation about z.
-  msg.info.origin.orientation.z = std::sin(map.origin_theta / 2.0);
-  msg.info.origin.orientation.w = std::cos(map.origin_theta / 2.0);
-  msg.data.assign(map.data.begin(), map.data.end());
-  return msg;
-}
+    "  Exit codes: 1 the map cannot be loaded, 2 bad arguments or parameters.\n";
 
 class MapServer {
  public:
@@ -86,13 +71,22 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  ros::NodeHandle private_nh("~");
-  std::string frame_id;
-  private_nh.param<std::string>("frame_id", frame_id, "map");
-  MapServer server(ToMessage(map, frame_id));
+  minibot3d_slam::MapServerOptions options;
+  const minibot3d_ros::ParamReport report =
+      minibot3d_ros::LoadTable(ros::NodeHandle("~"), minibot3d_slam::MapServerOptionTable(), &options);
+  report.WarnUnknown("map_server");
+  try {
+    report.ThrowIfBad();
+    minibot3d_slam::ValidateMapServerOptions(options);
+  } catch (const std::invalid_argument& e) {
+    ROS_FATAL("map_server: %s", e.what());
+    return 2;
+  }
+  // Stamped (and map_load_time) when it is loaded, as ROS map_server does.
+  MapServer server(minibot3d_ros::GridToMsg(map, options.frame_id, ros::Time::now()));
   ROS_INFO("Serving %s: %d x %d cells @ %g m/cell, origin (%g, %g, %g), frame '%s'",
            yaml_path.c_str(), map.width, map.height, map.resolution, map.origin_x, map.origin_y,
-           map.origin_theta, frame_id.c_str());
+           map.origin_theta, options.frame_id.c_str());
   ros::spin();
   return 0;
 }

@@ -1,12 +1,12 @@
 // slam_gmapping: the ROS face of the RBPF SLAM core (rbpf_slam.h), a drop-in for ROS gmapping's
 // node. It converts scans and the odom → base tf into core calls, and the core's map and pose into
 // the latched map/map_metadata, ~entropy, the map → odom tf and the dynamic_map service. All SLAM
-// lives in the core; the parameters keep gmapping's names.
-#include <cmath>
-#include <map>
+// lives in the core; the parameters keep gmapping's names (gmapping_options.h, node_options.h;
+// docs/parameters/slam.md).
 #include <memory>
 #include <mutex>
 #include <set>
+#include <stdexcept>
 #include <string>
 
 #include <geometry_msgs/TransformStamped.h>
@@ -26,33 +26,17 @@
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
+#include "minibot3d_ros/conversions.h"
+#include "minibot3d_ros/params.h"
 #include "minibot3d_slam/gmapping_options.h"
+#include "minibot3d_slam/node_options.h"
 #include "minibot3d_slam/rbpf_slam.h"
 
 namespace minibot3d_slam {
 namespace {
 
-Pose2 ToPose2(const geometry_msgs::Transform& t) {
-  return Pose2{t.translation.x, t.translation.y, tf2::getYaw(t.rotation)};
-}
-
-geometry_msgs::Quaternion YawQuaternion(double yaw) {
-  geometry_msgs::Quaternion q;
-  q.z = std::sin(yaw / 2);
-  q.w = std::cos(yaw / 2);
-  return q;
-}
-
-// The node's own parameters (the core's are in GmappingOptions).
-struct NodeOptions {
-  std::string base_frame = "base_link";
-  std::string odom_frame = "odom";
-  std::string map_frame = "map";
-  double map_update_interval = 5.0;        // s between map publications
-  double transform_publish_period = 0.05;  // s; 0 disables the map → odom broadcast
-  int throttle_scans = 1;                  // process one scan in this many
-  double tf_delay = 0.0;                   // unused by us; accepted for gmapping YAMLs
-};
+using minibot3d_ros::PoseFromTransform;
+using minibot3d_ros::YawToQuaternion;
 
 class SlamGmappingNode {
  public:
@@ -71,81 +55,22 @@ class SlamGmappingNode {
   bool Spin() { return lockstep_.Spin(); }
 
   bool Init() {
-    // gmapping's parameters, read into the core's options and validated in one place.
+    // gmapping's parameters and the node's own, each through its option table.
     GmappingOptions o;
-    auto get_d = [&](const char* name, double* v) { pnh_.param(name, *v, *v); };
-    auto get_i = [&](const char* name, int* v) { pnh_.param(name, *v, *v); };
-    get_i("particles", &o.particles);
-    get_d("resampleThreshold", &o.resampleThreshold);
-    get_d("srr", &o.srr);
-    get_d("srt", &o.srt);
-    get_d("str", &o.str);
-    get_d("stt", &o.stt);
-    get_d("linearUpdate", &o.linearUpdate);
-    get_d("angularUpdate", &o.angularUpdate);
-    get_d("temporalUpdate", &o.temporalUpdate);
-    get_d("sigma", &o.sigma);
-    get_i("kernelSize", &o.kernelSize);
-    get_d("lstep", &o.lstep);
-    get_d("astep", &o.astep);
-    get_i("iterations", &o.iterations);
-    get_d("lsigma", &o.lsigma);
-    get_d("ogain", &o.ogain);
-    get_i("lskip", &o.lskip);
-    get_d("minimumScore", &o.minimumScore);
-    get_d("llsamplerange", &o.llsamplerange);
-    get_d("llsamplestep", &o.llsamplestep);
-    get_d("lasamplerange", &o.lasamplerange);
-    get_d("lasamplestep", &o.lasamplestep);
-    get_d("delta", &o.delta);
-    get_d("maxUrange", &o.maxUrange);
-    get_d("maxRange", &o.maxRange);
-    get_i("clearMaxRange", &o.clearMaxRange);
-    get_d("xmin", &o.xmin);
-    get_d("ymin", &o.ymin);
-    get_d("xmax", &o.xmax);
-    get_d("ymax", &o.ymax);
-    get_d("occ_thresh", &o.occ_thresh);
-    get_i("subcellMatch", &o.subcellMatch);
-    get_i("sampleProposal", &o.sampleProposal);
-    get_i("loopClosure", &o.loopClosure);
-    get_d("loopSearchWindow", &o.loopSearchWindow);
-    get_d("loopDriftRate", &o.loopDriftRate);
-    get_d("loopMaxSearchWindow", &o.loopMaxSearchWindow);
-    get_i("loopCorridors", &o.loopCorridors);
-    get_d("loopSearchAngle", &o.loopSearchAngle);
-    get_d("loopMinScore", &o.loopMinScore);
-    get_i("loopSubmapScans", &o.loopSubmapScans);
-    get_d("loopMinTravel", &o.loopMinTravel);
-    get_i("threads", &o.threads);
-    int seed = 0;
-    get_i("seed", &seed);
-    o.seed = static_cast<unsigned>(seed);
-    pnh_.param("base_frame", node_.base_frame, node_.base_frame);
-    pnh_.param("odom_frame", node_.odom_frame, node_.odom_frame);
-    pnh_.param("map_frame", node_.map_frame, node_.map_frame);
-    pnh_.param("map_update_interval", node_.map_update_interval, node_.map_update_interval);
-    pnh_.param("transform_publish_period", node_.transform_publish_period,
-               node_.transform_publish_period);
-    pnh_.param("throttle_scans", node_.throttle_scans, node_.throttle_scans);
-    pnh_.param("tf_delay", node_.tf_delay, node_.tf_delay);
+    minibot3d_ros::ParamReport report = minibot3d_ros::LoadTable(pnh_, GmappingOptionTable(), &o);
+    report.Also(minibot3d_ros::LoadTable(pnh_, SlamGmappingNodeOptionTable(), &node_));
+    report.WarnUnknown("slam_gmapping");
     std::string problems;
-    if (node_.throttle_scans < 1) {
-      problems += " throttle_scans must be >= 1 (got " + std::to_string(node_.throttle_scans) + ");";
-    }
-    if (node_.map_update_interval <= 0) {
-      problems += " map_update_interval must be > 0 (got " +
-                  std::to_string(node_.map_update_interval) + ");";
-    }
-    if (node_.transform_publish_period < 0) {
-      problems += " transform_publish_period must be >= 0 (got " +
-                  std::to_string(node_.transform_publish_period) + ");";
-    }
-    try {
-      ValidateOptions(o);
-    } catch (const std::invalid_argument& e) {
-      problems += std::string(" ") + e.what();
-    }
+    const auto check = [&problems](const auto& validate) {
+      try {
+        validate();
+      } catch (const std::invalid_argument& e) {
+        problems += std::string("\n  ") + e.what();
+      }
+    };
+    check([&] { report.ThrowIfBad(); });
+    check([&] { ValidateOptions(o); });
+    check([&] { ValidateSlamGmappingNodeOptions(node_); });
     if (!problems.empty()) {
       ROS_FATAL("slam_gmapping: bad parameters:%s", problems.c_str());
       return false;
@@ -222,7 +147,7 @@ class SlamGmappingNode {
     scan.time = msg->header.stamp.toSec();
     scan.range_min = msg->range_min;
     scan.range_max = msg->range_max;
-    scan.sensor_in_base = ToPose2(base_laser.transform);
+    scan.sensor_in_base = PoseFromTransform(base_laser.transform);
     scan.ranges.resize(msg->ranges.size());
     scan.angles.resize(msg->ranges.size());
     for (std::size_t i = 0; i < msg->ranges.size(); ++i) {
@@ -231,7 +156,7 @@ class SlamGmappingNode {
       scan.angles[i] = upside_down ? -a : a;
     }
     if (upside_down) scan.sensor_in_base.yaw = -scan.sensor_in_base.yaw;  // see above
-    const Pose2 odom = ToPose2(odom_base.transform);
+    const Pose2 odom = PoseFromTransform(odom_base.transform);
     bool processed = false;
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -270,16 +195,7 @@ class SlamGmappingNode {
       grid = slam_->Map();
     }
     std::lock_guard<std::mutex> lock(map_mutex_);
-    map_.header.stamp = stamp;
-    map_.header.frame_id = node_.map_frame;
-    map_.info.map_load_time = stamp;
-    map_.info.resolution = grid.resolution;
-    map_.info.width = grid.width;
-    map_.info.height = grid.height;
-    map_.info.origin.position.x = grid.origin_x;
-    map_.info.origin.position.y = grid.origin_y;
-    map_.info.origin.orientation = YawQuaternion(grid.origin_theta);
-    map_.data.assign(grid.data.begin(), grid.data.end());
+    map_ = minibot3d_ros::GridToMsg(grid, node_.map_frame, stamp);
     map_pub_.publish(map_);
     meta_pub_.publish(map_.info);
   }
@@ -305,7 +221,7 @@ class SlamGmappingNode {
     t.child_frame_id = node_.odom_frame;
     t.transform.translation.x = m.x;
     t.transform.translation.y = m.y;
-    t.transform.rotation = YawQuaternion(m.yaw);
+    t.transform.rotation = YawToQuaternion(m.yaw);
     tf_broadcaster_.sendTransform(t);
   }
 
@@ -321,7 +237,7 @@ class SlamGmappingNode {
   ros::CallbackQueue tf_queue_;
   std::unique_ptr<ros::AsyncSpinner> tf_spinner_;
   GmappingOptions options_;
-  NodeOptions node_;
+  SlamGmappingNodeOptions node_;
   std::unique_ptr<RbpfSlam> slam_;
   int published_closures_ = 0;  // loop closures already reflected in the published map
   tf2_ros::Buffer tf_buffer_;

@@ -41,6 +41,7 @@
 #include "minibot3d_slam/gmapping_options.h"
 #include "minibot3d_slam/log_reader.h"
 #include "minibot3d_slam/map_files.h"
+#include "minibot3d_slam/node_options.h"
 #include "minibot3d_slam/rbpf_slam.h"
 #include "parallel_for.h"
 
@@ -122,7 +123,8 @@ Args ParseArgs(int argc, char** argv) {
     } else if (arg == "--odom-frame") {
       odom_frame = next();
     } else if (arg == "--param-file") {
-      // slam_gmapping's own (non-filter) parameters: frames are used for bags, the rest ignored.
+      // The slam_gmapping node's own parameters (node_options.h): its frames are used for bags,
+      // the rest ignored.
       const std::string file = next();
       try {
         const YAML::Node root = YAML::LoadFile(file);
@@ -130,16 +132,12 @@ Args ParseArgs(int argc, char** argv) {
         for (const auto& kv : root) {
           const std::string name = kv.first.as<std::string>();
           const std::string value = kv.second.as<std::string>();
-          if (name == "base_frame") {
-            if (base_frame.empty()) base_frame = value;
-          } else if (name == "odom_frame") {
-            if (odom_frame.empty()) odom_frame = value;
-          } else if (name == "map_frame" || name == "map_update_interval" ||
-                     name == "transform_publish_period" || name == "throttle_scans" ||
-                     name == "tf_delay") {
-            continue;
-          } else {
+          if (!minibot3d_slam::SlamGmappingNodeOptionTable().Has(name)) {
             file_params.emplace_back(name, value);
+          } else if (name == "base_frame" && base_frame.empty()) {
+            base_frame = value;
+          } else if (name == "odom_frame" && odom_frame.empty()) {
+            odom_frame = value;
           }
         }
       } catch (const YAML::Exception& e) {

@@ -1,10 +1,13 @@
-// Tests of the gmapping options: validation messages and setting by name.
+// Tests of the gmapping options: validation messages, setting by name, the shipped configuration.
 #include "minibot3d_slam/gmapping_options.h"
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <stdexcept>
 #include <string>
+
+#include "minibot3d_slam/node_options.h"
 
 namespace minibot3d_slam {
 namespace {
@@ -30,11 +33,11 @@ TEST(GmappingOptionsTest, MessageNamesEveryOffendingParameterWithItsValue) {
   o.kernelSize = -1;
   o.lsigma = 0.0;
   const std::string m = ValidationMessage(o);
-  for (const char* part : {"particles = 0", "delta = -0.5", "resampleThreshold = 1.5", "maxRange = 10",
-                           "srt = -0.1", "kernelSize = -1", "lsigma = 0"}) {
+  for (const char* part : {"particles=0", "delta=-0.5", "resampleThreshold=1.5", "maxRange=10",
+                           "srt=-0.1", "kernelSize=-1", "lsigma=0"}) {
     EXPECT_NE(m.find(part), std::string::npos) << part << " not in: " << m;
   }
-  EXPECT_EQ(m.find("sigma = 0.05"), std::string::npos) << m;  // valid ones are not named
+  EXPECT_EQ(m.find("sigma=0.05"), std::string::npos) << m;  // valid ones are not named
 }
 
 TEST(GmappingOptionsTest, RangesAndExtents) {
@@ -45,24 +48,24 @@ TEST(GmappingOptionsTest, RangesAndExtents) {
   EXPECT_NO_THROW(ValidateOptions(o));
   o.xmin = 5.0;
   o.xmax = 5.0;
-  EXPECT_NE(ValidationMessage(o).find("xmin = 5"), std::string::npos);
+  EXPECT_NE(ValidationMessage(o).find("xmin=5"), std::string::npos);
   o = GmappingOptions{};
   o.ymax = -200.0;
-  EXPECT_NE(ValidationMessage(o).find("ymax = -200"), std::string::npos);
+  EXPECT_NE(ValidationMessage(o).find("ymax=-200"), std::string::npos);
   o = GmappingOptions{};
   o.resampleThreshold = 0.0;
-  EXPECT_NE(ValidationMessage(o).find("resampleThreshold = 0"), std::string::npos);
+  EXPECT_NE(ValidationMessage(o).find("resampleThreshold=0"), std::string::npos);
   o = GmappingOptions{};
   o.maxUrange = 0.0;
-  EXPECT_NE(ValidationMessage(o).find("maxUrange = 0"), std::string::npos);
+  EXPECT_NE(ValidationMessage(o).find("maxUrange=0"), std::string::npos);
   o = GmappingOptions{};
   o.iterations = -1;
   o.lskip = -2;
   o.llsamplestep = 0.0;
   const std::string m = ValidationMessage(o);
-  EXPECT_NE(m.find("iterations = -1"), std::string::npos) << m;
-  EXPECT_NE(m.find("lskip = -2"), std::string::npos) << m;
-  EXPECT_NE(m.find("llsamplestep = 0"), std::string::npos) << m;
+  EXPECT_NE(m.find("iterations=-1"), std::string::npos) << m;
+  EXPECT_NE(m.find("lskip=-2"), std::string::npos) << m;
+  EXPECT_NE(m.find("llsamplestep=0"), std::string::npos) << m;
 }
 
 TEST(GmappingOptionsTest, SubcellMatchAndSampleProposalAreSwitches) {
@@ -77,8 +80,8 @@ TEST(GmappingOptionsTest, SubcellMatchAndSampleProposalAreSwitches) {
   o.subcellMatch = 2;
   o.sampleProposal = -1;
   const std::string m = ValidationMessage(o);
-  EXPECT_NE(m.find("subcellMatch = 2 (must be 0 or 1)"), std::string::npos) << m;
-  EXPECT_NE(m.find("sampleProposal = -1 (must be 0 or 1)"), std::string::npos) << m;
+  EXPECT_NE(m.find("subcellMatch=2 must be 0 or 1"), std::string::npos) << m;
+  EXPECT_NE(m.find("sampleProposal=-1 must be 0 or 1"), std::string::npos) << m;
   EXPECT_THROW(SetOption(&o, "subcellMatch", "true"), std::invalid_argument);
 }
 
@@ -115,20 +118,20 @@ TEST(GmappingOptionsTest, LoopClosureOptionsAreValidatedAndSetByName) {
   o.loopMaxSearchWindow = 200.0;
   o.loopCorridors = 3;
   const std::string m = ValidationMessage(o);
-  EXPECT_NE(m.find("loopClosure = 2 (must be 0 or 1)"), std::string::npos) << m;
-  EXPECT_NE(m.find("loopSearchWindow = 0 (must be in (0, 50] m)"), std::string::npos) << m;
-  EXPECT_NE(m.find("loopSearchAngle = 4 (must be in (0, pi] rad)"), std::string::npos) << m;
-  EXPECT_NE(m.find("loopMinScore = 1.5 (must be in (0, 1])"), std::string::npos) << m;
-  EXPECT_NE(m.find("loopSubmapScans = 1 (must be in [2, 1000])"), std::string::npos) << m;
-  EXPECT_NE(m.find("loopMinTravel = -1 (must be >= 0 m)"), std::string::npos) << m;
-  EXPECT_NE(m.find("loopDriftRate = -0.1 (must be in [0, 1] m per m)"), std::string::npos) << m;
-  EXPECT_NE(m.find("loopMaxSearchWindow = 200 (must be in [loopSearchWindow, 100] m)"), std::string::npos) << m;
-  EXPECT_NE(m.find("loopCorridors = 3 (must be 0 or 1)"), std::string::npos) << m;
+  EXPECT_NE(m.find("loopClosure=2 must be 0 or 1"), std::string::npos) << m;
+  EXPECT_NE(m.find("loopSearchWindow=0 must be in (0, 50] m"), std::string::npos) << m;
+  EXPECT_NE(m.find("loopSearchAngle=4 must be in (0, pi] rad"), std::string::npos) << m;
+  EXPECT_NE(m.find("loopMinScore=1.5 must be in (0, 1]"), std::string::npos) << m;
+  EXPECT_NE(m.find("loopSubmapScans=1 must be in [2, 1000]"), std::string::npos) << m;
+  EXPECT_NE(m.find("loopMinTravel=-1 must be >= 0 m"), std::string::npos) << m;
+  EXPECT_NE(m.find("loopDriftRate=-0.1 must be in [0, 1] m per m"), std::string::npos) << m;
+  EXPECT_NE(m.find("loopMaxSearchWindow=200 must be in [loopSearchWindow, 100] m"), std::string::npos) << m;
+  EXPECT_NE(m.find("loopCorridors=3 must be 0 or 1"), std::string::npos) << m;
   EXPECT_THROW(SetOption(&o, "loopSubmapScans", "2.5"), std::invalid_argument);
   GmappingOptions w;  // the largest window below the smallest
   w.loopSearchWindow = 6.0;
   w.loopMaxSearchWindow = 5.0;
-  EXPECT_NE(ValidationMessage(w).find("loopMaxSearchWindow = 5 (must be in [loopSearchWindow, 100] m)"),
+  EXPECT_NE(ValidationMessage(w).find("loopMaxSearchWindow=5 must be in [loopSearchWindow, 100] m"),
             std::string::npos)
       << ValidationMessage(w);
 }
@@ -140,7 +143,7 @@ TEST(GmappingOptionsTest, ThreadsDefaultToOnePerCoreAndAreValidated) {
   EXPECT_EQ(o.threads, 2);
   EXPECT_NO_THROW(ValidateOptions(o));
   o.threads = -1;
-  EXPECT_NE(ValidationMessage(o).find("threads = -1 (must be in [0, 256] (0: one per CPU core))"), std::string::npos)
+  EXPECT_NE(ValidationMessage(o).find("threads=-1 must be in [0, 256] (0: one per CPU core)"), std::string::npos)
       << ValidationMessage(o);
   EXPECT_THROW(SetOption(&o, "threads", "two"), std::invalid_argument);
 }
@@ -153,7 +156,7 @@ TEST(GmappingOptionsTest, ClearMaxRangeIsOffByDefaultValidatedAndSetByName) {
   EXPECT_NO_THROW(ValidateOptions(o));
   o.clearMaxRange = 2;
   const std::string m = ValidationMessage(o);
-  EXPECT_NE(m.find("clearMaxRange = 2 (must be 0 or 1)"), std::string::npos) << m;
+  EXPECT_NE(m.find("clearMaxRange=2 must be 0 or 1"), std::string::npos) << m;
   EXPECT_THROW(SetOption(&o, "clearMaxRange", "yes"), std::invalid_argument);
 }
 
@@ -224,6 +227,50 @@ TEST(GmappingOptionsTest, SetOptionRejectsBadValuesAndNames) {
     EXPECT_NE(std::string(e.what()).find("maxurange"), std::string::npos) << e.what();
   }
   EXPECT_EQ(o.particles, 30);  // unchanged by the failures
+}
+
+// slam_gmapping reads every key of the shipped configuration through its two tables (so it warns
+// about none of them), and every value parses and validates.
+TEST(GmappingOptionsTest, ShippedConfigIsReadByTheTables) {
+  const YAML::Node root = YAML::LoadFile(std::string(MINIBOT3D_SLAM_SOURCE_DIR) + "/../config/gmapping.yaml");
+  GmappingOptions o;
+  SlamGmappingNodeOptions node;
+  int keys = 0;
+  for (const auto& kv : root) {
+    const std::string name = kv.first.as<std::string>();
+    const std::string value = kv.second.as<std::string>();
+    ++keys;
+    if (SlamGmappingNodeOptionTable().Has(name)) {
+      EXPECT_NO_THROW(SlamGmappingNodeOptionTable().Set(name, value, &node)) << name;
+    } else {
+      EXPECT_NO_THROW(SetOption(&o, name, value)) << name;
+    }
+  }
+  EXPECT_GE(keys, 30);
+  EXPECT_NO_THROW(ValidateOptions(o));
+  EXPECT_NO_THROW(ValidateSlamGmappingNodeOptions(node));
+  EXPECT_EQ(node.base_frame, "base_footprint");
+  EXPECT_EQ(o.clearMaxRange, 1);
+}
+
+TEST(GmappingOptionsTest, NodeOptionsAreValidated) {
+  EXPECT_NO_THROW(ValidateSlamGmappingNodeOptions(SlamGmappingNodeOptions{}));
+  SlamGmappingNodeOptions node;
+  node.throttle_scans = 0;
+  node.map_update_interval = 0.0;
+  node.transform_publish_period = -1.0;
+  node.odom_frame = "";
+  try {
+    ValidateSlamGmappingNodeOptions(node);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    const std::string m = e.what();
+    for (const char* part : {"throttle_scans=0 must be >= 1", "map_update_interval=0 must be > 0",
+                             "transform_publish_period=-1 must be >= 0", "odom_frame must not be empty"}) {
+      EXPECT_NE(m.find(part), std::string::npos) << part << " not in: " << m;
+    }
+  }
+  EXPECT_THROW(ValidateMapServerOptions(MapServerOptions{""}), std::invalid_argument);
 }
 
 }  // namespace

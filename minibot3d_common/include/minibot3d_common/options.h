@@ -270,6 +270,10 @@ class Problems {
     Check(std::isfinite(v) && v >= 0.0 && v <= 1.0, name, v, "in [0, 1]");
   }
   void Finite(const std::string& name, double v) { Check(std::isfinite(v), name, v, "finite"); }
+  // A frame id, topic or file name that must be given.
+  void NonEmpty(const std::string& name, const std::string& v) {
+    Require(!v.empty(), name + " must not be empty");
+  }
   bool empty() const { return list_.empty(); }
   void ThrowIfAny() const {
     if (list_.empty()) return;

@@ -1,9 +1,12 @@
 // Options of the RBPF SLAM core, named and defaulted as ROS gmapping's slam_gmapping parameters so
-// existing YAML files work. Read and validated in one place (ValidateOptions).
+// existing YAML files work. One option table (GmappingOptionTable) reads them by name and
+// documents them (docs/parameters/slam.md); ValidateOptions checks them in one place.
 #ifndef MINIBOT3D_SLAM_GMAPPING_OPTIONS_H_
 #define MINIBOT3D_SLAM_GMAPPING_OPTIONS_H_
 
 #include <string>
+
+#include "minibot3d_common/options.h"
 
 namespace minibot3d_slam {
 
@@ -68,9 +71,9 @@ struct GmappingOptions {
   double loopMaxSearchWindow = 20.0;  // m
   // 1: a match in a corridor seen along its axis (look-alike places on one line) still constrains
   // the pose across the corridor and the heading, with a weak constraint along it; 0: such
-  // matches are dropped as ambiguous. Off by default: it holds bare corridors driven twice
-  // together (loop_closure_test), but on the synthetic buildings of make bench it made the
-  // any-span error worse on average over three seeds (README, building-sized loops).
+  // matches are dropped as ambiguous. Off by default: such a match cannot tell where along the
+  // corridor the robot is, and on building-sized loops the weak constraints along it add more
+  // error than they remove.
   int loopCorridors = 0;
   double loopSearchAngle = 0.35;   // rad: half-width of the heading window
   double loopMinScore = 0.6;       // correlative score (mean blurred occupancy at the endpoints) to accept
@@ -88,8 +91,12 @@ struct GmappingOptions {
 void ValidateOptions(const GmappingOptions& options);
 
 // Sets one option from its gmapping name and a textual value ("particles", "30"). Throws
-// std::invalid_argument naming an unknown parameter or a value that does not parse.
+// std::invalid_argument naming an unknown parameter or a value that does not parse (a number
+// must be finite).
 void SetOption(GmappingOptions* options, const std::string& name, const std::string& value);
+
+// The table behind SetOption: every option by its gmapping name, with its documentation.
+const minibot3d_common::options::OptionTable<GmappingOptions>& GmappingOptionTable();
 
 }  // namespace minibot3d_slam
 
