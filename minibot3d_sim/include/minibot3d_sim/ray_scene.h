@@ -1,0 +1,120 @@
+// 3-D ray casting against the world with Intel Embree 3 (Wald, Woop, Benthin, Johnson, Ernst:
+// "Embree: A Kernel Framework for Efficient CPU Ray Tracing", ACM TOG 33(4), 2014).
+//
+// The static world becomes one Embree scene: boxes and meshes as triangles, cylinders (capped),
+// spheres and planes as user geometry whose callbacks intersect the ray analytically, so a round
+// pillar reads round at every pixel instead of showing the facets of a tessellation. Embree builds
+// the BVH and traverses it; the callbacks only run for the rays that reach a primitive's box.
+//
+// Movable bodies (another robot, a walking person) get a scene each, placed by an Embree instance
+// in a small top-level scene that also instances the static scene. Moving a body changes only its
+// instance transform and rebuilds that top level (one box per body), never the static BVH.
+//
+// Rays go to Embree in packets of 16 (rtcIntersect16): rays that start together and point almost
+// the same way (a 4×4 tile of camera pixels) visit mostly the same BVH nodes, so one traversal
+// serves sixteen. Callers that want that speed hand in rays in coherent groups of 16.
+//
+// Ray parameters are in units of the direction's length: with a direction whose component along
+// the camera's optical axis is 1, the hit distance t is the hit's z-depth (see depth_camera.h).
+#ifndef MINIBOT3D_SIM_RAY_SCENE_H_
+#define MINIBOT3D_SIM_RAY_SCENE_H_
+
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <embree3/rtcore.h>
+
+#include "minibot3d_sim/world.h"
+
+namespace minibot3d_sim {
+
+// An Embree call failed; the message names the call, Embree's error code and its text.
+class RaySceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// What a hit id stands for.
+struct HitTarget {
+  int body = -1;   // −1: the static world; otherwise the index AddBody returned
+  int shape = -1;  // index into World::shapes, or into that body's shapes
+};
+
+class RayScene {
+ public:
+  static constexpr int kNoHit = -1;
+
+  // Builds the static scene from `world`. `device` may be shared by several scenes and must then
+  // outlive them; null makes one of the scene's own. Throws RaySceneError.
+  explicit RayScene(const World& world, RTCDevice device = nullptr);
+  ~RayScene();
+  RayScene(const RayScene&) = delete;
+  RayScene& operator=(const RayScene&) = delete;
+
+  // A rigid set of shapes (poses in the body frame), invisible until the next Commit(); its pose is
+  // the identity until SetBodyPose. Returns the body's index (0, 1, ...). Throws
+  // std::invalid_argument for an empty body.
+  int AddBody(std::vector<Shape> shapes_in_body_frame, std::string name);
+  // Takes effect at the next Commit(): rays cast before it still see the old pose.
+  void SetBodyPose(int body, const Eigen::Isometry3d& pose_in_world);
+  // Makes added bodies and new poses visible. Must not run concurrently with a cast.
+  void Commit();
+
+  // Casts n rays, ray i from (ox[i], oy[i], oz[i]) along (dx[i], dy[i], dz[i]) (any non-zero
+  // length) in the world frame, and reports the nearest hit with tnear ≤ t ≤ tfar: t_out[i] (in
+  // units of the direction's length; +inf for none), hit_id_out[i] (kNoHit for none) and, when
+  // normal_out is not null, the unit geometric normal in the world frame at normal_out[3i..3i+2]
+  // (either side of the surface; zero for none). Rays are traced 16 at a time in the order given.
+  // Safe to call from several threads at once.
+  void Intersect(const float* ox, const float* oy, const float* oz, const float* dx,
+                 const float* dy, const float* dz, int n, float tnear, float tfar, float* t_out,
+                 int* hit_id_out, float* normal_out = nullptr) const;
+  // The same for rays that share one origin (a camera, a lidar).
+  void IntersectFrom(const Eigen::Vector3f& origin, const float* dx, const float* dy,
+                     const float* dz, int n, float tnear, float tfar, float* t_out,
+                     int* hit_id_out, float* normal_out = nullptr) const;
+
+  // Hit ids are dense: static shape i has id i; the shapes of each body follow, body by body.
+  int num_hit_ids() const { return static_cast<int>(targets_.size()); }
+  int num_bodies() const { return static_cast<int>(bodies_.size()); }
+  int BodyHitId(int body, int shape) const;
+  HitTarget Target(int hit_id) const;
+  // "model::link::collision" for the static world, "body_name::shape_name" for a body.
+  const std::string& HitName(int hit_id) const;
+  const Eigen::Vector3f& HitColor(int hit_id) const;
+  // Every hit id's colour, indexed by hit id (for per-pixel shading without a call per pixel).
+  const std::vector<Eigen::Vector3f>& hit_colors() const { return colors_; }
+  const std::string& body_name(int body) const;
+
+ private:
+  struct SubScene;
+  struct Body;
+
+  template <bool kCommonOrigin>
+  void Trace(const float* ox, const float* oy, const float* oz, const float* dx, const float* dy,
+             const float* dz, int n, float tnear, float tfar, float* t_out, int* hit_id_out,
+             float* normal_out) const;
+  void CheckBody(int body, const char* what) const;
+
+  RTCDevice device_ = nullptr;
+  bool own_device_ = false;
+  std::unique_ptr<SubScene> static_;
+  std::vector<std::unique_ptr<Body>> bodies_;
+  RTCScene top_ = nullptr;
+  // The scene rays are cast against: the static scene until a body is committed, then top_.
+  RTCScene traversable_ = nullptr;
+  // Per instance id in top_ (0: static, b + 1: body b), the hit-id tables and the rotation that
+  // takes Embree's object-space normals to the world frame, as of the last Commit().
+  std::vector<const SubScene*> instance_scenes_;
+  std::vector<Eigen::Matrix3f> instance_rotations_;
+  std::vector<HitTarget> targets_;
+  std::vector<std::string> names_;
+  std::vector<Eigen::Vector3f> colors_;
+};
+
+}  // namespace minibot3d_sim
+
+#endif  // MINIBOT3D_SIM_RAY_SCENE_H_
