@@ -6,9 +6,13 @@
 // pillar reads round at every pixel instead of showing the facets of a tessellation. Embree builds
 // the BVH and traverses it; the callbacks only run for the rays that reach a primitive's box.
 //
-// Movable bodies (another robot, a walking person) get a scene each, placed by an Embree instance
-// in a small top-level scene that also instances the static scene. Moving a body changes only its
-// instance transform and rebuilds that top level (one box per body), never the static BVH.
+// Movable bodies (another robot, a walking person) get a scene each, placed by Embree instances in
+// a small top-level scene of their own. Moving a body changes only its instance transform and
+// rebuilds that top level (one box per body), never the static BVH. A packet is cast against the
+// static scene, then against the bodies' scene only if the packet's segments, cut at the static
+// hits, can reach the bodies' bounds. With one person in the apartment that costs a camera frame
+// about 8 %; instancing the static scene under the same top level instead cost every ray the
+// instance traversal, about 20 %.
 //
 // Rays go to Embree in packets of 16 (rtcIntersect16): rays that start together and point almost
 // the same way (a 4×4 tile of camera pixels) visit mostly the same BVH nodes, so one traversal
@@ -103,11 +107,11 @@ class RayScene {
   bool own_device_ = false;
   std::unique_ptr<SubScene> static_;
   std::vector<std::unique_ptr<Body>> bodies_;
-  RTCScene top_ = nullptr;
-  // The scene rays are cast against: the static scene until a body is committed, then top_.
-  RTCScene traversable_ = nullptr;
-  // Per instance id in top_ (0: static, b + 1: body b), the hit-id tables and the rotation that
-  // takes Embree's object-space normals to the world frame, as of the last Commit().
+  // Instances of the committed bodies (instance id b: body b); null until a body is committed.
+  RTCScene bodies_top_ = nullptr;
+  RTCBounds bodies_bounds_{};
+  // Per body instance, the hit-id tables and the rotation that takes Embree's object-space
+  // normals to the world frame, as of the last Commit().
   std::vector<const SubScene*> instance_scenes_;
   std::vector<Eigen::Matrix3f> instance_rotations_;
   std::vector<HitTarget> targets_;
