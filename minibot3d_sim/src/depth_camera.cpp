@@ -14,6 +14,8 @@
 #include <string>
 #include <thread>
 
+#include <embree3/rtcore.h>
+
 namespace minibot3d_sim {
 namespace {
 
@@ -157,31 +159,26 @@ class DepthCamera::WorkerPool {
   bool stop_ = false;
 };
 
-// One band's rays and hits, in tile order.
-struct DepthCamera::Scratch {
-  std::vector<float> dx, dy, dz, inv_len, t, normal;
-  std::vector<int> id;
-
-  explicit Scratch(int rays)
-      : dx(rays), dy(rays), dz(rays), inv_len(rays), t(rays),
-        normal(3 * static_cast<std::size_t>(rays)), id(rays) {}
-};
-
 DepthCamera::DepthCamera(const CameraSpec& spec) : spec_(spec), rng_(spec.seed) {
   Validate(spec_);
   const int w = spec_.width, h = spec_.height;
   focal_ = w / (2.0 * std::tan(0.5 * spec_.horizontal_fov));
-  col_offset_.resize(w);
-  row_offset_.resize(h);
-  for (int u = 0; u < w; ++u) col_offset_[u] = static_cast<float>(-(u - 0.5 * (w - 1)) / focal_);
-  for (int v = 0; v < h; ++v) row_offset_[v] = static_cast<float>(-(v - 0.5 * (h - 1)) / focal_);
   tiles_x_ = (w + kTile - 1) / kTile;
   bands_ = (h + kTile - 1) / kTile;
+  // Padded to whole tiles by repeating the last column and row: every packet is full and always
+  // holds the same rays.
+  col_offset_.resize(tiles_x_ * kTile);
+  row_offset_.resize(bands_ * kTile);
+  for (int u = 0; u < tiles_x_ * kTile; ++u) {
+    col_offset_[u] = static_cast<float>(-(std::min(u, w - 1) - 0.5 * (w - 1)) / focal_);
+  }
+  for (int v = 0; v < bands_ * kTile; ++v) {
+    row_offset_[v] = static_cast<float>(-(std::min(v, h - 1) - 0.5 * (h - 1)) / focal_);
+  }
   threads_ = spec_.threads > 0 ? spec_.threads
                                : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   threads_ = std::min(threads_, bands_);
   pool_ = std::make_unique<WorkerPool>(threads_);
-  for (int i = 0; i < threads_; ++i) scratch_.push_back(std::make_unique<Scratch>(tiles_x_ * kPacket));
 }
 
 DepthCamera::~DepthCamera() = default;
@@ -207,12 +204,24 @@ void DepthCamera::Render(const RayScene& scene, const Eigen::Isometry3d& camera_
   background_ = ImageColor(spec_.background, spec_.format);
 
   std::atomic<int> next_band{0};
-  pool_->Run([&](int thread) {
-    Scratch* scratch = scratch_[thread].get();
-    for (int band = next_band.fetch_add(1); band < bands_; band = next_band.fetch_add(1)) {
-      RenderBand(scene, camera_pose_in_world, band, scratch, out);
-    }
-  });
+  const auto render = [&](auto band_renderer) {
+    pool_->Run([&](int /*thread*/) {
+      for (int band = next_band.fetch_add(1); band < bands_; band = next_band.fetch_add(1)) {
+        (this->*band_renderer)(scene, camera_pose_in_world, band, out);
+      }
+    });
+  };
+  switch (spec_.format) {
+    case PixelFormat::kR8G8B8:
+      render(&DepthCamera::RenderBand<PixelFormat::kR8G8B8>);
+      break;
+    case PixelFormat::kB8G8R8:
+      render(&DepthCamera::RenderBand<PixelFormat::kB8G8R8>);
+      break;
+    case PixelFormat::kL8:
+      render(&DepthCamera::RenderBand<PixelFormat::kL8>);
+      break;
+  }
 
   if (spec_.noise_stddev > 0.0 || spec_.noise_mean != 0.0) {
     std::normal_distribution<double> noise(spec_.noise_mean,
@@ -227,80 +236,83 @@ void DepthCamera::Render(const RayScene& scene, const Eigen::Isometry3d& camera_
   }
 }
 
-void DepthCamera::RenderBand(const RayScene& scene, const Eigen::Isometry3d& pose, int band,
-                             Scratch* s, DepthFrame* out) const {
-  const int w = spec_.width, h = spec_.height;
-  const int v0 = band * kTile;
-  const Eigen::Matrix3f r = pose.linear().cast<float>();
-  const Eigen::Vector3f origin = pose.translation().cast<float>();
-  const Eigen::Vector3f fwd = r.col(0), left = r.col(1), up = r.col(2);
-
-  // Camera-frame direction (1, col_offset, row_offset), in the world; edge tiles repeat the last
-  // column or row so every packet is full and always holds the same rays.
-  int k = 0;
-  for (int tx = 0; tx < tiles_x_; ++tx) {
-    for (int dv = 0; dv < kTile; ++dv) {
-      const float b = row_offset_[std::min(v0 + dv, h - 1)];
-      for (int du = 0; du < kTile; ++du, ++k) {
-        const float a = col_offset_[std::min(tx * kTile + du, w - 1)];
-        s->dx[k] = fwd.x() + a * left.x() + b * up.x();
-        s->dy[k] = fwd.y() + a * left.y() + b * up.y();
-        s->dz[k] = fwd.z() + a * left.z() + b * up.z();
-        s->inv_len[k] = 1.0f / std::sqrt(1.0f + a * a + b * b);
-      }
-    }
-  }
-  scene.IntersectFrom(origin, s->dx.data(), s->dy.data(), s->dz.data(), k, 0.0f,
-                      static_cast<float>(spec_.far_clip), s->t.data(), s->id.data(),
-                      s->normal.data());
-
-  switch (spec_.format) {
-    case PixelFormat::kR8G8B8:
-      Shade<PixelFormat::kR8G8B8>(v0, *s, out);
-      break;
-    case PixelFormat::kB8G8R8:
-      Shade<PixelFormat::kB8G8R8>(v0, *s, out);
-      break;
-    case PixelFormat::kL8:
-      Shade<PixelFormat::kL8>(v0, *s, out);
-      break;
-  }
-}
-
 template <PixelFormat kFormat>
-void DepthCamera::Shade(int v0, const Scratch& s, DepthFrame* out) const {
+void DepthCamera::RenderBand(const RayScene& scene, const Eigen::Isometry3d& pose, int band,
+                             DepthFrame* out) const {
   constexpr float kInf = std::numeric_limits<float>::infinity();
   constexpr int kChannels = kFormat == PixelFormat::kL8 ? 1 : 3;
   const int w = spec_.width, h = spec_.height;
+  const int v0 = band * kTile;
+  const int rows = std::min(kTile, h - v0);
   const float near = static_cast<float>(spec_.near_clip);
+  const float far = static_cast<float>(spec_.far_clip);
+  const Eigen::Matrix3f r = pose.linear().cast<float>();
+  const Eigen::Vector3f origin = pose.translation().cast<float>();
+  const Eigen::Vector3f fwd = r.col(0), left = r.col(1), up = r.col(2);
   // Entries are clamped and scaled to 0..255 and the shading factor is at most 1, so the bytes
   // need no clamping (a branch per channel otherwise).
   const Eigen::Vector3f* colors = colors_.data();
-  const Eigen::Vector3f& background = background_;
-  const int rows = std::min(kTile, h - v0);
+  const float* b = &row_offset_[v0];
+
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  alignas(64) RTCRayHit16 rh;
+  alignas(64) int valid[kPacket];
+  for (int i = 0; i < kPacket; ++i) {
+    valid[i] = -1;
+    rh.ray.org_x[i] = origin.x();
+    rh.ray.org_y[i] = origin.y();
+    rh.ray.org_z[i] = origin.z();
+    rh.ray.tnear[i] = 0.0f;
+    rh.ray.time[i] = 0.0f;
+    rh.ray.mask[i] = 0xFFFFFFFFu;
+    rh.ray.id[i] = static_cast<unsigned>(i);
+    rh.ray.flags[i] = 0;
+  }
   for (int tx = 0; tx < tiles_x_; ++tx) {
     const int u0 = tx * kTile;
+    const float* a = &col_offset_[u0];
+    // Lane i is pixel (u0 + i % 4, v0 + i / 4): camera-frame direction (1, a, b) in the world.
+    for (int i = 0; i < kPacket; ++i) {
+      const float ai = a[i % kTile], bi = b[i / kTile];
+      rh.ray.dir_x[i] = fwd.x() + ai * left.x() + bi * up.x();
+      rh.ray.dir_y[i] = fwd.y() + ai * left.y() + bi * up.y();
+      rh.ray.dir_z[i] = fwd.z() + ai * left.z() + bi * up.z();
+      rh.ray.tfar[i] = far;
+      rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    scene.Intersect16(valid, &rh, &context);
+    scene.WorldNormals16(&rh);
+    // The headlight term of all 16 lanes at once (lanes without a hit compute garbage, unused).
+    alignas(64) float shade[kPacket];
+    for (int i = 0; i < kPacket; ++i) {
+      const float nx = rh.hit.Ng_x[i], ny = rh.hit.Ng_y[i], nz = rh.hit.Ng_z[i];
+      const float dx = rh.ray.dir_x[i], dy = rh.ray.dir_y[i], dz = rh.ray.dir_z[i];
+      const float cos_view = std::abs(nx * dx + ny * dy + nz * dz) /
+                             std::sqrt((nx * nx + ny * ny + nz * nz) * (dx * dx + dy * dy + dz * dz));
+      shade[i] = kAmbient + (1.0f - kAmbient) * std::min(cos_view, 1.0f);
+    }
+
     const int cols = std::min(kTile, w - u0);
     for (int dv = 0; dv < rows; ++dv) {
       const std::size_t row = static_cast<std::size_t>(v0 + dv) * w + u0;
       float* depth = &out->depth[row];
       int* hit_id = &out->hit_id[row];
       std::uint8_t* px = &out->rgb[row * kChannels];
-      const int k0 = tx * kPacket + dv * kTile;
       for (int du = 0; du < cols; ++du, px += kChannels) {
-        const int k = k0 + du;
-        const int id = s.id[k];
-        const float t = s.t[k];
-        depth[du] = t < near ? kInf : t;
+        const int i = dv * kTile + du;
+        const int id = scene.HitId16(rh, i);
         hit_id[du] = id;
         Eigen::Vector3f color;
         if (id == RayScene::kNoHit) {
-          color = background;
+          depth[du] = kInf;
+          color = background_;
         } else {
-          const float* n = &s.normal[3 * k];
-          const float cos_view =
-              std::abs(n[0] * s.dx[k] + n[1] * s.dy[k] + n[2] * s.dz[k]) * s.inv_len[k];
-          color = colors[id] * (kAmbient + (1.0f - kAmbient) * std::min(cos_view, 1.0f));
+          const float t = rh.ray.tfar[i];
+          depth[du] = t < near ? kInf : t;
+          color = colors[id] * shade[i];
         }
         px[0] = static_cast<std::uint8_t>(static_cast<int>(color.x() + 0.5f));
         if (kChannels == 3) {

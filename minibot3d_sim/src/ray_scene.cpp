@@ -216,6 +216,42 @@ void IntersectPrims(const RTCIntersectFunctionNArguments* args) {
   }
 }
 
+// The ground plane lies under every packet that looks down, so its callback runs for about half
+// of a camera's packets: solved in single precision over the whole packet, where one division
+// per ray loses nothing against the float t it reports.
+template <>
+void IntersectPrims<Plane>(const RTCIntersectFunctionNArguments* args) {
+  const Plane& plane = static_cast<const Plane*>(args->geometryUserPtr)[args->primID];
+  const float nx = static_cast<float>(plane.normal.x()), ny = static_cast<float>(plane.normal.y()),
+              nz = static_cast<float>(plane.normal.z());
+  const float c = static_cast<float>(plane.normal.dot(plane.point));
+  const unsigned n = args->N;
+  RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, n);
+  RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, n);
+  const unsigned inst = args->context->instID[0];
+  for (unsigned i = 0; i < n; ++i) {
+    const float denom = nx * RTCRayN_dir_x(ray, n, i) + ny * RTCRayN_dir_y(ray, n, i) +
+                        nz * RTCRayN_dir_z(ray, n, i);
+    const float t = (c - (nx * RTCRayN_org_x(ray, n, i) + ny * RTCRayN_org_y(ray, n, i) +
+                          nz * RTCRayN_org_z(ray, n, i))) /
+                    denom;
+    // A ray along the plane gives ±inf or NaN: not finite, no hit.
+    if (args->valid[i] != -1 || !std::isfinite(t) || t < RTCRayN_tnear(ray, n, i) ||
+        t > RTCRayN_tfar(ray, n, i)) {
+      continue;
+    }
+    RTCRayN_tfar(ray, n, i) = t;
+    RTCHitN_Ng_x(hit, n, i) = nx;
+    RTCHitN_Ng_y(hit, n, i) = ny;
+    RTCHitN_Ng_z(hit, n, i) = nz;
+    RTCHitN_u(hit, n, i) = 0.0f;
+    RTCHitN_v(hit, n, i) = 0.0f;
+    RTCHitN_primID(hit, n, i) = args->primID;
+    RTCHitN_geomID(hit, n, i) = args->geomID;
+    RTCHitN_instID(hit, n, i, 0) = inst;
+  }
+}
+
 template <typename Prim>
 void OccludedPrims(const RTCOccludedFunctionNArguments* args) {
   const Prim& prim = static_cast<const Prim*>(args->geometryUserPtr)[args->primID];
@@ -413,13 +449,17 @@ struct RayScene::Body {
 RayScene::RayScene(const World& world, RTCDevice device) : device_(device) {
   if (device_ == nullptr) {
     device_ = rtcNewDevice(nullptr);
-    if (device_ == nullptr) Check(nullptr, "rtcNewDevice");
+    if (device_ == nullptr) {
+      Check(nullptr, "rtcNewDevice");  // throws with Embree's reason when it gave one
+      throw RaySceneError("Embree rtcNewDevice failed");
+    }
     own_device_ = true;
   }
   rtcSetDeviceErrorFunction(device_, &OnEmbreeError, nullptr);
   try {
     static_ = std::make_unique<SubScene>();
     static_->Build(device_, world.shapes, 0);
+    static_tables_ = static_->tables.data();
   } catch (...) {
     static_.reset();
     if (own_device_) rtcReleaseDevice(device_);
@@ -433,9 +473,10 @@ RayScene::RayScene(const World& world, RTCDevice device) : device_(device) {
 }
 
 RayScene::~RayScene() {
+  // Top level first: its instances refer to the bodies' scenes.
+  if (bodies_top_ != nullptr) rtcReleaseScene(bodies_top_);
   bodies_.clear();
   static_.reset();
-  if (bodies_top_ != nullptr) rtcReleaseScene(bodies_top_);
   if (own_device_) rtcReleaseDevice(device_);
 }
 
@@ -500,12 +541,12 @@ void RayScene::Commit() {
       rtcAttachGeometryByID(bodies_top_, body.instance, static_cast<unsigned>(b));
       rtcReleaseGeometry(body.instance);  // bodies_top_ holds it from here on
       Check(device_, "rtcAttachGeometryByID");
-      instance_scenes_.push_back(&body.sub);
-      instance_rotations_.push_back(body.pose.linear().cast<float>());
+      body_tables_.push_back(body.sub.tables.data());
+      body_rotations_.push_back(body.pose.linear().cast<float>());
       body.pose_pending = false;
     } else if (body.pose_pending) {
       set_transform(body.instance, body.pose);
-      instance_rotations_[b] = body.pose.linear().cast<float>();
+      body_rotations_[b] = body.pose.linear().cast<float>();
       body.pose_pending = false;
     }
   }
@@ -599,37 +640,33 @@ void RayScene::Trace(const float* ox, const float* oy, const float* oz, const fl
       rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
       rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
-    rtcIntersect16(valid, static_->scene, &context, &rh);
-    if (bodies_top_ != nullptr && PacketReaches(rh, bodies_bounds_)) {
-      rtcIntersect16(valid, bodies_top_, &context, &rh);
-    }
+    Intersect16(valid, &rh, &context);
+    if (normal_out != nullptr) WorldNormals16(&rh);
     for (int i = 0; i < m; ++i) {
       const int k = base + i;
-      const unsigned geom = rh.hit.geomID[i];
-      if (geom == RTC_INVALID_GEOMETRY_ID) {
-        t_out[k] = kInf;
-        hit_id_out[k] = kNoHit;
-        if (normal_out != nullptr) {
-          normal_out[3 * k] = normal_out[3 * k + 1] = normal_out[3 * k + 2] = 0.0f;
-        }
-        continue;
-      }
-      const unsigned inst = rh.hit.instID[0][i];
-      const bool in_body = inst != RTC_INVALID_GEOMETRY_ID;
-      const SubScene* sub = in_body ? instance_scenes_[inst] : static_.get();
-      t_out[k] = rh.ray.tfar[i];
-      hit_id_out[k] = sub->tables[geom][rh.hit.primID[i]];
+      const int id = HitId16(rh, i);
+      hit_id_out[k] = id;
+      t_out[k] = id == kNoHit ? kInf : rh.ray.tfar[i];
       if (normal_out != nullptr) {
-        // Embree leaves Ng in the instanced object's frame.
-        Eigen::Vector3f ng(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]);
-        if (in_body) ng = instance_rotations_[inst] * ng;
-        const float norm = ng.norm();
-        if (norm > 0.0f) ng /= norm;
+        Eigen::Vector3f ng = Eigen::Vector3f::Zero();
+        if (id != kNoHit) {
+          ng = Eigen::Vector3f(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]);
+          const float norm = ng.norm();
+          if (norm > 0.0f) ng /= norm;
+        }
         normal_out[3 * k] = ng.x();
         normal_out[3 * k + 1] = ng.y();
         normal_out[3 * k + 2] = ng.z();
       }
     }
+  }
+}
+
+void RayScene::Intersect16(const int* valid, RTCRayHit16* rayhit,
+                           RTCIntersectContext* context) const {
+  rtcIntersect16(valid, static_->scene, context, rayhit);
+  if (bodies_top_ != nullptr && PacketReaches(*rayhit, bodies_bounds_)) {
+    rtcIntersect16(valid, bodies_top_, context, rayhit);
   }
 }
 

@@ -7,6 +7,7 @@
 #include <thread>
 #include <vector>
 
+#include <embree3/rtcore.h>
 #include <gtest/gtest.h>
 
 namespace minibot3d_sim {
@@ -176,6 +177,22 @@ TEST(RaySceneTest, EmptyWorldHitsNothing) {
   EXPECT_EQ(h.t, kInf);
   EXPECT_EQ(h.id, RayScene::kNoHit);
   EXPECT_EQ(scene.num_hit_ids(), 0);
+}
+
+TEST(RaySceneTest, ScenesShareADevice) {
+  RTCDevice device = rtcNewDevice(nullptr);
+  ASSERT_NE(device, nullptr);
+  {
+    World a, b;
+    a.shapes.push_back(Box("near", {2.5, 0, 0}, {1, 1, 1}));
+    b.shapes.push_back(Sphere("ball", {0, 3, 0}, 1.0));
+    const RayScene scene_a(a, device);
+    const RayScene scene_b(b, device);
+    EXPECT_NEAR(Cast(scene_a, {0, 0, 0}, {1, 0, 0}).t, 2.0f, 1e-6);
+    EXPECT_NEAR(Cast(scene_b, {0, 0, 0}, {0, 1, 0}).t, 2.0f, 1e-6);
+    EXPECT_EQ(Cast(scene_a, {0, 0, 0}, {0, 1, 0}).id, RayScene::kNoHit);
+  }
+  rtcReleaseDevice(device);  // after the scenes, as documented
 }
 
 TEST(RaySceneTest, BodiesMoveAtCommitOnly) {

@@ -34,9 +34,10 @@
 // on the seed and the frames before it, never on the thread count. A noisy depth that leaves
 // [near, far] becomes +inf.
 //
-// Speed. The rays of a 4×4 tile of pixels form one Embree packet of 16; the image is cut into bands
-// of tile rows that worker threads take in turn. Directions are made per frame from two per-camera
-// tables (one value per column, one per row), so nothing is allocated per ray or per frame.
+// Speed. The rays of a 4×4 tile of pixels form one Embree packet of 16, built in place and shaded
+// straight from Embree's hit record; the image is cut into bands of tile rows that worker threads
+// take in turn. Directions are made per frame from two per-camera tables (one value per column,
+// one per row), so nothing is allocated per ray or per frame.
 #ifndef MINIBOT3D_SIM_DEPTH_CAMERA_H_
 #define MINIBOT3D_SIM_DEPTH_CAMERA_H_
 
@@ -106,20 +107,19 @@ class DepthCamera {
 
  private:
   class WorkerPool;
-  struct Scratch;
 
-  void RenderBand(const RayScene& scene, const Eigen::Isometry3d& pose, int band, Scratch* s,
-                  DepthFrame* out) const;
+  // Casts and shades the 4 rows of pixels [4·band, 4·band + 4).
   template <PixelFormat kFormat>
-  void Shade(int v0, const Scratch& s, DepthFrame* out) const;
+  void RenderBand(const RayScene& scene, const Eigen::Isometry3d& pose, int band,
+                  DepthFrame* out) const;
 
   const CameraSpec spec_;
   double focal_ = 0.0;
   int threads_ = 1;
   int tiles_x_ = 0, bands_ = 0;
-  std::vector<float> col_offset_, row_offset_;  // −(u − (W−1)/2)/f, −(v − (H−1)/2)/f
+  // −(u − (W−1)/2)/f and −(v − (H−1)/2)/f, padded to whole tiles with the last column and row.
+  std::vector<float> col_offset_, row_offset_;
   std::unique_ptr<WorkerPool> pool_;
-  std::vector<std::unique_ptr<Scratch>> scratch_;  // one per thread
   // The scene's colours and the background as the image stores them (per frame: bodies may come).
   std::vector<Eigen::Vector3f> colors_;
   Eigen::Vector3f background_;

@@ -52,7 +52,8 @@ class RayScene {
   static constexpr int kNoHit = -1;
 
   // Builds the static scene from `world`. `device` may be shared by several scenes and must then
-  // outlive them; null makes one of the scene's own. Throws RaySceneError.
+  // outlive them (the scene sets the device's error function); null makes one of the scene's own.
+  // Throws RaySceneError.
   explicit RayScene(const World& world, RTCDevice device = nullptr);
   ~RayScene();
   RayScene(const RayScene&) = delete;
@@ -64,7 +65,8 @@ class RayScene {
   int AddBody(std::vector<Shape> shapes_in_body_frame, std::string name);
   // Takes effect at the next Commit(): rays cast before it still see the old pose.
   void SetBodyPose(int body, const Eigen::Isometry3d& pose_in_world);
-  // Makes added bodies and new poses visible. Must not run concurrently with a cast.
+  // Makes added bodies and new poses visible. AddBody, SetBodyPose and Commit must not run
+  // concurrently with a cast or with each other.
   void Commit();
 
   // Casts n rays, ray i from (ox[i], oy[i], oz[i]) along (dx[i], dy[i], dz[i]) (any non-zero
@@ -80,6 +82,35 @@ class RayScene {
   void IntersectFrom(const Eigen::Vector3f& origin, const float* dx, const float* dy,
                      const float* dz, int n, float tnear, float tfar, float* t_out,
                      int* hit_id_out, float* normal_out = nullptr) const;
+
+  // Low level, for sensors that lay out Embree packets themselves and read the hits straight from
+  // them (DepthCamera), saving the copies in and out of the arrays above. Casts the lanes with
+  // valid[i] = −1: the caller fills org, dir, tnear, tfar, time = 0, mask = ~0u, flags = 0 and
+  // sets hit.geomID[i] and hit.instID[0][i] to RTC_INVALID_GEOMETRY_ID; afterwards ray.tfar[i] is
+  // the nearest hit's t where HitId16 is not kNoHit.
+  void Intersect16(const int* valid, RTCRayHit16* rayhit, RTCIntersectContext* context) const;
+  int HitId16(const RTCRayHit16& rayhit, int lane) const {
+    const unsigned geom = rayhit.hit.geomID[lane];
+    if (geom == RTC_INVALID_GEOMETRY_ID) return kNoHit;
+    const unsigned inst = rayhit.hit.instID[0][lane];
+    const int* const* tables = inst == RTC_INVALID_GEOMETRY_ID ? static_tables_ : body_tables_[inst];
+    return tables[geom][rayhit.hit.primID[lane]];
+  }
+  // Turns the geometric normals of the hits on bodies, which Embree leaves in the body's frame, into
+  // the world frame: afterwards hit.Ng of every hit lane is a world-frame normal, not normalised.
+  void WorldNormals16(RTCRayHit16* rayhit) const {
+    for (int i = 0; i < 16; ++i) {
+      const unsigned inst = rayhit->hit.instID[0][i];
+      if (inst == RTC_INVALID_GEOMETRY_ID || rayhit->hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
+        continue;
+      }
+      const Eigen::Vector3f n = body_rotations_[inst] * Eigen::Vector3f(
+          rayhit->hit.Ng_x[i], rayhit->hit.Ng_y[i], rayhit->hit.Ng_z[i]);
+      rayhit->hit.Ng_x[i] = n.x();
+      rayhit->hit.Ng_y[i] = n.y();
+      rayhit->hit.Ng_z[i] = n.z();
+    }
+  }
 
   // Hit ids are dense: static shape i has id i; the shapes of each body follow, body by body.
   int num_hit_ids() const { return static_cast<int>(targets_.size()); }
@@ -110,10 +141,11 @@ class RayScene {
   // Instances of the committed bodies (instance id b: body b); null until a body is committed.
   RTCScene bodies_top_ = nullptr;
   RTCBounds bodies_bounds_{};
-  // Per body instance, the hit-id tables and the rotation that takes Embree's object-space
-  // normals to the world frame, as of the last Commit().
-  std::vector<const SubScene*> instance_scenes_;
-  std::vector<Eigen::Matrix3f> instance_rotations_;
+  // [geomID][primID] → hit id, for the static scene and per body instance; and the rotation that
+  // takes Embree's object-space normals of a body to the world frame, as of the last Commit().
+  const int* const* static_tables_ = nullptr;
+  std::vector<const int* const*> body_tables_;
+  std::vector<Eigen::Matrix3f> body_rotations_;
   std::vector<HitTarget> targets_;
   std::vector<std::string> names_;
   std::vector<Eigen::Vector3f> colors_;
