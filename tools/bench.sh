@@ -25,6 +25,9 @@ echo "== physics step cost (Google Benchmark, ~40 static shapes)"
 "$bin/physics_bench" --benchmark_min_time=0.2 2>/dev/null | grep -E "^(BM_|Benchmark|-)" || true
 echo "== lidar ray casting (Google Benchmark, default world)"
 "$bin/world_slice_bench" --benchmark_min_time=0.2 2>/dev/null | grep -E "^(BM_|Benchmark|-)" || true
+echo "== depth camera, 3-D ray casting with Embree (Google Benchmark, default world; rays_per_s and"
+echo "   fps are per wall second)"
+"$bin/depth_camera_bench" --benchmark_min_time=0.5 2>/dev/null | grep -E "^(BM_|Benchmark|-)" || true
 
 echo "== simulator node (ROS, real_time_factor 0): a constant arc (0.2 m/s, 0.4 rad/s) in the"
 echo "   default world with all topics published (odom/tf/joint_states/ground truth 100 Hz,"

@@ -3,6 +3,8 @@
 // SDF: the world's <model>s and <include>s are walked recursively, composing poses
 // world ← model ← (nested model …) ← link ← collision. Only collision geometry is kept; every shape
 // becomes a static Shape named "model::link::collision" (nested models give "outer::inner::…").
+// Its colour comes from a <visual> of the same link (see VisualColor), since cameras should see what
+// Gazebo would draw, not a uniform grey.
 // Floor plan: the map is read as map_server reads it (minibot3d_map_io); its occupied cells (100,
 // as ROS amcl and costmap_2d's static layer take them) are merged into maximal horizontal runs,
 // then identical runs of consecutive rows into rectangles, each of which becomes one box wall.
@@ -303,13 +305,132 @@ void LoadXml(const std::string& path, tinyxml2::XMLDocument* doc) {
   }
 }
 
+// Colours of the materials Gazebo ships in gazebo.material, by <script><name>: the diffuse colour,
+// or for a textured material (Wood, Bricks, ...) roughly the mean colour of its texture.
+const std::map<std::string, Eigen::Vector3f>& GazeboMaterialColors() {
+  static const std::map<std::string, Eigen::Vector3f> colors = {
+      {"Gazebo/Grey", {0.7f, 0.7f, 0.7f}},
+      {"Gazebo/DarkGrey", {0.175f, 0.175f, 0.175f}},
+      {"Gazebo/White", {1.0f, 1.0f, 1.0f}},
+      {"Gazebo/FlatBlack", {0.1f, 0.1f, 0.1f}},
+      {"Gazebo/Black", {0.0f, 0.0f, 0.0f}},
+      {"Gazebo/Red", {1.0f, 0.0f, 0.0f}},
+      {"Gazebo/RedBright", {0.87f, 0.26f, 0.07f}},
+      {"Gazebo/Green", {0.0f, 1.0f, 0.0f}},
+      {"Gazebo/Blue", {0.0f, 0.0f, 1.0f}},
+      {"Gazebo/SkyBlue", {0.13f, 0.44f, 0.70f}},
+      {"Gazebo/Yellow", {1.0f, 1.0f, 0.0f}},
+      {"Gazebo/ZincYellow", {0.9725f, 0.9529f, 0.2078f}},
+      {"Gazebo/DarkYellow", {0.7f, 0.7f, 0.0f}},
+      {"Gazebo/Purple", {1.0f, 0.0f, 1.0f}},
+      {"Gazebo/Turquoise", {0.0f, 1.0f, 1.0f}},
+      {"Gazebo/Orange", {1.0f, 0.5088f, 0.0468f}},
+      {"Gazebo/Indigo", {0.33f, 0.0f, 0.5f}},
+      {"Gazebo/Gold", {0.8f, 0.6487f, 0.1208f}},
+      {"Gazebo/WhiteGlow", {1.0f, 1.0f, 1.0f}},
+      {"Gazebo/RedGlow", {1.0f, 0.0f, 0.0f}},
+      {"Gazebo/GreenGlow", {0.0f, 1.0f, 0.0f}},
+      {"Gazebo/BlueGlow", {0.0f, 0.0f, 1.0f}},
+      {"Gazebo/YellowGlow", {1.0f, 1.0f, 0.0f}},
+      {"Gazebo/PurpleGlow", {1.0f, 0.0f, 1.0f}},
+      {"Gazebo/TurquoiseGlow", {0.0f, 1.0f, 1.0f}},
+      {"Gazebo/RedTransparent", {1.0f, 0.0f, 0.0f}},
+      {"Gazebo/GreenTransparent", {0.0f, 1.0f, 0.0f}},
+      {"Gazebo/BlueTransparent", {0.0f, 0.0f, 1.0f}},
+      {"Gazebo/GreyTransparent", {0.5f, 0.5f, 0.5f}},
+      {"Gazebo/YellowTransparent", {1.0f, 1.0f, 0.0f}},
+      {"Gazebo/OrangeTransparent", {1.0f, 0.44f, 0.0f}},
+      {"Gazebo/Wood", {0.62f, 0.44f, 0.26f}},
+      {"Gazebo/WoodFloor", {0.55f, 0.38f, 0.22f}},
+      {"Gazebo/WoodPallet", {0.66f, 0.52f, 0.36f}},
+      {"Gazebo/Bricks", {0.58f, 0.30f, 0.22f}},
+      {"Gazebo/CeilingTiled", {0.85f, 0.85f, 0.85f}},
+      {"Gazebo/PaintedWall", {0.9f, 0.89f, 0.85f}},
+      {"Gazebo/Road", {0.3f, 0.3f, 0.3f}},
+      {"Gazebo/Residential", {0.45f, 0.45f, 0.45f}},
+      {"Gazebo/Pedestrian", {0.6f, 0.6f, 0.6f}},
+  };
+  return colors;
+}
+
+// The colour of a <material>: <diffuse>, else <ambient>, else a known <script><name> (SDF's
+// explicit colours override the script's, as in Gazebo). False when it names no usable colour.
+bool MaterialColor(const LoadContext& ctx, const std::string& file, const XMLElement* material,
+                   Eigen::Vector3f* color) {
+  for (const char* tag : {"diffuse", "ambient"}) {
+    const XMLElement* e = material->FirstChildElement(tag);
+    if (e == nullptr) continue;
+    std::vector<double> v;
+    if (!ParseNumbers(e->GetText(), &v) || (v.size() != 3 && v.size() != 4)) {
+      ctx.Warn(Where(file, e) + ": <" + tag + "> is not 'r g b [a]'; ignored");
+      continue;
+    }
+    for (int i = 0; i < 3; ++i) (*color)[i] = static_cast<float>(std::clamp(v[i], 0.0, 1.0));
+    return true;
+  }
+  const XMLElement* script = material->FirstChildElement("script");
+  const char* name_text = script == nullptr ? nullptr : ChildText(script, "name");
+  if (name_text == nullptr) return false;
+  const std::string name = Trim(name_text);
+  const auto& known = GazeboMaterialColors();
+  const auto it = known.find(name);
+  if (it == known.end()) {
+    ctx.Warn(Where(file, script) + ": material script '" + name +
+             "' has no known colour; using the default grey");
+    return false;
+  }
+  *color = it->second;
+  return true;
+}
+
+// The colour Gazebo would draw a <collision> of `link` with. SDF does not tie a visual to a
+// collision, so: the visual named like the collision ("x" or "x" with "collision" → "visual"), else
+// the link's only visual, else the link's first visual that has a material; the default grey when
+// none says.
+Eigen::Vector3f VisualColor(const LoadContext& ctx, const std::string& file, const XMLElement* link,
+                            const XMLElement* collision) {
+  std::vector<const XMLElement*> visuals;
+  for (const XMLElement* v = link->FirstChildElement("visual"); v != nullptr;
+       v = v->NextSiblingElement("visual")) {
+    visuals.push_back(v);
+  }
+  const char* cname_attr = collision->Attribute("name");
+  const std::string cname = cname_attr == nullptr ? "" : cname_attr;
+  std::string swapped = cname;
+  const std::size_t at = swapped.find("collision");
+  if (at != std::string::npos) swapped.replace(at, 9, "visual");
+
+  const XMLElement* chosen = nullptr;
+  for (const XMLElement* v : visuals) {
+    const char* vname = v->Attribute("name");
+    if (vname != nullptr && !cname.empty() && (cname == vname || swapped == vname)) {
+      chosen = v;
+      break;
+    }
+  }
+  if (chosen == nullptr && visuals.size() == 1) chosen = visuals.front();
+  if (chosen == nullptr) {
+    for (const XMLElement* v : visuals) {
+      if (v->FirstChildElement("material") != nullptr) {
+        chosen = v;
+        break;
+      }
+    }
+  }
+  Eigen::Vector3f color = DefaultShapeColor();
+  const XMLElement* material = chosen == nullptr ? nullptr : chosen->FirstChildElement("material");
+  if (material != nullptr) MaterialColor(ctx, file, material, &color);
+  return color;
+}
+
 void AppendShape(LoadContext* ctx, Shape shape) {
   ctx->shapes->push_back(std::move(shape));
 }
 
 // One <collision>: appends its shape (or warns and skips an unsupported geometry).
 void ParseCollision(LoadContext* ctx, const std::string& file, const XMLElement* collision,
-                    const Eigen::Isometry3d& link_pose, const std::string& link_name) {
+                    const Eigen::Isometry3d& link_pose, const std::string& link_name,
+                    const Eigen::Vector3f& color) {
   const char* cname = collision->Attribute("name");
   const std::string name = link_name + "::" + (cname == nullptr ? "collision" : cname);
   const std::string what = "collision '" + name + "'";
@@ -318,6 +439,7 @@ void ParseCollision(LoadContext* ctx, const std::string& file, const XMLElement*
 
   Shape shape;
   shape.name = name;
+  shape.color = color;
   shape.pose = link_pose * ParsePose(file, collision, *ctx);
   bool have = false;
   std::vector<std::string> unknown;
@@ -426,6 +548,7 @@ void ParseInclude(LoadContext* ctx, const std::string& file, const XMLElement* i
     plane.pose = parent_pose * ParsePose(file, include, *ctx);
     plane.normal = Eigen::Vector3d::UnitZ();
     plane.size = Eigen::Vector3d(100.0, 100.0, 0.0);
+    plane.color = GazeboMaterialColors().at("Gazebo/Grey");  // as Gazebo's ground_plane model
     AppendShape(ctx, std::move(plane));
     return;
   }
@@ -492,7 +615,7 @@ void ParseModel(LoadContext* ctx, const std::string& file, const XMLElement* mod
       const Eigen::Isometry3d link_pose = pose * ParsePose(file, c, *ctx);
       for (const XMLElement* col = c->FirstChildElement("collision"); col != nullptr;
            col = col->NextSiblingElement("collision")) {
-        ParseCollision(ctx, file, col, link_pose, link_name);
+        ParseCollision(ctx, file, col, link_pose, link_name, VisualColor(*ctx, file, c, col));
       }
     } else if (tag == "model") {
       ParseModel(ctx, file, c, pose, full_name + "::", is_static, nullptr, nullptr, nullptr);

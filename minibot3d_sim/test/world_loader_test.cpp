@@ -245,6 +245,64 @@ TEST(WorldLoaderTest, GroundPlaneAndSunAreBuiltIn) {
   EXPECT_TRUE(warnings.empty());
 }
 
+TEST(WorldLoaderTest, ColoursComeFromTheVisualOfTheSameLink) {
+  TempDir dir;
+  const std::string box = "<geometry><box><size>1 1 1</size></box></geometry>";
+  const std::string world = Sdf(
+      // Explicit diffuse wins over the script, as in Gazebo.
+      "<model name=\"diffuse\"><static>true</static><link name=\"l\">"
+      "<collision name=\"c\">" + box + "</collision>"
+      "<visual name=\"v\">" + box + "<material><script><name>Gazebo/Blue</name></script>"
+      "<diffuse>0.2 0.4 0.6 1</diffuse></material></visual></link></model>"
+      // Ambient alone, and a value out of [0, 1] clamped.
+      "<model name=\"ambient\"><static>true</static><link name=\"l\">"
+      "<collision name=\"c\">" + box + "</collision>"
+      "<visual name=\"v\">" + box + "<material><ambient>1.5 0.5 0</ambient></material></visual>"
+      "</link></model>"
+      // A script name Gazebo ships.
+      "<model name=\"script\"><static>true</static><link name=\"l\">"
+      "<collision name=\"c\">" + box + "</collision>"
+      "<visual name=\"v\">" + box + "<material><script>"
+      "<uri>file://media/materials/scripts/gazebo.material</uri><name>Gazebo/Orange</name>"
+      "</script></material></visual></link></model>"
+      // Two collisions, two visuals: matched by name ("wall_collision" ↔ "wall_visual", "post").
+      "<model name=\"pair\"><static>true</static><link name=\"l\">"
+      "<collision name=\"wall_collision\">" + box + "</collision>"
+      "<collision name=\"post\">" + box + "</collision>"
+      "<visual name=\"post\">" + box + "<material><diffuse>0 1 0 1</diffuse></material></visual>"
+      "<visual name=\"wall_visual\">" + box +
+      "<material><script><name>Gazebo/Wood</name></script></material></visual>"
+      "</link></model>"
+      // No visual, and an unknown script: the default grey (the latter with a warning).
+      "<model name=\"bare\"><static>true</static><link name=\"l\">"
+      "<collision name=\"c\">" + box + "</collision></link></model>"
+      "<model name=\"custom\"><static>true</static><link name=\"l\">"
+      "<collision name=\"c\">" + box + "</collision>"
+      "<visual name=\"v\">" + box + "<material><script><name>My/Paint</name></script>"
+      "</material></visual></link></model>"
+      "<include><uri>model://ground_plane</uri></include>");
+  WriteFile(dir / "w.world", world);
+  std::vector<std::string> warnings;
+  const World w = LoadWorld(dir / "w.world", NoEnv(), &warnings);
+  const auto color = [&](const std::string& name) {
+    const Shape* s = Find(w, name);
+    EXPECT_NE(s, nullptr) << name;
+    return s == nullptr ? Eigen::Vector3f(-1, -1, -1) : s->color;
+  };
+  EXPECT_TRUE(color("diffuse::l::c").isApprox(Eigen::Vector3f(0.2f, 0.4f, 0.6f)));
+  EXPECT_TRUE(color("ambient::l::c").isApprox(Eigen::Vector3f(1.0f, 0.5f, 0.0f)));
+  EXPECT_TRUE(color("script::l::c").isApprox(Eigen::Vector3f(1.0f, 0.5088f, 0.0468f)));
+  EXPECT_TRUE(color("pair::l::post").isApprox(Eigen::Vector3f(0.0f, 1.0f, 0.0f)));
+  const Eigen::Vector3f wood = color("pair::l::wall_collision");
+  EXPECT_GT(wood.x(), wood.y());  // brown
+  EXPECT_GT(wood.y(), wood.z());
+  EXPECT_TRUE(color("bare::l::c").isApprox(DefaultShapeColor()));
+  EXPECT_TRUE(color("custom::l::c").isApprox(DefaultShapeColor()));
+  EXPECT_TRUE(color("ground_plane::link::collision").isApprox(Eigen::Vector3f(0.7f, 0.7f, 0.7f)));
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("My/Paint"), std::string::npos) << warnings[0];
+}
+
 TEST(WorldLoaderTest, DynamicModelIsLoadedStaticWithWarning) {
   TempDir dir;
   WriteFile(dir / "w.world",

@@ -26,6 +26,10 @@ struct TriangleMesh {
   std::vector<std::array<std::uint32_t, 3>> triangles;
 };
 
+// The colour of a shape whose world names none: a neutral grey, darker than a camera's default
+// background (Gazebo's 0.7 grey), so that a face never blends into the sky.
+inline Eigen::Vector3f DefaultShapeColor() { return Eigen::Vector3f(0.5f, 0.5f, 0.5f); }
+
 enum class ShapeType { kBox, kCylinder, kSphere, kPlane, kMesh };
 
 struct Shape {
@@ -41,6 +45,9 @@ struct Shape {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   // kMesh only.
   std::shared_ptr<const TriangleMesh> mesh;
+  // Flat RGB colour in [0, 1] for camera images, from the SDF <visual> material of the same link
+  // (see world_loader.h); a neutral grey when the world says nothing.
+  Eigen::Vector3f color = DefaultShapeColor();
 };
 
 struct World {
