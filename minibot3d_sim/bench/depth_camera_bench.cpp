@@ -65,7 +65,7 @@ void BM_DepthCameraRender(benchmark::State& state) {
     scene.SetBodyPose(person, pose);
     scene.Commit();
   }
-  CameraSpec spec;
+  DepthCameraSpec spec;
   spec.width = static_cast<int>(state.range(0));
   spec.height = static_cast<int>(state.range(1));
   spec.horizontal_fov = 1.047;

@@ -32,15 +32,15 @@ std::string Str(T v) {
   return s.str();
 }
 
-void Validate(const CameraSpec& s) {
+void Validate(const DepthCameraSpec& s) {
   const auto fail = [](const std::string& what) {
-    throw std::invalid_argument("CameraSpec: " + what);
+    throw std::invalid_argument("DepthCameraSpec: " + what);
   };
-  if (s.width < 1 || s.width > CameraSpec::kMaxSize) {
-    fail("width must be in 1.." + Str(CameraSpec::kMaxSize) + ", got " + Str(s.width));
+  if (s.width < 1 || s.width > DepthCameraSpec::kMaxSize) {
+    fail("width must be in 1.." + Str(DepthCameraSpec::kMaxSize) + ", got " + Str(s.width));
   }
-  if (s.height < 1 || s.height > CameraSpec::kMaxSize) {
-    fail("height must be in 1.." + Str(CameraSpec::kMaxSize) + ", got " + Str(s.height));
+  if (s.height < 1 || s.height > DepthCameraSpec::kMaxSize) {
+    fail("height must be in 1.." + Str(DepthCameraSpec::kMaxSize) + ", got " + Str(s.height));
   }
   if (!(s.horizontal_fov > 0.0 && s.horizontal_fov < M_PI)) {
     fail("horizontal_fov must be in (0, pi) rad, got " + Str(s.horizontal_fov));
@@ -159,7 +159,7 @@ class DepthCamera::WorkerPool {
   bool stop_ = false;
 };
 
-DepthCamera::DepthCamera(const CameraSpec& spec) : spec_(spec), rng_(spec.seed) {
+DepthCamera::DepthCamera(const DepthCameraSpec& spec) : spec_(spec), rng_(spec.seed) {
   Validate(spec_);
   const int w = spec_.width, h = spec_.height;
   focal_ = w / (2.0 * std::tan(0.5 * spec_.horizontal_fov));

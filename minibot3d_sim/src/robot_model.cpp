@@ -10,6 +10,7 @@
 
 #include <sys/stat.h>
 #include <tinyxml2.h>
+#include <yaml-cpp/yaml.h>
 #include <urdf/model.h>
 
 #include "minibot3d_sim/world_loader.h"
@@ -974,6 +975,39 @@ void ReadModelPlugins(const GazeboBlocks& blocks, const urdf::Model& urdf,
 }
 
 }  // namespace
+
+ControllerParams LoadControllerParams(const std::string& yaml_path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(yaml_path);
+  } catch (const YAML::Exception& e) {
+    throw RobotModelError(yaml_path + ": " + e.what());
+  }
+  ControllerParams out;
+  std::function<void(const YAML::Node&, const std::string&, std::map<std::string, std::string>*)>
+      flatten = [&](const YAML::Node& n, const std::string& prefix,
+                    std::map<std::string, std::string>* keys) {
+        for (const auto& kv : n) {
+          const std::string key =
+              prefix.empty() ? kv.first.as<std::string>() : prefix + "/" + kv.first.as<std::string>();
+          if (kv.second.IsMap()) {
+            flatten(kv.second, key, keys);
+          } else if (kv.second.IsSequence()) {
+            std::string text;
+            for (const auto& item : kv.second) text += (text.empty() ? "" : ", ") + item.as<std::string>();
+            (*keys)[key] = "[" + text + "]";
+          } else {
+            (*keys)[key] = kv.second.as<std::string>();
+          }
+        }
+      };
+  if (!root.IsMap()) throw RobotModelError(yaml_path + ": not a YAML map of controllers");
+  for (const auto& kv : root) {
+    if (!kv.second.IsMap() || !kv.second["type"]) continue;
+    flatten(kv.second, "", &out[kv.first.as<std::string>()]);
+  }
+  return out;
+}
 
 const Eigen::Isometry3d& RobotModel::LinkPose(const std::string& link) const {
   auto it = link_poses.find(link);

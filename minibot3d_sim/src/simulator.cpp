@@ -55,8 +55,58 @@ Simulator::Simulator(const RobotModel& robot, World world, const SimulatorOption
     ground_truths_.emplace_back(robot_.ground_truths[i], options_.seed + 224737u + 7919u * i);
     truth_clocks_.emplace_back(robot_.ground_truths[i].options.update_rate);
   }
+  if (!robot_.cameras.empty()) {
+    ray_scene_ = std::make_unique<RayScene>(world_);
+    // The robot sees itself, but not the shapes of the links its cameras sit on.
+    std::vector<Shape> own;
+    for (const CollisionShape& c : robot_.collisions) {
+      bool camera_link = false;
+      for (const CameraSpec& cam : robot_.cameras) camera_link |= cam.link == c.link;
+      if (!camera_link) own.push_back(c.shape);
+    }
+    if (!own.empty()) robot_body_ = ray_scene_->AddBody(own, robot_.name);
+    for (size_t i = 0; i < robot_.cameras.size(); ++i) {
+      const CameraSpec& c = robot_.cameras[i];
+      DepthCameraSpec spec;
+      spec.width = c.sensor.width;
+      spec.height = c.sensor.height;
+      spec.horizontal_fov = c.sensor.horizontal_fov;
+      spec.near_clip = c.sensor.clip_near;
+      spec.far_clip = c.sensor.clip_far;
+      spec.format = c.sensor.format == "B8G8R8" ? PixelFormat::kB8G8R8
+                    : c.sensor.format == "L8"   ? PixelFormat::kL8
+                                                : PixelFormat::kR8G8B8;
+      if (c.sensor.noise_type == "gaussian") {
+        spec.noise_mean = c.sensor.noise_mean;
+        spec.noise_stddev = c.sensor.noise_stddev;
+      }
+      cameras_.push_back(std::make_unique<DepthCamera>(spec));
+      camera_clocks_.emplace_back(c.update_rate);
+      camera_frames_.push_back(0);
+    }
+  }
   body_slice_ = std::make_unique<WorldSlice>(world_, robot_.body_pose.translation().z());
   backend_->SetPose(options_.spawn);
+}
+
+Eigen::Isometry3d Simulator::CameraPose(size_t i) const {
+  return RootTransform(backend_->pose()) * robot_.cameras[i].pose_in_root;
+}
+
+void Simulator::TakeFrame(size_t i, DepthFrame* frame) {
+  if (robot_body_ >= 0) {
+    ray_scene_->SetBodyPose(robot_body_, RootTransform(backend_->pose()));
+    ray_scene_->Commit();
+  }
+  cameras_[i]->Reseed(options_.seed + 15485863u * static_cast<unsigned>(i + 1) +
+                      static_cast<unsigned>(camera_frames_[i]));
+  cameras_[i]->Render(*ray_scene_, CameraPose(i), frame);
+  SkipFrame(i);
+}
+
+void Simulator::SkipFrame(size_t i) {
+  camera_clocks_[i].Fired();
+  ++camera_frames_[i];
 }
 
 void Simulator::Command(const Twist2& command) { drive_->OnCommand(command, time()); }

@@ -27,8 +27,8 @@ Shape Box(const Eigen::Vector3d& center, const Eigen::Vector3d& size,
   return s;
 }
 
-CameraSpec Spec(int w, int h, double hfov) {
-  CameraSpec spec;
+DepthCameraSpec Spec(int w, int h, double hfov) {
+  DepthCameraSpec spec;
   spec.width = w;
   spec.height = h;
   spec.horizontal_fov = hfov;
@@ -217,7 +217,7 @@ TEST(DepthCameraTest, NearFarClippingAndEmptyWorld) {
   const RayScene scene(world);
   DepthFrame frame;
 
-  CameraSpec spec = Spec(16, 12, 1.0);
+  DepthCameraSpec spec = Spec(16, 12, 1.0);
   spec.near_clip = 2.5;
   spec.far_clip = 20.0;
   DepthCamera too_near(spec);
@@ -252,7 +252,7 @@ TEST(DepthCameraTest, RedBoxIsRedOnTheBackground) {
   world.shapes.push_back(Box({3, 0, 0}, {1, 1, 1}));
   world.shapes.back().color = Eigen::Vector3f(1, 0, 0);
   const RayScene scene(world);
-  CameraSpec spec = Spec(41, 31, 1.0);
+  DepthCameraSpec spec = Spec(41, 31, 1.0);
   DepthFrame frame;
   DepthCamera rgb(spec);
   rgb.Render(scene, CameraPose({0, 0, 0}), &frame);
@@ -337,7 +337,7 @@ TEST(DepthCameraTest, IntrinsicsAndPointCloudAsGazeboReportsThem) {
 }
 
 TEST(DepthCameraTest, SpecErrorsNameTheField) {
-  const auto message = [](const CameraSpec& spec) -> std::string {
+  const auto message = [](const DepthCameraSpec& spec) -> std::string {
     try {
       DepthCamera camera(spec);
     } catch (const std::invalid_argument& e) {
@@ -345,7 +345,7 @@ TEST(DepthCameraTest, SpecErrorsNameTheField) {
     }
     return "";
   };
-  CameraSpec spec = Spec(40000, 10, 1.0);
+  DepthCameraSpec spec = Spec(40000, 10, 1.0);
   std::string m = message(spec);
   EXPECT_NE(m.find("width"), std::string::npos) << m;
   EXPECT_NE(m.find("40000"), std::string::npos) << m;
@@ -359,7 +359,7 @@ TEST(DepthCameraTest, SpecErrorsNameTheField) {
   spec = Spec(10, 10, 1.0);
   spec.noise_stddev = -1;
   EXPECT_NE(message(spec).find("noise_stddev"), std::string::npos);
-  EXPECT_EQ(message(Spec(CameraSpec::kMaxSize, 1, 1.0)), "");
+  EXPECT_EQ(message(Spec(DepthCameraSpec::kMaxSize, 1, 1.0)), "");
 }
 
 #ifdef MINIBOT3D_SIM_SOURCE_DIR
@@ -376,7 +376,7 @@ TEST(DepthCameraTest, SameFramesForAnyThreadCount) {
   scene.SetBodyPose(person, person_pose);
   scene.Commit();
 
-  CameraSpec spec = Spec(97, 61, 1.3);  // not a whole number of 4×4 tiles
+  DepthCameraSpec spec = Spec(97, 61, 1.3);  // not a whole number of 4×4 tiles
   spec.noise_stddev = 0.01;
   spec.seed = 7;
   const Eigen::Isometry3d pose = CameraPose({-3.0, -1.5, 0.3}, 0.2, 0.1);

@@ -11,8 +11,8 @@
 namespace minibot3d_sim {
 namespace {
 
-std::string ExpandShippedXacro() {
-  const std::string cmd = std::string("xacro '") + MINIBOT3D_DESCRIPTION_XACRO + "' 2>/dev/null";
+std::string ExpandXacro(const std::string& path) {
+  const std::string cmd = "xacro '" + path + "' 2>/dev/null";
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return "";
   std::string out;
@@ -21,6 +21,45 @@ std::string ExpandShippedXacro() {
   while ((n = fread(buf, 1, sizeof(buf), pipe)) > 0) out.append(buf, n);
   pclose(pipe);
   return out;
+}
+
+std::string ExpandShippedXacro() { return ExpandXacro(MINIBOT3D_DESCRIPTION_XACRO); }
+
+// The other shipped robots: every tag read, nothing warned about.
+TEST(RobotModelTest, ShippedDiffbotAndQuadbot) {
+  const std::string dir = std::string(MINIBOT3D_SIM_SOURCE_DIR) + "/../minibot3d_description/urdf/";
+  RobotModelOptions o;
+  o.resolve_mesh_url = [](const std::string& url) {
+    const std::string pkg = "package://minibot3d_description/";
+    return std::string(MINIBOT3D_SIM_SOURCE_DIR) + "/../minibot3d_description/" +
+           url.substr(pkg.size());
+  };
+  const RobotModel diffbot = ParseRobotModel(ExpandXacro(dir + "diffbot.xacro"), o);
+  EXPECT_TRUE(diffbot.warnings.empty()) << diffbot.warnings.front();
+  EXPECT_EQ(diffbot.drive.kind, DriveKind::kDiffDrive);
+  EXPECT_EQ(diffbot.lasers.size(), 1u);
+  EXPECT_EQ(diffbot.imus.size(), 1u);
+  ASSERT_EQ(diffbot.cameras.size(), 1u);
+  EXPECT_EQ(diffbot.cameras[0].ros.frame_name, "camera_optical_frame");
+  EXPECT_EQ(diffbot.supports.size(), 1u);  // the caster ball
+  o.controllers = LoadControllerParams(std::string(MINIBOT3D_SIM_SOURCE_DIR) +
+                                       "/../config/robots/quadbot/control.yaml");
+  const RobotModel quadbot = ParseRobotModel(ExpandXacro(dir + "quadbot.xacro"), o);
+  EXPECT_TRUE(quadbot.warnings.empty()) << quadbot.warnings.front();
+  EXPECT_EQ(quadbot.drive.kind, DriveKind::kDiffDriveController);
+  EXPECT_EQ(quadbot.drive.controller_name, "mobile_base_controller");
+  EXPECT_EQ(quadbot.drive.joint_state_controller_name, "joint_state_controller");
+  EXPECT_EQ(quadbot.wheels.size(), 4u);
+  EXPECT_NEAR(quadbot.drive.controller.wheel_separation, 0.36, 1e-12);  // from the URDF
+  EXPECT_DOUBLE_EQ(quadbot.drive.controller.wheel_separation_multiplier, 1.79);
+  ASSERT_EQ(quadbot.lasers.size(), 2u);
+  EXPECT_EQ(quadbot.lasers[1].topic, "rear_laser/scan");
+  // The rear laser looks backwards.
+  EXPECT_NEAR((quadbot.lasers[1].pose_in_root.linear() * Eigen::Vector3d::UnitX()).x(), -1.0, 1e-9);
+  // The mesh bumper counts as collision geometry: the footprint reaches its front.
+  double front = 0.0;
+  for (const auto& p : quadbot.footprint) front = std::max(front, p.x());
+  EXPECT_NEAR(front, 0.29, 1e-4);
 }
 
 // A minimal valid robot: a box body and four wheels, the drive plugin and a ray sensor.

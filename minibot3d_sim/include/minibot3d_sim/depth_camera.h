@@ -55,7 +55,7 @@ namespace minibot3d_sim {
 // Gazebo's <image><format> for the colour image.
 enum class PixelFormat { kR8G8B8, kB8G8R8, kL8 };
 
-struct CameraSpec {
+struct DepthCameraSpec {
   static constexpr int kMaxSize = 32768;
 
   int width = 320;                // <image><width>, 1 .. kMaxSize
@@ -88,7 +88,7 @@ struct DepthFrame {
 class DepthCamera {
  public:
   // Throws std::invalid_argument naming the offending field and value.
-  explicit DepthCamera(const CameraSpec& spec);
+  explicit DepthCamera(const DepthCameraSpec& spec);
   ~DepthCamera();
   DepthCamera(const DepthCamera&) = delete;
   DepthCamera& operator=(const DepthCamera&) = delete;
@@ -101,7 +101,7 @@ class DepthCamera {
   CameraIntrinsics Intrinsics() const;
   // f in pixels, for both axes.
   double focal_length() const { return focal_; }
-  const CameraSpec& spec() const { return spec_; }
+  const DepthCameraSpec& spec() const { return spec_; }
   int threads() const { return threads_; }
   void Reseed(unsigned seed) { rng_.seed(seed); }
 
@@ -113,7 +113,7 @@ class DepthCamera {
   void RenderBand(const RayScene& scene, const Eigen::Isometry3d& pose, int band,
                   DepthFrame* out) const;
 
-  const CameraSpec spec_;
+  const DepthCameraSpec spec_;
   double focal_ = 0.0;
   int threads_ = 1;
   int tiles_x_ = 0, bands_ = 0;

@@ -110,6 +110,11 @@ struct RobotModel {
 // lists as "[a, b]"). The simulator node fills it from the parameter server.
 using ControllerParams = std::map<std::string, std::map<std::string, std::string>>;
 
+// ControllerParams from a YAML file laid out as the parameter server holds it (the controllers'
+// namespaces at its top, as control.yaml files are loaded into the robot's namespace). Throws
+// RobotModelError naming the file.
+ControllerParams LoadControllerParams(const std::string& yaml_path);
+
 struct RobotModelOptions {
   // The namespace given to every plugin without a <robotNamespace>, as Gazebo's spawn_model does.
   std::string spawn_namespace = "/";

@@ -18,10 +18,12 @@
 #include <vector>
 
 #include "minibot3d_common/geometry2d.h"
+#include "minibot3d_sim/depth_camera.h"
 #include "minibot3d_sim/drive.h"
 #include "minibot3d_sim/imu.h"
 #include "minibot3d_sim/lidar.h"
 #include "minibot3d_sim/physics_backend.h"
+#include "minibot3d_sim/ray_scene.h"
 #include "minibot3d_sim/robot_model.h"
 #include "minibot3d_sim/world.h"
 #include "minibot3d_sim/world_slice.h"
@@ -107,6 +109,18 @@ class Simulator {
   bool GroundTruthDue(size_t i) const { return truth_clocks_[i].Due(time()); }
   GroundTruthReading TakeGroundTruth(size_t i);
 
+  // Cameras (RobotModel::cameras order), ray cast against the full 3-D world and the robot's own
+  // collision shapes (but those of the camera's link). Each frame's noise is seeded by the
+  // simulator's seed and the frame's number, so a frame nobody asked for can be skipped without
+  // changing the frames after it.
+  size_t camera_count() const { return cameras_.size(); }
+  bool CameraDue(size_t i) const { return camera_clocks_[i].Due(time()); }
+  void TakeFrame(size_t i, DepthFrame* frame);
+  void SkipFrame(size_t i);
+  const DepthCamera& camera(size_t i) const { return *cameras_[i]; }
+  // Pose of camera i's Gazebo camera frame (+x ahead) in the world now.
+  Eigen::Isometry3d CameraPose(size_t i) const;
+
   // Collision events since the last call: one each time the body starts touching a world shape it
   // has not touched for kContactRelease seconds (a robot pushing against a wall keeps flickering in
   // and out of contact from step to step; that is one collision, not hundreds).
@@ -141,6 +155,11 @@ class Simulator {
   std::vector<SensorClock> scan_clocks_;
   std::vector<Imu> imus_;
   std::vector<SensorClock> imu_clocks_;
+  std::unique_ptr<RayScene> ray_scene_;
+  int robot_body_ = -1;  // the robot's own shapes in ray_scene_
+  std::vector<std::unique_ptr<DepthCamera>> cameras_;
+  std::vector<SensorClock> camera_clocks_;
+  std::vector<std::uint64_t> camera_frames_;
   std::vector<GroundTruth> ground_truths_;
   std::vector<SensorClock> truth_clocks_;
   std::uint64_t steps_ = 0;

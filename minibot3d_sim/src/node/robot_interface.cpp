@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <geometry_msgs/TransformStamped.h>
+#include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
 #include <urdf/model.h>
 
 #include "minibot3d_ros/conversions.h"
@@ -125,6 +129,8 @@ RobotInterface::RobotInterface(Simulator* sim, const std::string& urdf_xml, cons
     gt_pubs_.push_back(
         nh_.advertise<nav_msgs::Odometry>(Resolve(g.robot_namespace, g.options.topic_name), q(20)));
   }
+  cameras_.resize(robot.cameras.size());
+  for (size_t i = 0; i < robot.cameras.size(); ++i) SetUpCamera(i);
   // Commands have their own queue: in lock-step they are applied once every participant's
   // messages have arrived, never in the middle of a round.
   ros::NodeHandle cmd_nh(nh_);
@@ -183,6 +189,9 @@ void RobotInterface::Publish(bool all) {
     }
     imu_pubs_[i].publish(m);
   }
+  for (size_t i = 0; i < cameras_.size(); ++i) {
+    if (sim_->CameraDue(i)) PublishCamera(i, stamp);
+  }
   for (size_t i = 0; i < gt_pubs_.size(); ++i) {
     if (!sim_->GroundTruthDue(i)) continue;
     const GroundTruthReading r = sim_->TakeGroundTruth(i);
@@ -206,6 +215,119 @@ void RobotInterface::Publish(bool all) {
       m.twist.covariance[7 * k] = r.variance;
     }
     gt_pubs_[i].publish(m);
+  }
+}
+
+// Topics below <robotNamespace>/<cameraName>/, CameraInfo as gazebo_ros_camera_utils fills it.
+void RobotInterface::SetUpCamera(size_t i) {
+  const CameraSpec& c = sim_->robot().cameras[i];
+  CameraPublishers& p = cameras_[i];
+  const auto q = [this](int free_running) { return options_.lockstep ? 100000 : free_running; };
+  const std::string ns = Resolve(c.robot_namespace, c.ros.camera_name);
+  p.image = nh_.advertise<sensor_msgs::Image>(Resolve(ns, c.ros.image_topic_name), q(2));
+  p.info = nh_.advertise<sensor_msgs::CameraInfo>(Resolve(ns, c.ros.camera_info_topic_name), q(2));
+  if (c.depth) {
+    p.depth = nh_.advertise<sensor_msgs::Image>(Resolve(ns, c.ros.depth_image_topic_name), q(2));
+    p.depth_info = nh_.advertise<sensor_msgs::CameraInfo>(
+        Resolve(ns, c.ros.depth_image_camera_info_topic_name), q(2));
+    p.points = nh_.advertise<sensor_msgs::PointCloud2>(Resolve(ns, c.ros.point_cloud_topic_name), q(2));
+  }
+  const CameraIntrinsics k = sim_->camera(i).Intrinsics();
+  const double f = c.ros.focal_length > 0 ? c.ros.focal_length : k.fx;
+  const double cx = c.ros.cx > 0 ? c.ros.cx : k.cx, cy = c.ros.cy > 0 ? c.ros.cy : k.cy;
+  p.focal_length = sim_->camera(i).focal_length();
+  sensor_msgs::CameraInfo& info = p.camera_info;
+  info.header.frame_id = c.ros.frame_name;
+  info.width = c.sensor.width;
+  info.height = c.sensor.height;
+  info.distortion_model = "plumb_bob";
+  info.D = {c.ros.distortion_k1, c.ros.distortion_k2, c.ros.distortion_t1, c.ros.distortion_t2,
+            c.ros.distortion_k3};
+  info.K = {f, 0, cx, 0, f, cy, 0, 0, 1};
+  info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  info.P = {f, 0, cx, -f * c.ros.hack_baseline, 0, f, cy, 0, 0, 0, 1, 0};
+}
+
+// Renders only when someone listens, as Gazebo's camera plugins do.
+void RobotInterface::PublishCamera(size_t i, const ros::Time& stamp) {
+  CameraPublishers& p = cameras_[i];
+  const CameraSpec& c = sim_->robot().cameras[i];
+  const bool image = p.image.getNumSubscribers() > 0;
+  const bool depth = p.depth && p.depth.getNumSubscribers() > 0;
+  const bool points = p.points && p.points.getNumSubscribers() > 0;
+  p.camera_info.header.stamp = stamp;
+  if (p.info.getNumSubscribers() > 0) p.info.publish(p.camera_info);
+  if (p.depth_info && p.depth_info.getNumSubscribers() > 0) p.depth_info.publish(p.camera_info);
+  if (!image && !depth && !points) {
+    sim_->SkipFrame(i);
+    return;
+  }
+  sim_->TakeFrame(i, &p.frame);
+  const DepthFrame& f = p.frame;
+  const int w = f.width, h = f.height;
+  if (image) {
+    sensor_msgs::Image m;
+    m.header.stamp = stamp;
+    m.header.frame_id = c.ros.frame_name;
+    m.width = w;
+    m.height = h;
+    m.encoding = c.sensor.format == "L8" ? "mono8" : c.sensor.format == "B8G8R8" ? "bgr8" : "rgb8";
+    m.step = w * f.channels;
+    m.data = f.rgb;
+    p.image.publish(m);
+  }
+  // The plugins' cut-offs: NaN below pointCloudCutoff and above pointCloudCutoffMax (if >= 0).
+  const double lo = c.ros.point_cloud_cutoff, hi = c.ros.point_cloud_cutoff_max;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  if (depth) {
+    sensor_msgs::Image m;
+    m.header.stamp = stamp;
+    m.header.frame_id = c.ros.frame_name;
+    m.width = w;
+    m.height = h;
+    m.encoding = "32FC1";
+    m.is_bigendian = 0;
+    m.step = 4 * w;
+    m.data.resize(static_cast<size_t>(4) * w * h);
+    float* out = reinterpret_cast<float*>(m.data.data());
+    for (size_t k = 0; k < f.depth.size(); ++k) {
+      const float d = f.depth[k];
+      out[k] = (d <= lo || (hi >= 0.0 && d >= hi)) ? nan : d;
+    }
+    p.depth.publish(m);
+  }
+  if (points) {
+    PointsFromDepth(f, p.focal_length, lo, hi, &p.xyz);
+    sensor_msgs::PointCloud2 cloud;
+    cloud.header.stamp = stamp;
+    cloud.header.frame_id = c.ros.frame_name;
+    cloud.height = h;
+    cloud.width = w;
+    sensor_msgs::PointCloud2Modifier mod(cloud);
+    mod.setPointCloud2FieldsByString(2, "xyz", "rgb");
+    mod.resize(static_cast<size_t>(w) * h);
+    cloud.height = h;
+    cloud.width = w;
+    cloud.row_step = cloud.point_step * w;
+    cloud.is_dense = false;
+    sensor_msgs::PointCloud2Iterator<float> x(cloud, "x");
+    sensor_msgs::PointCloud2Iterator<std::uint8_t> rgb(cloud, "rgb");
+    for (size_t k = 0; k < static_cast<size_t>(w) * h; ++k, ++x, ++rgb) {
+      x[0] = p.xyz[3 * k];
+      x[1] = p.xyz[3 * k + 1];
+      x[2] = p.xyz[3 * k + 2];
+      // Packed as PCL does: bytes B, G, R in the float's first three.
+      if (f.channels == 3) {
+        const bool bgr = c.sensor.format == "B8G8R8";
+        const std::uint8_t* px = &f.rgb[3 * k];
+        rgb[0] = bgr ? px[0] : px[2];
+        rgb[1] = px[1];
+        rgb[2] = bgr ? px[2] : px[0];
+      } else {
+        rgb[0] = rgb[1] = rgb[2] = f.rgb[k];
+      }
+    }
+    p.points.publish(cloud);
   }
 }
 

@@ -12,6 +12,7 @@
 #include <nav_msgs/Odometry.h>
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
 #include <tf2_msgs/TFMessage.h>
@@ -40,6 +41,15 @@ class RobotInterface {
   static std::string Resolve(const std::string& ns, const std::string& topic);
 
  private:
+  struct CameraPublishers {
+    ros::Publisher image, info, depth, depth_info, points;
+    sensor_msgs::CameraInfo camera_info;
+    double focal_length = 0.0;
+    DepthFrame frame;
+    std::vector<float> xyz;
+  };
+  void SetUpCamera(size_t i);
+  void PublishCamera(size_t i, const ros::Time& stamp);
   void PublishOdometry(const ros::Time& stamp);
   void PublishJointStates(const ros::Time& stamp);
   void OnCommand(const ros::MessageEvent<const geometry_msgs::Twist>& event);
@@ -49,6 +59,7 @@ class RobotInterface {
   ros::NodeHandle nh_;
   ros::Publisher odom_pub_, tf_pub_, tf_static_pub_, joint_pub_, truth_pub_;
   std::vector<ros::Publisher> scan_pubs_, imu_pubs_, gt_pubs_;
+  std::vector<CameraPublishers> cameras_;
   ros::Subscriber cmd_sub_;
   tf2_msgs::TFMessage static_tf_;
   std::vector<sensor_msgs::LaserScan> scans_;

@@ -1,9 +1,13 @@
 #!/usr/bin/env python3
-"""Writes meshes/rplidar_a1.stl: a simple model of an RPLIDAR A1 made for this project.
+"""Writes the robots' meshes, made for this project (binary STL, metres, z up):
 
-A square-ish base plate (with rounded corners approximated by a polygon), the round scanner head on
-top of it and a thin cap. Units: metres; origin at the centre of the bottom of the base, z up.
-Run: /usr/bin/python3 scripts/make_rplidar_mesh.py (rewrites the file atomically).
+- meshes/rplidar_a1.stl: an RPLIDAR A1: a square-ish base plate (rounded corners approximated by a
+  polygon), the round scanner head on top of it and a thin cap; origin at the centre of the bottom
+  of the base.
+- meshes/quadbot_bumper.stl: quadbot's front bumper, a bar 0.06 m high, 0.04 m deep and 0.34 m wide
+  with rounded ends; origin at the middle of its back face's centre line.
+
+Run: /usr/bin/python3 scripts/make_meshes.py (rewrites the files atomically).
 """
 import math
 import os
@@ -51,17 +55,11 @@ def normal(t):
     return nx / length, ny / length, nz / length
 
 
-def main():
-    out = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'meshes',
-                       'rplidar_a1.stl')
-    tris = []
-    tris += prism(rounded_rect(0.097, 0.070, 0.01), 0.0, 0.010)    # base plate
-    tris += prism(circle(0.035), 0.010, 0.040)                      # rotating head
-    tris += prism(circle(0.030), 0.040, 0.045)                      # cap
-    tris += prism(rounded_rect(0.020, 0.012, 0.003), 0.010, 0.014)  # motor housing bump
+def write_stl(out, header, tris):
+    """Writes the triangles as binary STL through a temporary file renamed into place."""
     fd, tmp = tempfile.mkstemp(dir=os.path.dirname(out), suffix='.tmp')
     with os.fdopen(fd, 'wb') as f:
-        f.write(b'minibot3d RPLIDAR A1 model'.ljust(80, b' '))
+        f.write(header.ljust(80, b' '))
         f.write(struct.pack('<I', len(tris)))
         for t in tris:
             f.write(struct.pack('<3f', *normal(t)))
@@ -71,6 +69,20 @@ def main():
     os.chmod(tmp, 0o644)
     os.replace(tmp, out)
     print('wrote %s (%d triangles)' % (os.path.normpath(out), len(tris)))
+
+
+def main():
+    meshes = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'meshes')
+    lidar = []
+    lidar += prism(rounded_rect(0.097, 0.070, 0.01), 0.0, 0.010)    # base plate
+    lidar += prism(circle(0.035), 0.010, 0.040)                      # rotating head
+    lidar += prism(circle(0.030), 0.040, 0.045)                      # cap
+    lidar += prism(rounded_rect(0.020, 0.012, 0.003), 0.010, 0.014)  # motor housing bump
+    write_stl(os.path.join(meshes, 'rplidar_a1.stl'), b'minibot3d RPLIDAR A1 model', lidar)
+    # The bumper: a rounded rectangle 0.04 deep and 0.34 wide, its back face on x = 0.
+    outline = [(x + 0.02, y) for (x, y) in rounded_rect(0.04, 0.34, 0.019)]
+    write_stl(os.path.join(meshes, 'quadbot_bumper.stl'), b'minibot3d quadbot bumper',
+              prism(outline, -0.03, 0.03))
 
 
 if __name__ == '__main__':
