@@ -1,6 +1,7 @@
 #include "costmap_ros.h"
 
 #include <cmath>
+#include <cstring>
 #include <sstream>
 #include <stdexcept>
 
@@ -53,10 +54,17 @@ void CostmapRos::Configure() {
         minibot3d_ros::LoadTable(snh, nav::ObservationSourceOptionTable(), &s->options);
     source_report.WarnUnknown("move_base");
     problems.insert(problems.end(), source_report.problems.begin(), source_report.problems.end());
-    if (s->options.data_type != "LaserScan") {
+    if (s->options.data_type != "LaserScan" && s->options.data_type != "PointCloud2") {
       problems.push_back(nh_.getNamespace() + "/" + src + "/data_type: '" + s->options.data_type +
-                         "' is not supported (only LaserScan)");
+                         "' is not supported (LaserScan or PointCloud2)");
       continue;
+    }
+    if (s->options.subsample < 1) {
+      problems.push_back(nh_.getNamespace() + "/" + src + "/subsample: must be >= 1");
+    }
+    if (!(s->options.min_obstacle_height <= s->options.max_obstacle_height)) {
+      problems.push_back(nh_.getNamespace() + "/" + src + ": min_obstacle_height must be <= "
+                         "max_obstacle_height");
     }
     if (!(s->options.obstacle_range >= 0.0) || !(s->options.raytrace_range >= 0.0)) {
       problems.push_back(nh_.getNamespace() + "/" + src + ": obstacle_range and raytrace_range "
@@ -94,6 +102,16 @@ void CostmapRos::Start() {
   }
   for (auto& s : sources_) {
     const std::string& frame = options_.global_frame;
+    if (s->options.data_type == "PointCloud2") {
+      s->cloud_sub = std::make_unique<message_filters::Subscriber<sensor_msgs::PointCloud2>>(
+          gnh_, s->options.topic, 5);
+      s->cloud_filter = std::make_unique<tf2_ros::MessageFilter<sensor_msgs::PointCloud2>>(
+          *s->cloud_sub, *tf_, frame, 5, gnh_);
+      Source* raw = s.get();
+      s->cloud_filter->registerCallback(
+          [this, raw](const sensor_msgs::PointCloud2::ConstPtr& c) { OnCloud(c, raw); });
+      continue;
+    }
     s->sub = std::make_unique<message_filters::Subscriber<sensor_msgs::LaserScan>>(
         gnh_, s->options.topic, 50);
     s->filter = std::make_unique<tf2_ros::MessageFilter<sensor_msgs::LaserScan>>(*s->sub, *tf_,
@@ -156,6 +174,72 @@ void CostmapRos::OnScan(const sensor_msgs::LaserScan::ConstPtr& scan, Source* so
     layered_->obstacle_layer()->AddObservation(obs);
   } catch (const std::invalid_argument& e) {
     ROS_WARN_THROTTLE(5.0, "move_base: %s: scan from %s dropped: %s", name_.c_str(),
+                      o.topic.c_str(), e.what());
+  }
+}
+
+void CostmapRos::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud, Source* source) {
+  const nav::ObservationSourceOptions& o = source->options;
+  const std::string frame = o.sensor_frame.empty() ? cloud->header.frame_id : o.sensor_frame;
+  geometry_msgs::TransformStamped t;
+  try {
+    t = tf_->lookupTransform(options_.global_frame, frame, cloud->header.stamp);
+  } catch (const tf2::TransformException& e) {
+    ROS_WARN_THROTTLE(5.0, "move_base: %s: no transform %s <- %s: %s", name_.c_str(),
+                      options_.global_frame.c_str(), frame.c_str(), e.what());
+    return;
+  }
+  tf2::Transform tt;
+  tf2::fromMsg(t.transform, tt);
+  const int step = std::max(1, o.subsample);
+  int offset[3] = {-1, -1, -1};
+  const char* names[3] = {"x", "y", "z"};
+  for (const sensor_msgs::PointField& f : cloud->fields) {
+    for (int a = 0; a < 3; ++a) {
+      if (f.name == names[a] && f.datatype == sensor_msgs::PointField::FLOAT32 && f.count >= 1 &&
+          f.offset + sizeof(float) <= cloud->point_step) {
+        offset[a] = static_cast<int>(f.offset);
+      }
+    }
+  }
+  if (offset[0] < 0 || offset[1] < 0 || offset[2] < 0) {
+    ROS_WARN_THROTTLE(5.0, "move_base: %s: cloud on %s dropped: it has no FLOAT32 x, y and z "
+                      "fields", name_.c_str(), o.topic.c_str());
+    return;
+  }
+  const uint64_t need = static_cast<uint64_t>(cloud->height) * cloud->row_step;
+  if (cloud->data.size() < need ||
+      static_cast<uint64_t>(cloud->width) * cloud->point_step > cloud->row_step ||
+      cloud->is_bigendian) {
+    ROS_WARN_THROTTLE(5.0, "move_base: %s: cloud on %s dropped: %ux%u points with point_step %u "
+                      "and row_step %u do not fit its %zu bytes (or it is big-endian)",
+                      name_.c_str(), o.topic.c_str(), cloud->width, cloud->height,
+                      cloud->point_step, cloud->row_step, cloud->data.size());
+    return;
+  }
+  std::vector<double>& xyz = source->xyz;
+  xyz.clear();
+  try {
+    for (uint32_t r = 0; r < cloud->height; r += step) {
+      const uint8_t* row = cloud->data.data() + static_cast<size_t>(r) * cloud->row_step;
+      for (uint32_t c = 0; c < cloud->width; c += step) {
+        const uint8_t* pt = row + static_cast<size_t>(c) * cloud->point_step;
+        float v[3];
+        for (int a = 0; a < 3; ++a) std::memcpy(&v[a], pt + offset[a], sizeof(float));
+        if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) continue;
+        const tf2::Vector3 p = tt * tf2::Vector3(v[0], v[1], v[2]);
+        xyz.push_back(p.x());
+        xyz.push_back(p.y());
+        xyz.push_back(p.z());
+      }
+    }
+    const tf2::Vector3 origin = tt.getOrigin();
+    nav::Observation obs = nav::ObservationFromPoints(
+        xyz, nav::Point2{origin.x(), origin.y()}, o.min_obstacle_height, o.max_obstacle_height,
+        o.marking ? o.obstacle_range : 0.0, o.clearing ? o.raytrace_range : 0.0);
+    layered_->obstacle_layer()->AddObservation(obs);
+  } catch (const std::exception& e) {
+    ROS_WARN_THROTTLE(5.0, "move_base: %s: cloud from %s dropped: %s", name_.c_str(),
                       o.topic.c_str(), e.what());
   }
 }

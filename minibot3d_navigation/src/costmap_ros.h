@@ -21,6 +21,7 @@
 #include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
 #include <sensor_msgs/LaserScan.h>
+#include <sensor_msgs/PointCloud2.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/message_filter.h>
 
@@ -64,8 +65,12 @@ class CostmapRos {
     nav::ObservationSourceOptions options;
     std::unique_ptr<message_filters::Subscriber<sensor_msgs::LaserScan>> sub;
     std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::LaserScan>> filter;
+    std::unique_ptr<message_filters::Subscriber<sensor_msgs::PointCloud2>> cloud_sub;
+    std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::PointCloud2>> cloud_filter;
+    std::vector<double> xyz;  // scratch
   };
   void OnScan(const sensor_msgs::LaserScan::ConstPtr& scan, Source* source);
+  void OnCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud, Source* source);
   void OnMap(const nav_msgs::OccupancyGrid::ConstPtr& map);
   void Publish(const ros::Time& now);
 

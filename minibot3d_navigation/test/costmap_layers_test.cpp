@@ -1,6 +1,6 @@
 // Tests of the layered costmap: the static layer's value mapping, obstacle
 // marking and ray-traced clearing (a moved obstacle, +inf readings, the
-// obstacle and raytrace ranges), the rolling window keeping obstacles fixed in
+// obstacle and raytrace ranges, point clouds' height limits), the rolling window keeping obstacles fixed in
 // the world, inflation costs against costmap_2d's formula (one obstacle and a
 // brute-force nearest-obstacle reference), incremental updates matching a full
 // rebuild, and the clearing services.
@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -249,6 +250,36 @@ TEST(ObstacleLayerTest, ZeroRangesMakeMarkingOnlyAndClearingOnlySources) {
   EXPECT_EQ(CostAt(layer->grid(), 6.02, 5.02), kFreeSpace);
   EXPECT_EQ(CostAt(layer->grid(), 7.02, 5.02), kFreeSpace);
   EXPECT_EQ(CostAt(layer->grid(), 8.02, 5.02), kFreeSpace);  // not marked
+}
+
+TEST(ObstacleLayerTest, PointCloudsMarkOnlyPointsBetweenTheHeightLimits) {
+  // A depth camera at (5, 5) sees the floor (z = 0.01), a table top (z = 0.75), a box on the
+  // floor (z = 0.2), a ceiling lamp (z = 2.5) and an invalid pixel.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<double> xyz = {6.02, 5.02, 0.01,  5.02, 6.02, 0.75, 7.02, 5.02, 0.2,
+                                   5.02, 7.02, 2.5,   nan,  6.0,  0.3};
+  const Observation obs = ObservationFromPoints(xyz, {5.0, 5.0}, 0.05, 2.0, 2.5, 3.0);
+  ASSERT_EQ(obs.hits.size(), 2u);
+  EXPECT_DOUBLE_EQ(obs.hits[0].y, 6.02);
+  EXPECT_DOUBLE_EQ(obs.hits[1].x, 7.02);
+
+  LayeredCostmap costmap = FixedCostmap();
+  ObstacleLayer* layer = costmap.obstacle_layer();
+  layer->AddObservation(OneHit({5.0, 5.0}, {6.02, 5.02}));
+  costmap.UpdateMap({5.0, 5.0, 0.0});
+  ASSERT_EQ(CostAt(layer->grid(), 6.02, 5.02), kLethalObstacle);
+  layer->AddObservation(obs);
+  costmap.UpdateMap({5.0, 5.0, 0.0});
+  EXPECT_EQ(CostAt(layer->grid(), 5.02, 6.02), kLethalObstacle);
+  EXPECT_EQ(CostAt(layer->grid(), 7.02, 5.02), kLethalObstacle);
+  EXPECT_EQ(CostAt(layer->grid(), 5.02, 7.02), kFreeSpace);
+  // The ray to the box clears the obstacle marked before on its way.
+  EXPECT_EQ(CostAt(layer->grid(), 6.02, 5.02), kFreeSpace);
+
+  EXPECT_THROW(ObservationFromPoints(xyz, {nan, 5.0}, 0.0, 2.0, 2.5, 3.0),
+               std::invalid_argument);
+  EXPECT_THROW(ObservationFromPoints(xyz, {5.0, 5.0}, 1.0, 0.5, 2.5, 3.0),
+               std::invalid_argument);
 }
 
 TEST(ObstacleLayerTest, TrackUnknownSpaceStartsUnknownAndRaysRevealFreeSpace) {

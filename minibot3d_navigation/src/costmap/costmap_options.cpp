@@ -128,7 +128,8 @@ const options::OptionTable<ObservationSourceOptions>& ObservationSourceOptionTab
        Field("sensor_frame", &S::sensor_frame,
              "Frame of the sensor, used instead of the scan's frame_id; empty: the scan's "
              "frame_id."),
-       Field("data_type", &S::data_type, "Message type; only LaserScan is supported."),
+       Field("data_type", &S::data_type,
+             "Message type: LaserScan or PointCloud2 (a depth camera's, a 3-D laser's)."),
        Field("marking", &S::marking, "The source's returns mark obstacles."),
        Field("clearing", &S::clearing, "The source's beams clear free space."),
        Field("obstacle_range", &S::obstacle_range,
@@ -139,7 +140,14 @@ const options::OptionTable<ObservationSourceOptions>& ObservationSourceOptionTab
              "raytrace_range."),
        Field("inf_is_valid", &S::inf_is_valid,
              "A reading of +inf clears the whole beam up to range_max; default: the costmap's "
-             "inf_is_valid.")});
+             "inf_is_valid."),
+       Field("min_obstacle_height", &S::min_obstacle_height,
+             "PointCloud2: points lower than this (m, in the costmap's frame) are ignored."),
+       Field("max_obstacle_height", &S::max_obstacle_height,
+             "PointCloud2: points higher than this (m) are ignored."),
+       Field("subsample", &S::subsample,
+             "PointCloud2: use every n-th row and column of an organised cloud (not in "
+             "costmap_2d; 1: every point).")});
   return table;
 }
 

@@ -56,6 +56,28 @@ Observation ObservationFromScan(const LaserScan& scan, const Pose2& sensor_pose,
   return obs;
 }
 
+Observation ObservationFromPoints(const std::vector<double>& xyz, const Point2& origin,
+                                  double min_height, double max_height, double obstacle_range,
+                                  double raytrace_range) {
+  if (!std::isfinite(origin.x) || !std::isfinite(origin.y)) {
+    throw std::invalid_argument("obstacle layer: point cloud sensor origin is not finite");
+  }
+  if (!(min_height <= max_height)) {
+    throw std::invalid_argument("obstacle layer: min_obstacle_height > max_obstacle_height");
+  }
+  Observation obs;
+  obs.origin = origin;
+  obs.obstacle_range = obstacle_range;
+  obs.raytrace_range = raytrace_range;
+  for (size_t k = 0; k + 2 < xyz.size(); k += 3) {
+    const double x = xyz[k], y = xyz[k + 1], z = xyz[k + 2];
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) continue;
+    if (z < min_height || z > max_height) continue;
+    obs.hits.push_back({x, y});
+  }
+  return obs;
+}
+
 ObstacleLayer::ObstacleLayer(bool track_unknown_space)
     : track_unknown_space_(track_unknown_space) {}
 

@@ -117,6 +117,11 @@ struct ObservationSourceOptions {
   double obstacle_range = 2.5;
   double raytrace_range = 3.0;
   bool inf_is_valid = false;
+  // PointCloud2 sources: only points this high above the costmap's frame count (m).
+  double min_obstacle_height = 0.0;
+  double max_obstacle_height = 2.0;
+  // PointCloud2 sources: every n-th row and column of an organised cloud (a depth camera's).
+  int subsample = 1;
 };
 
 const minibot3d_common::options::OptionTable<ObservationSourceOptions>&

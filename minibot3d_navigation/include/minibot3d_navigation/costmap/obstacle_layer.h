@@ -59,6 +59,15 @@ Observation ObservationFromScan(const LaserScan& scan, const Pose2& sensor_pose,
                                 double obstacle_range, double raytrace_range,
                                 bool inf_is_valid);
 
+// Points (x, y, z in the costmap's frame, z above the floor) as an Observation, as costmap_2d's
+// point-cloud sources: points outside [min_height, max_height] or not finite are dropped; the
+// others are hits seen from `origin` (the sensor's position in the costmap's frame), cleared
+// towards and marked up to the given ranges like a scan's. Throws std::invalid_argument for a
+// non-finite origin or min_height > max_height.
+Observation ObservationFromPoints(const std::vector<double>& xyz, const Point2& origin,
+                                  double min_height, double max_height, double obstacle_range,
+                                  double raytrace_range);
+
 class ObstacleLayer : public Layer {
  public:
   explicit ObstacleLayer(bool track_unknown_space);
