@@ -21,6 +21,23 @@ for physics in kinematic bullet bullet_naive; do
   "$bin/sim_bench" "$urdf" "$world" --physics "$physics" --seconds "$seconds" --x -3 --y -1.5
 done
 
+echo "== the other shipped robots in the simulator core, the same square: quadbot (four wheels under a"
+echo "   diff_drive_controller, two 541-beam lasers at 10 Hz) and diffbot (diff drive plugin, 360-beam"
+echo "   laser, depth camera; every frame rendered) at its camera's 640x480 / 15 Hz, at 320x240 / 15 Hz"
+echo "   and at 1920x1080 / 30 Hz (62 M rays per sim second)"
+xacro minibot3d_description/urdf/quadbot.xacro -o build/bench/quadbot.urdf
+for physics in kinematic bullet; do
+  "$bin/sim_bench" build/bench/quadbot.urdf "$world" --physics "$physics" --seconds 300 --x -3 --y -1.5 \
+    --controllers config/robots/quadbot/control.yaml
+done
+for camera in "640 480 15 120" "320 240 15 300" "1920 1080 30 10"; do
+  read -r width height rate seconds <<< "$camera"
+  xacro minibot3d_description/urdf/diffbot.xacro camera_width:="$width" camera_height:="$height" \
+    camera_rate:="$rate" -o build/bench/diffbot.urdf
+  "$bin/sim_bench" build/bench/diffbot.urdf "$world" --physics kinematic --seconds "$seconds" \
+    --x -3 --y -1.5
+done
+
 echo "== physics step cost (Google Benchmark, ~40 static shapes)"
 "$bin/physics_bench" --benchmark_min_time=0.2 2>/dev/null | grep -E "^(BM_|Benchmark|-)" || true
 echo "== lidar ray casting (Google Benchmark, default world)"

@@ -1,8 +1,11 @@
-// sim_bench: real-time factor of the simulator core (physics + lidar + odometry, no ROS) driving a
-// square route in a world, and the lidar's rays per second.
+// sim_bench: real-time factor of the simulator core (physics + lidar + odometry + the robot's depth
+// cameras, every frame rendered as if someone listened; no ROS) driving a square route in a world,
+// and the lidar's and cameras' rays per second.
 //
 //   sim_bench URDF_FILE WORLD_FILE [--physics bullet|kinematic|bullet_naive] [--seconds S]
-//             [--x X --y Y --yaw YAW] [--side M] [--odom-multiplier K]
+//             [--x X --y Y --yaw YAW] [--side M] [--odom-multiplier K] [--controllers YAML]
+//
+// --controllers: a gazebo_ros_control robot's controller YAML (config/robots/quadbot/control.yaml).
 //
 // The robot follows the corners of a square of side --side metres from the spawn pose, with a
 // simple closed loop on the true pose (turn in place towards the next corner, then drive), so the
@@ -25,10 +28,12 @@ using minibot3d_sim::Pose2;
 int main(int argc, char** argv) {
   if (argc < 3) {
     std::fprintf(stderr, "usage: sim_bench URDF_FILE WORLD_FILE [--physics NAME] [--seconds S] "
-                         "[--x X --y Y --yaw YAW] [--side M] [--odom-multiplier K]\n");
+                         "[--x X --y Y --yaw YAW] [--side M] [--odom-multiplier K] "
+                         "[--controllers YAML]\n");
     return 2;
   }
   const std::string urdf_path = argv[1], world_path = argv[2];
+  std::string controllers_path;
   minibot3d_sim::SimulatorOptions options;
   double seconds = 60.0, side = 1.0;
   for (int i = 3; i + 1 < argc; i += 2) {
@@ -41,6 +46,7 @@ int main(int argc, char** argv) {
     else if (k == "--yaw") options.spawn.yaw = std::atof(v);
     else if (k == "--side") side = std::atof(v);
     else if (k == "--odom-multiplier") options.odom_wheel_separation_multiplier = std::atof(v);
+    else if (k == "--controllers") controllers_path = v;
     else {
       std::fprintf(stderr, "sim_bench: unknown option %s\n", k.c_str());
       return 2;
@@ -54,7 +60,11 @@ int main(int argc, char** argv) {
   std::stringstream xml;
   xml << in.rdbuf();
   try {
-    const auto robot = minibot3d_sim::ParseRobotModel(xml.str());
+    minibot3d_sim::RobotModelOptions model_options;
+    if (!controllers_path.empty()) {
+      model_options.controllers = minibot3d_sim::LoadControllerParams(controllers_path);
+    }
+    const auto robot = minibot3d_sim::ParseRobotModel(xml.str(), model_options);
     minibot3d_sim::WorldLoadOptions load;
     auto world = minibot3d_sim::LoadWorld(world_path, load, nullptr);
     // bullet_naive, the yardstick of the default backend, ships in no library.
@@ -82,6 +92,9 @@ int main(int argc, char** argv) {
     std::vector<Pose2> route;  // poses every 0.1 s of sim time, reused for the lidar-only timing
     size_t target = 0;
     std::vector<float> ranges;
+    minibot3d_sim::DepthFrame frame;
+    long camera_frames = 0, camera_rays = 0;
+    double camera_wall = 0.0;  // s spent rendering frames
     double path = 0.0;
     Pose2 last = sim.true_pose();
     const auto steps = static_cast<long>(seconds / sim.physics_step());
@@ -101,6 +114,14 @@ int main(int argc, char** argv) {
       if (sim.ScanDue(0)) {
         sim.TakeScan(0, &ranges);
         route.push_back(sim.true_pose());
+      }
+      for (size_t c = 0; c < sim.camera_count(); ++c) {
+        if (!sim.CameraDue(c)) continue;
+        const auto r0 = std::chrono::steady_clock::now();
+        sim.TakeFrame(c, &frame);
+        camera_wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
+        ++camera_frames;
+        camera_rays += static_cast<long>(frame.width) * frame.height;
       }
       sim.Step();
       const Pose2 p = sim.true_pose();
@@ -166,6 +187,17 @@ int main(int argc, char** argv) {
                            t.y - options.spawn.y - (std::sin(options.spawn.yaw) * o.x +
                                                      std::cos(options.spawn.yaw) * o.y)),
                 turn_ratio, fan_rays_per_s, walk_rays_per_s);
+    if (sim.camera_count() > 0) {
+      std::string sizes;
+      for (size_t c = 0; c < sim.camera_count(); ++c) {
+        const minibot3d_sim::DepthCameraSpec& spec = sim.camera(c).spec();
+        sizes += (c ? "," : "") + std::to_string(spec.width) + "x" + std::to_string(spec.height);
+      }
+      std::printf("  cameras=%s frames=%ld camera_rays=%ld camera_rays_per_sim_second=%.0f "
+                  "camera_rays_per_wall_second_rendering=%.0f rendering_share_of_wall=%.2f\n",
+                  sizes.c_str(), camera_frames, camera_rays, camera_rays / sim.time(),
+                  camera_wall > 0 ? camera_rays / camera_wall : 0.0, camera_wall / wall);
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "sim_bench: %s\n", e.what());
     return 1;

@@ -208,15 +208,20 @@ TEST(DiffDriveControllerTest, RadiusMultiplier) {
   EXPECT_NEAR(sim.odom_twist().vx, 0.5, 1e-6);
 }
 
-// wheel_separation_multiplier 2: commanded yaw rates turn the wheels twice as far apart: the
-// robot turns at twice the rate in place.
-TEST(DiffDriveControllerTest, SeparationMultiplier) {
+// wheel_separation_multiplier 2 on a four-wheel base: the controller spreads a commanded yaw rate
+// over wheels it thinks twice as far apart, as a skid-steer base's effective track is. The
+// kinematic backend turns such a base about that effective track, so it turns as commanded and its
+// odometry agrees; the wheels turn twice as fast as they would at the URDF's separation.
+TEST(DiffDriveControllerTest, SeparationMultiplierIsTheSkidSteerTrack) {
   Simulator sim(RosControlRobot({{"wheel_separation_multiplier", "2.0"}}), MakeRoom(5.0),
                 Kinematic());
   sim.Command(Twist2{0.0, 0.0, 0.5});
   RunFor(&sim, 1.0);
-  EXPECT_NEAR(sim.true_twist().wz, 1.0, 1e-9);
+  EXPECT_NEAR(sim.true_twist().wz, 0.5, 1e-9);
   EXPECT_NEAR(sim.odom_twist().wz, 0.5, 1e-6);
+  // Right wheels at 0.5 rad/s x (2 x 0.5 m) / 2 / 0.11 m.
+  EXPECT_NEAR(sim.wheel_velocities()[2], 0.5 * 0.5 / 0.11, 1e-9);
+  EXPECT_NEAR(sim.wheel_velocities()[0], -0.5 * 0.5 / 0.11, 1e-9);
 }
 
 // Velocity and acceleration limits: 2 m/s asked, 0.5 m/s² up to 0.8 m/s allowed.

@@ -114,6 +114,7 @@ class WheelKinematics {
  public:
   explicit WheelKinematics(const RobotModel& robot);
   Twist2 operator()(const std::vector<double>& wheel_speeds) const;
+  double track() const { return track_; }  // m between the sides
 
  private:
   std::vector<double> radius_;

@@ -172,7 +172,18 @@ DriveTargets DiffDriveController::Actuate(double t, double /*dt*/) {
     out.wheel_speeds[k] = wheels_[0];
     out.wheel_speeds[per_side_ + k] = wheels_[1];
   }
-  out.body_twist = kinematics_(out.wheel_speeds);
+  if (per_side_ == 1) {
+    out.body_twist = kinematics_(out.wheel_speeds);
+  } else {
+    // Several wheels a side skid when the base turns: no-slip kinematics cannot say how far it
+    // turns. The wheels roll at their true radii; the base turns about the controller's effective
+    // track (wheel_separation x wheel_separation_multiplier, the skid calibration), as the
+    // skid-steer plugin's base turns about its wheelSeparation, and as Bullet's slipping wheels
+    // turn it when the multiplier is calibrated.
+    const Twist2 rolled = kinematics_(out.wheel_speeds);
+    const double side_difference = rolled.wz * kinematics_.track();  // right - left rim speed
+    out.body_twist = Twist2{rolled.vx, 0.0, side_difference / separation_};
+  }
   return out;
 }
 
