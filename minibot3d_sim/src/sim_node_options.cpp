@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 namespace minibot3d_sim {
 
@@ -39,7 +40,26 @@ const OptionTable<SimNodeOptions>& SimNodeOptionTable() {
        Field("cmd_wheel_separation_multiplier", &O::cmd_wheel_separation_multiplier,
              "Skid-steer plugin: the same multiplier on the command side, so that commanded yaw "
              "rates are achieved despite the slip."),
-       Field("seed", &O::seed, "Seed of every sensor's noise (one stream per sensor)."),
+       Field("odom_error_scale", &O::odom_error_scale,
+             "Odometry error: relative error of the distance it reports (0.02: 2 % too far, as "
+             "from a wheel radius 2 % too large)."),
+       Field("odom_error_turn_scale", &O::odom_error_turn_scale,
+             "Odometry error: relative error of the rotation it reports (-0.02: 2 % too little, "
+             "as from a track 2 % too wide)."),
+       Field("odom_error_heading_drift", &O::odom_error_heading_drift,
+             "Odometry error: heading bias per metre driven (rad/m; 0.0175 is 1 deg/m, as from "
+             "unequal wheels; positive curves the odometry left)."),
+       Field("odom_error_distance_noise", &O::odom_error_distance_noise,
+             "Odometry error: standard deviation of the distance error after 1 m (m/sqrt(m)); it "
+             "grows with the square root of the distance."),
+       Field("odom_error_turn_noise", &O::odom_error_turn_noise,
+             "Odometry error: standard deviation of the rotation error after 1 rad turned "
+             "(rad/sqrt(rad))."),
+       Field("odom_error_heading_noise", &O::odom_error_heading_noise,
+             "Odometry error: standard deviation of the heading error after 1 m driven "
+             "(rad/sqrt(m))."),
+       Field("seed", &O::seed,
+             "Seed of every sensor's noise and of the odometry error (one stream each)."),
        Field("real_time_factor", &O::real_time_factor,
              "Sim seconds per wall second; 0: as fast as the CPU allows."),
        Field("paused", &O::paused, "Start paused (~unpause starts time)."),
@@ -74,6 +94,11 @@ void ValidateSimNodeOptions(const SimNodeOptions& o, bool lockstep) {
   p.Positive("cmd_timeout", o.cmd_timeout);
   p.Positive("odom_wheel_separation_multiplier", o.odom_wheel_separation_multiplier);
   p.Positive("cmd_wheel_separation_multiplier", o.cmd_wheel_separation_multiplier);
+  try {
+    ValidateOdometryError(ToOdometryErrorOptions(o));
+  } catch (const std::invalid_argument& e) {
+    p.Require(false, e.what());
+  }
   p.Finite("x", o.x);
   p.Finite("y", o.y);
   p.Finite("yaw", o.yaw);
@@ -97,6 +122,17 @@ void ValidateSimNodeOptions(const SimNodeOptions& o, bool lockstep) {
   p.ThrowIfAny();
 }
 
+OdometryErrorOptions ToOdometryErrorOptions(const SimNodeOptions& o) {
+  OdometryErrorOptions e;
+  e.scale = o.odom_error_scale;
+  e.turn_scale = o.odom_error_turn_scale;
+  e.heading_drift = o.odom_error_heading_drift;
+  e.distance_noise = o.odom_error_distance_noise;
+  e.turn_noise = o.odom_error_turn_noise;
+  e.heading_noise = o.odom_error_heading_noise;
+  return e;
+}
+
 SimulatorOptions ToSimulatorOptions(const SimNodeOptions& o) {
   SimulatorOptions s;
   s.physics = o.physics;
@@ -106,6 +142,7 @@ SimulatorOptions ToSimulatorOptions(const SimNodeOptions& o) {
   s.seed = static_cast<unsigned>(o.seed);
   s.odom_wheel_separation_multiplier = o.odom_wheel_separation_multiplier;
   s.cmd_wheel_separation_multiplier = o.cmd_wheel_separation_multiplier;
+  s.odom_error = ToOdometryErrorOptions(o);
   return s;
 }
 

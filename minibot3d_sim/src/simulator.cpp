@@ -20,6 +20,7 @@ void ValidateOptions(const SimulatorOptions& o) {
     bad("cmd_wheel_separation_multiplier must be > 0, got " +
         std::to_string(o.cmd_wheel_separation_multiplier));
   }
+  ValidateOdometryError(o.odom_error);
   if (!(o.cmd_timeout > 0.0)) bad("cmd_timeout must be > 0 s, got " + std::to_string(o.cmd_timeout));
   if (!std::isfinite(o.spawn.x) || !std::isfinite(o.spawn.y) || !std::isfinite(o.spawn.yaw)) {
     bad("spawn pose (x, y, yaw) must be finite");
@@ -36,6 +37,9 @@ Simulator::Simulator(const RobotModel& robot, World world, const SimulatorOption
   drive.cmd_wheel_separation_multiplier = options_.cmd_wheel_separation_multiplier;
   drive.physics_step = options_.physics_step;
   drive_ = MakeDrive(robot_, drive);
+  if (options_.odom_error.enabled()) {
+    odom_error_ = std::make_unique<OdometryError>(options_.odom_error, options_.seed);
+  }
   backend_ = make_backend ? make_backend(robot_, world_)
                           : MakePhysicsBackend(options_.physics, robot_, world_);
   for (size_t i = 0; i < robot_.lasers.size(); ++i) {
@@ -126,6 +130,7 @@ void Simulator::Step() {
   state.wheel_positions = &backend_->wheel_positions();
   state.wheel_velocities = &backend_->wheel_velocities();
   drive_->Observe(state);
+  if (odom_error_) odom_error_->Update(drive_->odometry_pose(), drive_->odometry_twist());
 
   const double now = time();
   in_contact_ = !contacts_.empty();
@@ -169,6 +174,7 @@ std::vector<CollisionEvent> Simulator::TakeCollisionEvents() {
 void Simulator::Reset() {
   backend_->SetPose(options_.spawn);
   drive_->Reset();
+  if (odom_error_) odom_error_->Reset();
   for (auto& imu : imus_) imu.Restart();
   last_touch_.clear();
   in_contact_ = false;

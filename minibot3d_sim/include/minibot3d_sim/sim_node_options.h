@@ -24,6 +24,13 @@ struct SimNodeOptions {
   double cmd_timeout = 0.5;
   double odom_wheel_separation_multiplier = 1.0;
   double cmd_wheel_separation_multiplier = 1.0;
+  // The odometry error (OdometryErrorOptions' fields).
+  double odom_error_scale = 0.0;
+  double odom_error_turn_scale = 0.0;
+  double odom_error_heading_drift = 0.0;
+  double odom_error_distance_noise = 0.0;
+  double odom_error_turn_noise = 0.0;
+  double odom_error_heading_noise = 0.0;
   int seed = 1;
   double real_time_factor = 1.0;
   bool paused = false;
@@ -45,6 +52,7 @@ const minibot3d_common::options::OptionTable<SimNodeOptions>& SimNodeOptionTable
 // adds the quantum's checks).
 void ValidateSimNodeOptions(const SimNodeOptions& options, bool lockstep);
 
+OdometryErrorOptions ToOdometryErrorOptions(const SimNodeOptions& options);
 SimulatorOptions ToSimulatorOptions(const SimNodeOptions& options);
 
 }  // namespace minibot3d_sim

@@ -22,6 +22,7 @@
 #include "minibot3d_sim/drive.h"
 #include "minibot3d_sim/imu.h"
 #include "minibot3d_sim/lidar.h"
+#include "minibot3d_sim/odometry_error.h"
 #include "minibot3d_sim/physics_backend.h"
 #include "minibot3d_sim/ray_scene.h"
 #include "minibot3d_sim/robot_model.h"
@@ -43,6 +44,8 @@ struct SimulatorOptions {
   // wheelSeparation (see DriveSettings).
   double odom_wheel_separation_multiplier = 1.0;
   double cmd_wheel_separation_multiplier = 1.0;
+  // Error laid over the drive's odometry (odometry_error.h), seeded by `seed`; none by default.
+  OdometryErrorOptions odom_error;
 };
 
 // Throws std::invalid_argument naming the offending option and value.
@@ -89,8 +92,11 @@ class Simulator {
   Pose2 true_pose() const { return backend_->pose(); }
   Twist2 true_twist() const { return backend_->twist(); }
   const DrivePlugin& drive() const { return *drive_; }
-  Pose2 odom_pose() const { return drive_->odometry_pose(); }
-  Twist2 odom_twist() const { return drive_->odometry_twist(); }
+  // The odometry the robot reports: the drive's, with the odometry error if one is set.
+  Pose2 odom_pose() const { return odom_error_ ? odom_error_->pose() : drive_->odometry_pose(); }
+  Twist2 odom_twist() const {
+    return odom_error_ ? odom_error_->twist() : drive_->odometry_twist();
+  }
   const std::vector<double>& wheel_positions() const { return backend_->wheel_positions(); }
   const std::vector<double>& wheel_velocities() const { return backend_->wheel_velocities(); }
 
@@ -157,6 +163,7 @@ class Simulator {
   std::vector<SensorClock> imu_clocks_;
   std::unique_ptr<RayScene> ray_scene_;
   int robot_body_ = -1;  // the robot's own shapes in ray_scene_
+  std::unique_ptr<OdometryError> odom_error_;  // null: none
   std::vector<std::unique_ptr<DepthCamera>> cameras_;
   std::vector<SensorClock> camera_clocks_;
   std::vector<std::uint64_t> camera_frames_;
