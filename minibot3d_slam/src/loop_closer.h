@@ -43,20 +43,18 @@
 // large correction waits (kTentativeNodes) for a constraint of another scan against another
 // submap to agree before it enters the graph at all — or, on the way back from a long stretch
 // nothing anchored (the search window grown past loopSearchWindow), of a scan at least
-// kSameSubmapApart further along against the same submap: on a synthetic 200 m × 80 m building
-// the first return to the start corridor was seen twice, 9 m apart, against one submap only,
-// both matches right, and the loop stayed open 11 m wide. Right after an anchor one submap stays
-// one opinion (with a 30 m laser two wrong matches 12 m apart against one submap agreed there).
+// kSameSubmapApart further along against the same submap: the first corridor of a return to the
+// old track may be the only submap the robot passes before it leaves the track again, and scans
+// that far apart see different stretches of it. Right after an anchor one submap stays one
+// opinion: with a long-range laser, two wrong matches against one submap can agree.
 // Why wait at all: the odometry chain bends to fit any single loop edge, so the graph cannot
 // reject a lone false one, and one look-alike place must not move a trajectory by metres
 // (pose_graph.h: loop edges under a Huber loss, outliers dropped and the graph re-solved). A
 // correction just under kBigCorrection that repeats such a waiting claim from the same submap
-// waits with it: otherwise the claim slips in by the next scan that matches a little nearer (on
-// the Intel log, seed 3, a 0.31 m claim entered as a 0.295 m one and raised the relations error
-// from 0.0186 to 0.0274 m). The corrected trajectory comes back to the RBPF, which applies it
-// only when it moves the newest node by kApplyShift / kApplyTurn or more: below that the filter is
-// at least as precise as the constraints (on the Intel log, applying every optimisation made the
-// relations error worse: 0.050 against 0.038 m).
+// waits with it: otherwise the claim slips in by the next scan that matches a little nearer. The
+// corrected trajectory comes back to the RBPF, which applies it only when it moves the newest node
+// by kApplyShift / kApplyTurn or more: below that the filter is at least as precise as the
+// constraints, and resetting the particles would only trade its precision for theirs.
 //
 // What the RBPF does with a correction (rbpf_slam.cpp): every particle is reset onto the corrected
 // best trajectory and its rebuilt map, with weights reset. Why not move every particle by the same
@@ -125,8 +123,6 @@ class LoopCloser {
   static constexpr double kSameSubmapApart = 6.0;  // m
   // An optimisation is applied to the filter only when it moves the newest node by this much.
   static constexpr double kApplyShift = 0.25, kApplyTurn = 0.035;  // m, rad
-  // (On the Intel log a pair of constraints against one submap agreed on a wrong 0.37 m
-  // correction; applied, it raised that seed's relations error from 0.019 to 0.031 m.)
   // Edge standard deviations: consecutive nodes (scan-matched) and loop closures.
   static constexpr double kSequentialSigmaXy = 0.02, kSequentialSigmaTheta = 0.005;
   static constexpr double kLoopSigmaXy = 0.03, kLoopSigmaTheta = 0.01;
