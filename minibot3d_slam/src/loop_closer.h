@@ -175,8 +175,42 @@ class LoopCloser {
     explicit RenderedSubmap(double resolution) : grid(resolution) {}
   };
 
+  // A finished submap near enough to the current estimate to search the newest scan in.
+  struct SubmapCandidate {
+    double distance;  // from the estimate to the submap's nearest node
+    int submap;
+    double window;    // half-width of the search
+    bool operator<(const SubmapCandidate& o) const { return distance < o.distance; }
+  };
+  // Whether an earlier constraint t agrees with a new one, and which of the two can vouch for
+  // the other.
+  struct Agreement {
+    bool agree = false, vouches_for_t = false, t_vouches = false;
+  };
+
   void Render(const StoredScan& s, const Pose2& pose, Grid* grid) const;
   RenderedSubmap* Submap(int index, const std::vector<Pose2>& trajectory);
+  // The submaps to search the newest node's scan in, nearest first (see Detection above).
+  std::vector<SubmapCandidate> Candidates(const std::vector<Pose2>& trajectory) const;
+  // A stored scan's beams that end in a hit, as the scan matcher takes them.
+  static PreparedScan MatchingBeams(const StoredScan& s);
+  // Searches the newest scan in the candidate submap and refines the match there; false when
+  // there is no match, it is ambiguous (and not a corridor's), or the refinement wanders off.
+  // Otherwise *c is the constraint from the submap's first node to the newest one and
+  // *refined_pose the newest node's matched pose.
+  bool Match(const SubmapCandidate& cand, const std::vector<Pose2>& trajectory,
+             const std::vector<Eigen::Vector2d>& points, const PreparedScan& prepared,
+             LoopConstraint* c, Pose2* refined_pose);
+  Agreement Agree(const LoopConstraint& c, const Pose2& refined, const LoopConstraint& t,
+                  const std::vector<Pose2>& trajectory) const;
+  // Whether c corrects the estimate by less than kBigCorrection, and repeats no large claim
+  // still waiting for a second opinion.
+  bool SmallCorrection(const LoopConstraint& c, const Pose2& refined,
+                       const std::vector<Pose2>& trajectory) const;
+  // Puts a small correction into the graph; a large one waits in tentative_ until another
+  // constraint confirms it (see Back-end above). `window`: the search's half-width.
+  void AddConstraint(LoopConstraint c, const Pose2& refined, double window,
+                     const std::vector<Pose2>& trajectory);
 
   GmappingOptions options_;
   const ScanMatcher* matcher_;
