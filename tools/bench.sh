@@ -170,7 +170,7 @@ tools/bench/slam_sim_bench.sh default minibot3d_sim/worlds/default.world maps/de
 tools/bench/slam_sim_bench.sh arena minibot3d_sim/worlds/arena.world maps/arena.yaml 0 0 0 \
   "1.2,-1.2 1.2,1.0 -1.0,1.2 -1.2,-1.2 0,0" 3
 
-echo "== Trajectory-planner tuning: the seed's six settings x 3 repeats"
+echo "== Trajectory-planner tuning: the six default settings x 3 repeats"
 echo "   (min_vel_x {0.01, 0.1} x max_vel_x {0.1, 0.5, 1.0}, the long route, --jobs 2)"
 rm -rf build/bench/tune
 start=$SECONDS

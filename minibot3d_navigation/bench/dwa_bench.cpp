@@ -13,53 +13,16 @@
 #include <benchmark/benchmark.h>
 
 #include "minibot3d_navigation/dwa/dwa_planner.h"
+#include "dwa_test_scenes.h"
 
 namespace minibot3d_navigation {
 namespace nav {
 namespace dwa {
 namespace {
 
-const Footprint kFootprint = {
-    {-0.13, -0.125}, {-0.13, 0.125}, {0.13, 0.125}, {0.13, -0.125}};
-
-void AddBox(Costmap2D* map, double x0, double y0, double x1, double y1) {
-  for (int my = 0; my < map->size_y(); ++my) {
-    for (int mx = 0; mx < map->size_x(); ++mx) {
-      double wx, wy;
-      map->MapToWorld(mx, my, &wx, &wy);
-      if (wx >= x0 && wx <= x1 && wy >= y0 && wy <= y1) {
-        map->set_cost(mx, my, kLethalObstacle);
-      }
-    }
-  }
-}
-
-void Inflate(Costmap2D* map, double inscribed, double radius, double k) {
-  const double res = map->resolution();
-  const int r = static_cast<int>(std::ceil(radius / res));
-  std::vector<double> dist(map->cells().size(), 1e9);
-  for (int my = 0; my < map->size_y(); ++my) {
-    for (int mx = 0; mx < map->size_x(); ++mx) {
-      if (map->cost(mx, my) != kLethalObstacle) continue;
-      for (int dy = -r; dy <= r; ++dy) {
-        for (int dx = -r; dx <= r; ++dx) {
-          if (!map->InBounds(mx + dx, my + dy)) continue;
-          double& d = dist[map->Index(mx + dx, my + dy)];
-          d = std::min(d, std::hypot(dx, dy) * res);
-        }
-      }
-    }
-  }
-  for (int i = 0; i < static_cast<int>(dist.size()); ++i) {
-    uint8_t& c = map->mutable_data()[i];
-    if (c == kLethalObstacle) continue;
-    if (dist[i] <= inscribed) {
-      c = kInscribedInflatedObstacle;
-    } else if (dist[i] <= radius) {
-      c = static_cast<uint8_t>(252.0 * std::exp(-k * (dist[i] - inscribed)));
-    }
-  }
-}
+using testing::AddBox;
+using testing::Inflate;
+using testing::kFootprint;
 
 Costmap2D BenchCostmap() {
   // Local window with origin (0, 0); the robot is at its centre (3, 3).

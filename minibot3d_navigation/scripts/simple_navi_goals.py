@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
 """Send one navigation goal to move_base and wait for the result.
 
-The seed's goal client, kept word for word where users see it:
+The goal client users' scripts already call, its command line and log lines kept word for word:
 
     rosrun minibot3d_navigation simple_navi_goals.py X W
 
 sends position.x = X and orientation.w = W in frame base_link (so "1 1" means
 "one metre ahead, keep the heading"), logging "Set X = ...", "Set W = ...",
-"Waiting for server" and "Sending Goals".  Beyond the seed it waits for the
+"Waiting for server" and "Sending Goals".  It also waits for the
 result, prints the final state and the time taken, and exits 0 only when the
 goal SUCCEEDED (1 otherwise, 2 on bad arguments).
 

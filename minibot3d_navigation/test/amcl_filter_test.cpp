@@ -102,7 +102,22 @@ void Drive(const std::vector<Pose2>& path, RobotSim* sim, AmclFilter* filter) {
   }
 }
 
+// Updates the filter `updates` times where the robot stands (amcl's request_nomotion_update).
+void Settle(int updates, RobotSim* sim, AmclFilter* filter) {
+  for (int k = 0; k < updates; ++k) {
+    filter->RequestNoMotionUpdate();
+    filter->Update(sim->odom(), sim->Scan());
+  }
+}
+
 const Pose2 kStartTruth{2.0, 1.5, 0.3};
+
+// The pose a user gives amcl to start from.
+void SetInitialPose(const Pose2& pose, AmclOptions* o) {
+  o->initial_pose_x = pose.x;
+  o->initial_pose_y = pose.y;
+  o->initial_pose_a = pose.yaw;
+}
 
 TEST(AmclFilterTest, ConvergesFromWrongishGaussianGuess) {
   const OccupancyGrid grid = testing::MakeAsymmetricRoom();
@@ -117,11 +132,7 @@ TEST(AmclFilterTest, ConvergesFromWrongishGaussianGuess) {
             UpdateStatus::kUpdated);
   Drive(LoopPath(), &sim, &filter);
   ASSERT_FALSE(HasFatalFailure());
-  // Settle on the last pose (amcl's request_nomotion_update).
-  for (int k = 0; k < 3; ++k) {
-    filter.RequestNoMotionUpdate();
-    filter.Update(sim.odom(), sim.Scan());
-  }
+  Settle(3, &sim, &filter);  // on the last pose
   const PoseEstimate& e = filter.estimate();
   EXPECT_LT(PosError(e.mean, sim.truth()), 0.1)
       << "estimate " << e.mean.x << ", " << e.mean.y << " truth "
@@ -147,10 +158,7 @@ TEST(AmclFilterTest, GlobalLocalizationConvergesInDistinctiveRoom) {
   filter.Update(sim.odom(), sim.Scan());
   Drive(LoopPath(), &sim, &filter);
   ASSERT_FALSE(HasFatalFailure());
-  for (int k = 0; k < 3; ++k) {
-    filter.RequestNoMotionUpdate();
-    filter.Update(sim.odom(), sim.Scan());
-  }
+  Settle(3, &sim, &filter);
   const PoseEstimate& e = filter.estimate();
   EXPECT_LT(PosError(e.mean, sim.truth()), 0.1)
       << "estimate " << e.mean.x << ", " << e.mean.y << ", " << e.mean.yaw
@@ -178,9 +186,7 @@ TEST(AmclFilterTest, AugmentedMclRecoversFromKidnapping) {
   o.recovery_alpha_slow = 0.001;
   o.recovery_alpha_fast = 0.1;
   o.global_search = false;  // augmented MCL alone (the search: below)
-  o.initial_pose_x = kStartTruth.x;
-  o.initial_pose_y = kStartTruth.y;
-  o.initial_pose_a = kStartTruth.yaw;
+  SetInitialPose(kStartTruth, &o);
   AmclFilter filter(o, grid);
   RobotSim sim(grid, kStartTruth, 23);
   filter.Update(sim.odom(), sim.Scan());
@@ -209,10 +215,7 @@ TEST(AmclFilterTest, AugmentedMclRecoversFromKidnapping) {
   }
   EXPECT_GT(max_injection, 0.01) << "w_fast dropped below w_slow";
   EXPECT_TRUE(injected_far) << "random poses were injected";
-  for (int k = 0; k < 3; ++k) {
-    filter.RequestNoMotionUpdate();
-    filter.Update(sim.odom(), sim.Scan());
-  }
+  Settle(3, &sim, &filter);
   EXPECT_LT(PosError(filter.estimate().mean, sim.truth()), 0.1)
       << "estimate " << filter.estimate().mean.x << ", "
       << filter.estimate().mean.y << " truth " << sim.truth().x << ", "
@@ -613,10 +616,7 @@ TEST(AmclConfidenceTest, GlobalSearchSeedsTheFilterWhichClaimsOnlyAfterMotion) {
   ASSERT_FALSE(filter.last_search().candidates.empty());
   EXPECT_LT(PosError(filter.last_search().candidates[0].pose, sim.truth()), 0.1);
   // One view is not evidence: no claim before the robot has moved.
-  for (int k = 0; k < 5; ++k) {
-    filter.RequestNoMotionUpdate();
-    filter.Update(sim.odom(), sim.Scan());
-  }
+  Settle(5, &sim, &filter);
   EXPECT_FALSE(filter.confidence().confident);
   EXPECT_GT(ClaimXY(filter), kDemoThreshold);
   double travel = -1.0;
@@ -630,9 +630,7 @@ TEST(AmclConfidenceTest, GlobalSearchSeedsTheFilterWhichClaimsOnlyAfterMotion) {
 TEST(AmclConfidenceTest, KidnappedRobotIsFoundAgainByTheSearch) {
   const OccupancyGrid grid = testing::MakeAsymmetricRoom();
   AmclOptions o = ShippedOptions();
-  o.initial_pose_x = kStartTruth.x;
-  o.initial_pose_y = kStartTruth.y;
-  o.initial_pose_a = kStartTruth.yaw;
+  SetInitialPose(kStartTruth, &o);
   AmclFilter filter(o, grid);
   RobotSim sim(grid, kStartTruth, 34);
   filter.Update(sim.odom(), sim.Scan());
@@ -776,9 +774,7 @@ TEST(AmclConfidenceTest, MapOverTheSearchBudgetSaysSoAndSpreadsUniformly) {
 TEST(AmclFilterTest, UpdatesOnlyAfterEnoughMotionOrWhenForced) {
   const OccupancyGrid grid = testing::MakeAsymmetricRoom();
   AmclOptions o;
-  o.initial_pose_x = kStartTruth.x;
-  o.initial_pose_y = kStartTruth.y;
-  o.initial_pose_a = kStartTruth.yaw;
+  SetInitialPose(kStartTruth, &o);
   AmclFilter filter(o, grid);
   RobotSim sim(grid, kStartTruth, 24);
   EXPECT_EQ(filter.Update(sim.odom(), sim.Scan()).status,
@@ -805,9 +801,7 @@ TEST(AmclFilterTest, UpdatesOnlyAfterEnoughMotionOrWhenForced) {
 TEST(AmclFilterTest, RejectsBadInputAndKeepsLastGoodState) {
   const OccupancyGrid grid = testing::MakeAsymmetricRoom();
   AmclOptions o;
-  o.initial_pose_x = kStartTruth.x;
-  o.initial_pose_y = kStartTruth.y;
-  o.initial_pose_a = kStartTruth.yaw;
+  SetInitialPose(kStartTruth, &o);
   AmclFilter filter(o, grid);
   RobotSim sim(grid, kStartTruth, 25);
   filter.Update(sim.odom(), sim.Scan());
@@ -859,10 +853,7 @@ TEST(AmclFilterTest, RejectsBadInputAndKeepsLastGoodState) {
     }
     filter.Update(sim.odom(), s);
   }
-  for (int k = 0; k < 3; ++k) {
-    filter.RequestNoMotionUpdate();
-    filter.Update(sim.odom(), sim.Scan());
-  }
+  Settle(3, &sim, &filter);
   EXPECT_LT(PosError(filter.estimate().mean, sim.truth()), 0.1);
   EXPECT_LT(YawError(filter.estimate().mean, sim.truth()), 3 * kDeg);
 }

@@ -15,42 +15,16 @@
 #include "minibot3d_navigation/planner/path_smoothing.h"
 #include "minibot3d_navigation/planner/planner_factory.h"
 #include "minibot3d_navigation/planner/planner_options.h"
+#include "planner_test_maps.h"
 
 namespace minibot3d_navigation {
 namespace nav {
 namespace {
 
-constexpr double kRes = 0.1;
 using Code = PlanningError::Code;
-
-// The first row is the top of the map (largest y).  '.' free, '#' lethal,
-// 'i' inscribed (253), 'a' inflation 200, 'b' inflation 100, 'c' 30,
-// 'u' unknown.
-Costmap2D MapFromAscii(const std::vector<std::string>& rows) {
-  const int h = static_cast<int>(rows.size());
-  const int w = static_cast<int>(rows[0].size());
-  Costmap2D map(w, h, kRes, 0.0, 0.0);
-  for (int r = 0; r < h; ++r) {
-    for (int x = 0; x < w; ++x) {
-      uint8_t c = 0;
-      switch (rows[r][x]) {
-        case '#': c = kLethalObstacle; break;
-        case 'i': c = kInscribedInflatedObstacle; break;
-        case 'a': c = 200; break;
-        case 'b': c = 100; break;
-        case 'c': c = 30; break;
-        case 'u': c = kNoInformation; break;
-        default: c = 0;
-      }
-      map.set_cost(x, h - 1 - r, c);
-    }
-  }
-  return map;
-}
-
-Pose2 Cell(int mx, int my, double yaw = 0.0) {
-  return {(mx + 0.5) * kRes, (my + 0.5) * kRes, yaw};
-}
+using testing::Cell;
+using testing::kRes;
+using testing::MapFromAscii;
 
 int CostAt(const Costmap2D& map, double x, double y) {
   int mx = 0, my = 0;

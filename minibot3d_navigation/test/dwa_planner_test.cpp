@@ -16,14 +16,15 @@
 #include "minibot3d_navigation/dwa/critics.h"
 #include "minibot3d_navigation/dwa/map_grid.h"
 #include "minibot3d_navigation/dwa/trajectory.h"
+#include "dwa_test_scenes.h"
 
 namespace minibot3d_navigation {
 namespace nav {
 namespace dwa {
 namespace {
 
-const Footprint kFootprint = {
-    {-0.13, -0.125}, {-0.13, 0.125}, {0.13, 0.125}, {0.13, -0.125}};
+using testing::AddBox;
+using testing::kFootprint;
 constexpr double kInscribed = 0.125;
 constexpr double kInflation = 0.55;
 constexpr double kCostScaling = 10.0;
@@ -33,18 +34,6 @@ constexpr double kCostScaling = 10.0;
 Costmap2D EmptyMap(double width, double height, double res = 0.05) {
   return Costmap2D(static_cast<int>(std::lround(width / res)),
                    static_cast<int>(std::lround(height / res)), res, 0.0, 0.0);
-}
-
-void AddBox(Costmap2D* map, double x0, double y0, double x1, double y1) {
-  for (int my = 0; my < map->size_y(); ++my) {
-    for (int mx = 0; mx < map->size_x(); ++mx) {
-      double wx, wy;
-      map->MapToWorld(mx, my, &wx, &wy);
-      if (wx >= x0 && wx <= x1 && wy >= y0 && wy <= y1) {
-        map->set_cost(mx, my, kLethalObstacle);
-      }
-    }
-  }
 }
 
 // A room `width` x `height` m with 0.1 m walls on its four sides.
@@ -57,39 +46,8 @@ Costmap2D WalledRoom(double width, double height) {
   return map;
 }
 
-// costmap_2d's InflationLayer, brute force: 253 within the inscribed radius
-// of a lethal cell, 252 * exp(-k (d - r_inscribed)) out to the inflation
-// radius.
-void Inflate(Costmap2D* map) {
-  const double res = map->resolution();
-  const int r = static_cast<int>(std::ceil(kInflation / res));
-  std::vector<double> dist(map->cells().size(), 1e9);
-  for (int my = 0; my < map->size_y(); ++my) {
-    for (int mx = 0; mx < map->size_x(); ++mx) {
-      if (map->cost(mx, my) != kLethalObstacle) continue;
-      for (int dy = -r; dy <= r; ++dy) {
-        for (int dx = -r; dx <= r; ++dx) {
-          if (!map->InBounds(mx + dx, my + dy)) continue;
-          double& d = dist[map->Index(mx + dx, my + dy)];
-          d = std::min(d, std::hypot(dx, dy) * res);
-        }
-      }
-    }
-  }
-  for (int my = 0; my < map->size_y(); ++my) {
-    for (int mx = 0; mx < map->size_x(); ++mx) {
-      const double d = dist[map->Index(mx, my)];
-      if (map->cost(mx, my) == kLethalObstacle) continue;
-      uint8_t c = 0;
-      if (d <= kInscribed) {
-        c = kInscribedInflatedObstacle;
-      } else if (d <= kInflation) {
-        c = static_cast<uint8_t>(252.0 * std::exp(-kCostScaling * (d - kInscribed)));
-      }
-      map->set_cost(mx, my, c);
-    }
-  }
-}
+// The inflation of the scenes: inscribed 0.125 m, inflation 0.55 m, scaling 10.
+void Inflate(Costmap2D* map) { testing::Inflate(map, kInscribed, kInflation, kCostScaling); }
 
 // Straight segments through the waypoints, a pose every 5 cm, yaw along
 // the path; the last pose gets `goal_yaw`.

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """rostest: move_base in the simulator (move_base_sim.test), robot spawned at (-3, -1.5, 0) in the
 default world, amcl started there, the map frame = the world frame:
- 1. the seed's client: `rosrun minibot3d_sim simple_navi_goals.py 1 1` exits 0 and the robot ends
+ 1. the goal client: `rosrun minibot3d_sim simple_navi_goals.py 1 1` exits 0 and the robot ends
     about 1 m ahead of where it was;
  2. three goals across the apartment are reached (SUCCEEDED, true position within 0.3 m);
  3. a goal inside a wall is ABORTED, and the status text says why;
@@ -114,9 +114,9 @@ class MoveBaseSim(unittest.TestCase):
             self.client.cancel_goal()
         return finished, self.client.get_state(), self.client.get_goal_status_text()
 
-    def test_1_seed_client_moves_one_metre(self):
+    def test_1_goal_client_moves_one_metre(self):
         start = self.truth.pose
-        # The seed's client joins the loop while sim time is held, and is done when it leaves.
+        # The goal client joins the loop while sim time is held, and is done when it leaves.
         finished, proc = self.lockstep.run(
             '/simple_navi_goals', ['rosrun', 'minibot3d_sim', 'simple_navi_goals.py', '1', '1'],
             600.0, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)

@@ -12,36 +12,16 @@
 #include "minibot3d_navigation/planner/ompl_planner.h"
 #include "minibot3d_navigation/planner/path_smoothing.h"
 #include "minibot3d_navigation/planner/planner_factory.h"
+#include "planner_test_maps.h"
 
 namespace minibot3d_navigation {
 namespace nav {
 namespace {
 
-constexpr double kRes = 0.1;
 using Code = PlanningError::Code;
-
-// First row = top of the map.  '.' free, '#' lethal, 'i' inscribed,
-// 'u' unknown.
-Costmap2D MapFromAscii(const std::vector<std::string>& rows) {
-  const int h = static_cast<int>(rows.size());
-  const int w = static_cast<int>(rows[0].size());
-  Costmap2D map(w, h, kRes, 0.0, 0.0);
-  for (int r = 0; r < h; ++r) {
-    for (int x = 0; x < w; ++x) {
-      const char ch = rows[r][x];
-      map.set_cost(x, h - 1 - r,
-                   ch == '#'   ? kLethalObstacle
-                   : ch == 'i' ? kInscribedInflatedObstacle
-                   : ch == 'u' ? kNoInformation
-                               : kFreeSpace);
-    }
-  }
-  return map;
-}
-
-Pose2 Cell(int mx, int my, double yaw = 0.0) {
-  return {(mx + 0.5) * kRes, (my + 0.5) * kRes, yaw};
-}
+using testing::Cell;
+using testing::kRes;
+using testing::MapFromAscii;
 
 const std::vector<std::string> kCorridor = {
     "################",

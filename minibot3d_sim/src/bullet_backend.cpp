@@ -96,11 +96,10 @@ void BulletBackend::FrictionImpulse(const Wheel& wheel, const Response& k, doubl
   *across = l2 * z1;
 }
 
-BulletBackend::BulletBackend(const RobotModel& robot, const World& world) {
-  mass_ = robot.total_mass;
-  if (!(mass_ > 0.0)) throw std::invalid_argument("BulletBackend: robot total_mass must be > 0");
+namespace {
 
-  // Centre of mass: the body box and the wheels, each at its centre.
+// Centre of mass in the root frame: the body box and the wheels, each at its centre.
+Eigen::Vector2d CentreOfMass(const RobotModel& robot) {
   const Eigen::Vector3d body_centre = robot.body_pose.translation();
   double m_sum = std::max(robot.body_mass, 0.0);
   Eigen::Vector2d moment = m_sum * body_centre.head<2>();
@@ -108,53 +107,195 @@ BulletBackend::BulletBackend(const RobotModel& robot, const World& world) {
     m_sum += std::max(w.mass, 0.0);
     moment += std::max(w.mass, 0.0) * w.position.head<2>();
   }
-  com_ = m_sum > 0.0 ? Eigen::Vector2d(moment / m_sum) : Eigen::Vector2d(body_centre.head<2>());
-  com_height_ = body_centre.z();
+  return m_sum > 0.0 ? Eigen::Vector2d(moment / m_sum) : Eigen::Vector2d(body_centre.head<2>());
+}
 
-  // Yaw inertia: given about the root; moved to the centre of mass (parallel axis theorem).
-  inertia_z_ = robot.body_inertia_z - mass_ * com_.squaredNorm();
-  if (!(inertia_z_ > 0.0)) {
+// Yaw inertia: given about the root; moved to the centre of mass (parallel axis theorem), or the
+// body box's when that leaves nothing.
+double YawInertia(const RobotModel& robot, double mass, const Eigen::Vector2d& com) {
+  double inertia = robot.body_inertia_z - mass * com.squaredNorm();
+  if (!(inertia > 0.0)) {
     const Eigen::Vector3d& s = robot.body_size;
-    inertia_z_ = std::max(mass_ * (s.x() * s.x() + s.y() * s.y()) / 12.0, 1e-6);
+    inertia = std::max(mass * (s.x() * s.x() + s.y() * s.y()) / 12.0, 1e-6);
   }
+  return inertia;
+}
 
-  // Wheels and their static loads: the least-norm N with sum N = m g and no moment about the
-  // centre of mass over every floor contact (wheels, then casters); with more than three supports
-  // this is the symmetric answer of a statically indeterminate problem.
+// A wheel the backend can drive: a radius and a torque limit.
+const WheelSpec& CheckedWheel(const WheelSpec& spec) {
+  if (!(spec.radius > 0.0)) throw std::invalid_argument("BulletBackend: wheel radius must be > 0");
+  if (!(spec.torque > 0.0)) {
+    throw std::invalid_argument("BulletBackend: wheel '" + spec.joint + "' has no torque > 0");
+  }
+  return spec;
+}
+
+// Static loads of the floor contacts (wheels, then casters): the least-norm N with sum N = m g
+// and no moment about the centre of mass; with more than three supports this is the symmetric
+// answer of a statically indeterminate problem.
+Eigen::VectorXd StaticLoads(const RobotModel& robot, const Eigen::Vector2d& com, double mass) {
   const int n = static_cast<int>(robot.wheels.size());
   const int contacts = n + static_cast<int>(robot.supports.size());
+  Eigen::Matrix<double, 3, Eigen::Dynamic> a(3, contacts);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d arm = robot.wheels[i].position.head<2>() - com;
+    a.col(i) << 1.0, arm.x(), arm.y();
+  }
+  for (int i = n; i < contacts; ++i) {
+    const Eigen::Vector2d arm = robot.supports[i - n].position - com;
+    a.col(i) << 1.0, arm.x(), arm.y();
+  }
+  const Eigen::Vector3d b(mass * kGravity, 0.0, 0.0);
+  const Eigen::Matrix3d aat = a * a.transpose();
+  Eigen::VectorXd loads = Eigen::VectorXd::Constant(contacts, mass * kGravity / std::max(contacts, 1));
+  if (contacts > 0 && std::abs(aat.determinant()) > 1e-12) {
+    loads = a.transpose() * aat.ldlt().solve(b);
+    loads = loads.cwiseMax(0.0);  // centre of mass outside the supports: the far ones lift
+    loads *= mass * kGravity / loads.sum();
+  }
+  return loads;
+}
+
+void ConfigureWorld(btDiscreteDynamicsWorld* world) {
+  world->setGravity(btVector3(0, 0, 0));  // the floor carries the weight: planar body
+  world->setForceUpdateAllAabbs(false);
+  btContactSolverInfo& info = world->getSolverInfo();
+  // Resolve every penetration with split impulses (position only), so pushing out of a wall
+  // never turns into a bounce-back velocity.
+  info.m_splitImpulse = 1;
+  info.m_splitImpulsePenetrationThreshold = 1e6;
+  // One body against static geometry, warm-started: 4 sweeps hold it against a wall as well as
+  // the default 10 (0.3 mm difference in the resting position) at ~20 % less cost per contact step.
+  info.m_numIterations = 4;
+}
+
+// The robot seen from above: its footprint, or the body box's outline.
+std::vector<Eigen::Vector2d> ChassisOutline(const RobotModel& robot) {
+  std::vector<Eigen::Vector2d> outline = robot.footprint;
+  if (outline.size() < 3) {
+    const Eigen::Vector3d body_centre = robot.body_pose.translation();
+    const Eigen::Vector3d h = robot.body_size / 2.0;
+    outline = {body_centre.head<2>() + Eigen::Vector2d(-h.x(), -h.y()),
+               body_centre.head<2>() + Eigen::Vector2d(h.x(), -h.y()),
+               body_centre.head<2>() + Eigen::Vector2d(h.x(), h.y()),
+               body_centre.head<2>() + Eigen::Vector2d(-h.x(), h.y())};
+  }
+  return outline;
+}
+
+// The chassis' height band: from just above the floor to the top of body and wheels. The chassis
+// only meets meshes within it: there they become boxes.
+MeshBand ChassisBand(const RobotModel& robot) {
+  const Eigen::Vector3d body_centre = robot.body_pose.translation();
+  double z_top = body_centre.z() + robot.body_size.z() / 2.0;
+  double z_bottom = body_centre.z() - robot.body_size.z() / 2.0;
+  double min_radius = robot.wheels.empty() ? 0.02 : robot.wheels[0].radius;
+  for (const WheelSpec& w : robot.wheels) {
+    z_top = std::max(z_top, w.position.z() + w.radius);
+    min_radius = std::min(min_radius, w.radius);
+  }
+  // Obstacles lower than a quarter wheel radius are below the hull: a real wheel would climb them.
+  z_bottom = std::max(0.005, std::min(z_bottom, 0.25 * min_radius));
+  if (z_top <= z_bottom) z_top = z_bottom + 0.01;
+  MeshBand band;
+  band.z_min = z_bottom;
+  band.z_max = z_top;
+  band.layers = 1;
+  return band;
+}
+
+// Floor planes go into a filter group of their own, which the chassis does not collide with.
+void MarkFloorPlanes(btDiscreteDynamicsWorld* world) {
+  btCollisionObjectArray& objects = world->getCollisionObjectArray();
+  for (int i = 0; i < objects.size(); ++i) {
+    btCollisionObject* o = objects[i];
+    if (o->getCollisionShape()->getShapeType() != STATIC_PLANE_PROXYTYPE) continue;
+    const auto* plane = static_cast<const btStaticPlaneShape*>(o->getCollisionShape());
+    const btVector3 n = o->getWorldTransform().getBasis() * plane->getPlaneNormal();
+    if (std::abs(n.z()) > 0.7) o->getBroadphaseHandle()->m_collisionFilterGroup = kFloorGroup;
+  }
+}
+
+// Radius of the largest circle about the centre of mass inside the outline (for CCD).
+double InnerRadius(const std::vector<Eigen::Vector2d>& outline, const Eigen::Vector2d& com) {
+  double inner_radius = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < outline.size(); ++i) {
+    const Eigen::Vector2d e = outline[(i + 1) % outline.size()] - outline[i];
+    const Eigen::Vector2d to_com = com - outline[i];
+    if (e.norm() > 0.0) {
+      inner_radius = std::min(inner_radius, std::abs(e.x() * to_com.y() - e.y() * to_com.x()) /
+                                                e.norm());
+    }
+  }
+  if (!std::isfinite(inner_radius) || inner_radius <= 0.0) inner_radius = 0.01;
+  return inner_radius;
+}
+
+// The chassis shape: the outline extruded over the band, relative to the centre of mass.
+std::unique_ptr<btConvexHullShape> ChassisHull(const std::vector<Eigen::Vector2d>& outline,
+                                               const Eigen::Vector2d& com, double com_height,
+                                               const MeshBand& band) {
+  auto hull = std::make_unique<btConvexHullShape>();
+  for (const Eigen::Vector2d& p : outline) {
+    const Eigen::Vector2d q = p - com;
+    hull->addPoint(btVector3(q.x(), q.y(), band.z_min - com_height), false);
+    hull->addPoint(btVector3(q.x(), q.y(), band.z_max - com_height), false);
+  }
+  hull->recalcLocalAabb();
+  hull->setMargin(kChassisMargin);
+  // Polyhedral features let Bullet clip whole faces against boxes (a full contact manifold in one
+  // step) instead of adding one GJK point per step.
+  hull->initializePolyhedralFeatures();
+  return hull;
+}
+
+// The planar chassis body: x, y and yaw free, no damping, bouncing or gyroscopic terms.
+std::unique_ptr<btRigidBody> MakeChassis(double mass, double inertia_z, btConvexHullShape* shape,
+                                         double inner_radius) {
+  btRigidBody::btRigidBodyConstructionInfo ci(mass, nullptr, shape,
+                                              btVector3(inertia_z, inertia_z, inertia_z));
+  ci.m_friction = kChassisFriction;
+  ci.m_restitution = 0;
+  ci.m_linearDamping = 0;
+  ci.m_angularDamping = 0;
+  auto chassis = std::make_unique<btRigidBody>(ci);
+  chassis->setLinearFactor(btVector3(1, 1, 0));
+  chassis->setAngularFactor(btVector3(0, 0, 1));
+  chassis->setFlags(0);  // no gyroscopic terms: yaw only
+  chassis->setActivationState(DISABLE_DEACTIVATION);
+  // Continuous collision (a swept sphere inside the hull) only for steps that move the chassis by
+  // more than half its inner radius; smaller steps are caught by discrete contacts, and sweeping
+  // every step would cost more than the rest of the step.
+  chassis->setCcdMotionThreshold(0.5 * inner_radius);
+  chassis->setCcdSweptSphereRadius(0.8 * inner_radius);
+  return chassis;
+}
+
+}  // namespace
+
+BulletBackend::BulletBackend(const RobotModel& robot, const World& world) {
+  mass_ = robot.total_mass;
+  if (!(mass_ > 0.0)) throw std::invalid_argument("BulletBackend: robot total_mass must be > 0");
+  com_ = CentreOfMass(robot);
+  com_height_ = robot.body_pose.translation().z();
+  inertia_z_ = YawInertia(robot, mass_, com_);
+
+  const int n = static_cast<int>(robot.wheels.size());
   wheels_.resize(n);
   wheel_velocities_.assign(n, 0.0);
   wheel_positions_.assign(n, 0.0);
-  Eigen::Matrix<double, 3, Eigen::Dynamic> a(3, contacts);
   for (int i = 0; i < n; ++i) {
-    const WheelSpec& spec = robot.wheels[i];
+    const WheelSpec& spec = CheckedWheel(robot.wheels[i]);
     Wheel& w = wheels_[i];
     w.arm = spec.position.head<2>() - com_;
     w.radius = spec.radius;
-    if (!(w.radius > 0.0)) throw std::invalid_argument("BulletBackend: wheel radius must be > 0");
     w.inertia = spec.inertia_axle > 0.0 ? spec.inertia_axle
                                         : 0.5 * std::max(spec.mass, 0.01) * w.radius * w.radius;
     w.mu1 = std::max(spec.mu1, 0.0);
     w.mu2 = std::max(spec.mu2, 0.0);
     w.torque = spec.torque;
-    if (!(w.torque > 0.0)) {
-      throw std::invalid_argument("BulletBackend: wheel '" + spec.joint + "' has no torque > 0");
-    }
-    a.col(i) << 1.0, w.arm.x(), w.arm.y();
   }
-  for (int i = n; i < contacts; ++i) {
-    const Eigen::Vector2d arm = robot.supports[i - n].position - com_;
-    a.col(i) << 1.0, arm.x(), arm.y();
-  }
-  const Eigen::Vector3d b(mass_ * kGravity, 0.0, 0.0);
-  const Eigen::Matrix3d aat = a * a.transpose();
-  Eigen::VectorXd loads = Eigen::VectorXd::Constant(contacts, mass_ * kGravity / std::max(contacts, 1));
-  if (contacts > 0 && std::abs(aat.determinant()) > 1e-12) {
-    loads = a.transpose() * aat.ldlt().solve(b);
-    loads = loads.cwiseMax(0.0);  // centre of mass outside the supports: the far ones lift
-    loads *= mass_ * kGravity / loads.sum();
-  }
+  const Eigen::VectorXd loads = StaticLoads(robot, com_, mass_);
   inv_mass_ = 1.0 / mass_;
   inv_inertia_ = 1.0 / inertia_z_;
   for (int i = 0; i < n; ++i) {
@@ -183,91 +324,13 @@ BulletBackend::BulletBackend(const RobotModel& robot, const World& world) {
   solver_ = std::make_unique<btSequentialImpulseConstraintSolver>();
   dynamics_world_ = std::make_unique<btDiscreteDynamicsWorld>(
       dispatcher_.get(), broadphase_.get(), solver_.get(), collision_config_.get());
-  dynamics_world_->setGravity(btVector3(0, 0, 0));  // the floor carries the weight: planar body
-  dynamics_world_->setForceUpdateAllAabbs(false);
-  btContactSolverInfo& info = dynamics_world_->getSolverInfo();
-  // Resolve every penetration with split impulses (position only), so pushing out of a wall
-  // never turns into a bounce-back velocity.
-  info.m_splitImpulse = 1;
-  info.m_splitImpulsePenetrationThreshold = 1e6;
-  // One body against static geometry, warm-started: 4 sweeps hold it against a wall as well as
-  // the default 10 (0.3 mm difference in the resting position) at ~20 % less cost per contact step.
-  info.m_numIterations = 4;
-
-
-  // Chassis shape: the footprint (body and wheels seen from above) extruded from just above the
-  // floor to the top of body and wheels, relative to the centre of mass.
-  std::vector<Eigen::Vector2d> outline = robot.footprint;
-  if (outline.size() < 3) {
-    const Eigen::Vector3d h = robot.body_size / 2.0;
-    outline = {body_centre.head<2>() + Eigen::Vector2d(-h.x(), -h.y()),
-               body_centre.head<2>() + Eigen::Vector2d(h.x(), -h.y()),
-               body_centre.head<2>() + Eigen::Vector2d(h.x(), h.y()),
-               body_centre.head<2>() + Eigen::Vector2d(-h.x(), h.y())};
-  }
-  double z_top = body_centre.z() + robot.body_size.z() / 2.0;
-  double z_bottom = body_centre.z() - robot.body_size.z() / 2.0;
-  double min_radius = wheels_.empty() ? 0.02 : wheels_[0].radius;
-  for (int i = 0; i < n; ++i) {
-    z_top = std::max(z_top, robot.wheels[i].position.z() + wheels_[i].radius);
-    min_radius = std::min(min_radius, wheels_[i].radius);
-  }
-  // Obstacles lower than a quarter wheel radius are below the hull: a real wheel would climb them.
-  z_bottom = std::max(0.005, std::min(z_bottom, 0.25 * min_radius));
-  if (z_top <= z_bottom) z_top = z_bottom + 0.01;
-  // The chassis only meets meshes within its height band: there they become boxes (MeshBand).
-  MeshBand band;
-  band.z_min = z_bottom;
-  band.z_max = z_top;
-  band.layers = 1;
+  ConfigureWorld(dynamics_world_.get());
+  const std::vector<Eigen::Vector2d> outline = ChassisOutline(robot);
+  const MeshBand band = ChassisBand(robot);
   world_objects_ = std::make_unique<BulletWorldObjects>(world, dynamics_world_.get(), band);
-  btCollisionObjectArray& objects = dynamics_world_->getCollisionObjectArray();
-  for (int i = 0; i < objects.size(); ++i) {
-    btCollisionObject* o = objects[i];
-    if (o->getCollisionShape()->getShapeType() != STATIC_PLANE_PROXYTYPE) continue;
-    const auto* plane = static_cast<const btStaticPlaneShape*>(o->getCollisionShape());
-    const btVector3 n = o->getWorldTransform().getBasis() * plane->getPlaneNormal();
-    if (std::abs(n.z()) > 0.7) o->getBroadphaseHandle()->m_collisionFilterGroup = kFloorGroup;
-  }
-  chassis_shape_ = std::make_unique<btConvexHullShape>();
-  // Radius of the largest circle about the centre of mass inside the outline (for CCD below).
-  double inner_radius = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < outline.size(); ++i) {
-    const Eigen::Vector2d e = outline[(i + 1) % outline.size()] - outline[i];
-    const Eigen::Vector2d to_com = com_ - outline[i];
-    if (e.norm() > 0.0) {
-      inner_radius = std::min(inner_radius, std::abs(e.x() * to_com.y() - e.y() * to_com.x()) /
-                                                e.norm());
-    }
-  }
-  if (!std::isfinite(inner_radius) || inner_radius <= 0.0) inner_radius = 0.01;
-  for (const Eigen::Vector2d& p : outline) {
-    const Eigen::Vector2d q = p - com_;
-    chassis_shape_->addPoint(btVector3(q.x(), q.y(), z_bottom - com_height_), false);
-    chassis_shape_->addPoint(btVector3(q.x(), q.y(), z_top - com_height_), false);
-  }
-  chassis_shape_->recalcLocalAabb();
-  chassis_shape_->setMargin(kChassisMargin);
-  // Polyhedral features let Bullet clip whole faces against boxes (a full contact manifold in one
-  // step) instead of adding one GJK point per step.
-  chassis_shape_->initializePolyhedralFeatures();
-
-  btRigidBody::btRigidBodyConstructionInfo ci(
-      mass_, nullptr, chassis_shape_.get(), btVector3(inertia_z_, inertia_z_, inertia_z_));
-  ci.m_friction = kChassisFriction;
-  ci.m_restitution = 0;
-  ci.m_linearDamping = 0;
-  ci.m_angularDamping = 0;
-  chassis_ = std::make_unique<btRigidBody>(ci);
-  chassis_->setLinearFactor(btVector3(1, 1, 0));
-  chassis_->setAngularFactor(btVector3(0, 0, 1));
-  chassis_->setFlags(0);  // no gyroscopic terms: yaw only
-  chassis_->setActivationState(DISABLE_DEACTIVATION);
-  // Continuous collision (a swept sphere inside the hull) only for steps that move the chassis by
-  // more than half its inner radius; smaller steps are caught by discrete contacts, and sweeping
-  // every step would cost more than the rest of the step.
-  chassis_->setCcdMotionThreshold(0.5 * inner_radius);
-  chassis_->setCcdSweptSphereRadius(0.8 * inner_radius);
+  MarkFloorPlanes(dynamics_world_.get());
+  chassis_shape_ = ChassisHull(outline, com_, com_height_, band);
+  chassis_ = MakeChassis(mass_, inertia_z_, chassis_shape_.get(), InnerRadius(outline, com_));
   dynamics_world_->addRigidBody(chassis_.get(), btBroadphaseProxy::DefaultFilter,
                                 btBroadphaseProxy::StaticFilter);
   SetPose(Pose2{});

@@ -13,6 +13,20 @@ namespace {
 
 constexpr int kSubmapCacheSize = 4;
 
+// Whether the places of an ambiguous match (the best first) all lie on one line through the best,
+// at its heading: a corridor seen along its axis. *axis gets the line's direction.
+bool OnOneLine(const std::vector<CorrelativeMatch>& found, Eigen::Vector2d* axis) {
+  const CorrelativeMatch& match = found.front();
+  *axis = Eigen::Vector2d(found[1].pose.x - match.pose.x, found[1].pose.y - match.pose.y).normalized();
+  bool line = true;
+  for (const CorrelativeMatch& other : found) {
+    const Eigen::Vector2d d(other.pose.x - match.pose.x, other.pose.y - match.pose.y);
+    line = line && std::fabs(axis->x() * d.y() - axis->y() * d.x()) <= LoopCloser::kAxisOffLine &&
+           std::fabs(NormalizeAngle(other.pose.yaw - match.pose.yaw)) <= LoopCloser::kAxisTurn;
+  }
+  return line;
+}
+
 }  // namespace
 
 LoopCloser::LoopCloser(const GmappingOptions& options, const ScanMatcher* matcher)
@@ -153,25 +167,13 @@ double LoopCloser::SearchWindow(double path) const {
   return std::min(options_.loopMaxSearchWindow, std::max(options_.loopSearchWindow, options_.loopDriftRate * path));
 }
 
-bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
-  if (trajectory.size() != scans_.size()) {
-    throw std::invalid_argument("LoopCloser::Detect: " + std::to_string(trajectory.size()) + " poses for " +
-                                std::to_string(scans_.size()) + " nodes");
-  }
+std::vector<LoopCloser::SubmapCandidate> LoopCloser::Candidates(
+    const std::vector<Pose2>& trajectory) const {
   const int cur = size() - 1;
-  if (cur <= 0) return false;
   const Pose2& here = trajectory[cur];
-  path_[cur] = path_[cur - 1] + std::hypot(here.x - trajectory[cur - 1].x, here.y - trajectory[cur - 1].y);
-  if (cur % kSearchEvery != 0) return false;
   const int per = options_.loopSubmapScans;
   const int finished = size() / per;  // submaps [k·per, (k+1)·per) with every node present
-  struct Candidate {
-    double distance;  // from the estimate to the submap's nearest node
-    int submap;
-    double window;    // half-width of the search
-    bool operator<(const Candidate& o) const { return distance < o.distance; }
-  };
-  std::vector<Candidate> candidates;
+  std::vector<SubmapCandidate> candidates;
   for (int k = 0; k < finished; ++k) {
     const int last = (k + 1) * per - 1;
     if (last >= cur || path_[cur] - path_[last] < options_.loopMinTravel) continue;
@@ -185,172 +187,197 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
     if (best <= window) candidates.push_back({best, k, window});
   }
   std::sort(candidates.begin(), candidates.end());
+  return candidates;
+}
+
+PreparedScan LoopCloser::MatchingBeams(const StoredScan& s) {
+  PreparedScan prepared;
+  prepared.sensor_in_base = s.sensor_in_base;
+  for (std::size_t i = 0; i < s.range.size(); ++i) {
+    if (!s.Hit(i)) continue;
+    prepared.match_range.push_back(s.range[i]);
+    prepared.match_cos.push_back(s.Cos(i));
+    prepared.match_sin.push_back(s.Sin(i));
+  }
+  return prepared;
+}
+
+bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
+  if (trajectory.size() != scans_.size()) {
+    throw std::invalid_argument("LoopCloser::Detect: " + std::to_string(trajectory.size()) + " poses for " +
+                                std::to_string(scans_.size()) + " nodes");
+  }
+  const int cur = size() - 1;
+  if (cur <= 0) return false;
+  const Pose2& here = trajectory[cur];
+  path_[cur] = path_[cur - 1] + std::hypot(here.x - trajectory[cur - 1].x, here.y - trajectory[cur - 1].y);
+  if (cur % kSearchEvery != 0) return false;
+  const std::vector<SubmapCandidate> candidates = Candidates(trajectory);
 
   std::vector<Eigen::Vector2d> points;
   points.reserve(newest_points_.size());
   for (const Eigen::Vector2f& p : newest_points_) points.push_back(p.cast<double>());
   if (points.empty()) return false;
-  PreparedScan prepared;  // the matching beams, for the refinement on the submap's grid
-  {
-    const StoredScan& s = scans_[cur];
-    prepared.sensor_in_base = s.sensor_in_base;
-    for (std::size_t i = 0; i < s.range.size(); ++i) {
-      if (!s.Hit(i)) continue;
-      prepared.match_range.push_back(s.range[i]);
-      prepared.match_cos.push_back(s.Cos(i));
-      prepared.match_sin.push_back(s.Sin(i));
-    }
-  }
+  // The matching beams, for the refinement on the submap's grid.
+  const PreparedScan prepared = MatchingBeams(scans_[cur]);
   for (std::size_t searched = 0; searched < candidates.size() && searched < kMaxSearchesPerScan; ++searched) {
-    const Candidate& cand = candidates[searched];
-    RenderedSubmap* submap = Submap(cand.submap, trajectory);
-    if (submap == nullptr) continue;
-    ++searches_;
-    // The two best places at least kAmbiguitySeparation apart: a second one scoring nearly as well
-    // (a corridor seen along its axis, twin rooms) makes the match ambiguous, and it is dropped.
-    CorrelativeSearchOptions search = search_options_;
-    search.linear_search_window = cand.window;
-    const std::vector<CorrelativeMatch> found = submap->search->SearchAll(points, here, search);
-    if (found.empty()) continue;
-    const CorrelativeMatch& match = found.front();
-    // Several places: a corridor seen along its axis when they are all on one line at one heading.
-    Eigen::Vector2d axis(1.0, 0.0);
-    const bool along_axis = found.size() > 1;
-    if (along_axis && options_.loopCorridors == 0) {
-      ++ambiguous_;
-      continue;
-    }
-    if (along_axis) {
-      axis = Eigen::Vector2d(found[1].pose.x - match.pose.x, found[1].pose.y - match.pose.y).normalized();
-      bool line = true;
-      for (const CorrelativeMatch& other : found) {
-        const Eigen::Vector2d d(other.pose.x - match.pose.x, other.pose.y - match.pose.y);
-        line = line && std::fabs(axis.x() * d.y() - axis.y() * d.x()) <= kAxisOffLine &&
-               std::fabs(NormalizeAngle(other.pose.yaw - match.pose.yaw)) <= kAxisTurn;
-      }
-      if (!line) {
-        ++ambiguous_;
-        continue;
-      }
-    }
-    // The part of a displacement the match measures: all of it, or across the corridor.
-    const auto measured = [&](double dx, double dy) {
-      if (!along_axis) return std::hypot(dx, dy);
-      return std::fabs(axis.x() * dy - axis.y() * dx);
-    };
-    // Polish the lattice pose on the submap's own grid (the RBPF's matcher: hill climber from the
-    // lattice pose, then sub-cell refinement); a refinement that wanders off means the match was
-    // not a clear one.
-    Pose2 climbed;
-    matcher_->Optimize(submap->grid, prepared, match.pose, &climbed);
-    Pose2 refined = matcher_->Refine(submap->grid, prepared, climbed);
-    if (measured(refined.x - match.pose.x, refined.y - match.pose.y) > 3.0 * options_.delta ||
-        std::fabs(NormalizeAngle(refined.yaw - match.pose.yaw)) > 0.05) {
-      continue;
-    }
-    if (along_axis) {
-      // Along the corridor the match says nothing: keep the estimate's position there.
-      const double t = axis.x() * (here.x - refined.x) + axis.y() * (here.y - refined.y);
-      refined.x += t * axis.x();
-      refined.y += t * axis.y();
-    }
-    const int anchor = cand.submap * per;
     LoopConstraint c;
-    c.from = anchor;
-    c.to = cur;
-    c.measurement = Between(trajectory[anchor], refined);
-    c.score = match.score;
-    c.correction = Compose(refined, Between(here, Pose2{}));
-    c.along_axis = along_axis;
-    c.axis = NormalizeAngle(std::atan2(axis.y(), axis.x()) - trajectory[anchor].yaw);
-    // Whether an earlier match t agrees with this one, and which of the two can vouch for the
-    // other: the rigid correction of the map t implies puts this scan within a third of
-    // kBigCorrection of where its own match puts it, plus the drift the front-end may have made
-    // between the two scans and between the two submaps (loopDriftRate per metre of path, a tenth
-    // of that in radians). A corridor constraint measures only across its corridor (and the
-    // heading): compared with a full one, only that component counts, and it vouches for no
-    // other constraint — a large correction always has a full match behind it (two corridor
-    // constraints agreeing across parallel corridors would leave the claim along them unchecked,
-    // and on the synthetic buildings they pulled trajectories metres wrong).
-    struct Agreement {
-      bool agree = false, vouches_for_t = false, t_vouches = false;
-    };
-    const auto agreement = [&](const LoopConstraint& t) {
-      Agreement r;
-      const auto corridor = [&](const LoopConstraint& k) { return k.axis + trajectory[k.from].yaw; };
-      r.vouches_for_t = !c.along_axis;
-      r.t_vouches = !t.along_axis;
-      if (!r.vouches_for_t && !r.t_vouches) return r;
-      const Pose2 predicted = Compose(t.correction, here);  // where t puts this scan
-      const double apart = std::fabs(path_[cur] - path_[t.to]) + std::fabs(path_[c.from] - path_[t.from]);
-      const double drift = options_.loopDriftRate * apart;
-      const double dx = predicted.x - refined.x, dy = predicted.y - refined.y;
-      double off = std::hypot(dx, dy);
-      if (c.along_axis || t.along_axis) {
-        const double a = corridor(c.along_axis ? c : t);
-        off = std::fabs(std::cos(a) * dy - std::sin(a) * dx);
-      }
-      r.agree = off < kBigCorrection / 3.0 + drift &&
-                std::fabs(NormalizeAngle(predicted.yaw - refined.yaw)) < kBigCorrection / 30.0 + drift / 10.0;
-      return r;
-    };
-    bool small = std::hypot(refined.x - here.x, refined.y - here.y) <= kBigCorrection &&
-                 std::fabs(NormalizeAngle(refined.yaw - here.yaw)) <= kBigCorrection / 10.0;
-    // A correction just under kBigCorrection that repeats a large one still waiting for
-    // confirmation, from the same submap, is that same claim, not a small one: it waits too.
-    for (const LoopConstraint& t : tentative_) {
-      if (!small || t.confirmed || t.from != c.from || t.to == cur) continue;
-      const Agreement a = agreement(t);
-      if (a.agree && a.vouches_for_t) small = false;
+    Pose2 refined;
+    if (Match(candidates[searched], trajectory, points, prepared, &c, &refined)) {
+      AddConstraint(c, refined, candidates[searched].window, trajectory);
     }
-    if (small) {
-      if (!along_axis) anchored_path_ = path_[cur];
-      constraints_.push_back(c);
-      ++pending_;
-      continue;
-    }
-    // A constraint that says the estimate is far off enters the graph only once a constraint of
-    // another scan in another submap that can vouch for it agrees with it: a graph cannot check a
-    // lone loop edge — the chain of odometry edges bends to fit any one — so one look-alike place
-    // must not be able to move the trajectory by metres.
-    bool confirmed = false;
-    for (LoopConstraint& t : tentative_) {
-      // Another scan, and another submap: scans matched against the same submap share its
-      // errors (a submap slightly bent inside, a place it aliases), so they are not two opinions —
-      // except on the way back from a long stretch nothing has anchored (the window has grown
-      // past loopSearchWindow with the drift), when two scans kSameSubmapApart of path apart saw
-      // different stretches of it: the first corridor of a return may be the only submap the
-      // robot passes before it leaves the old track again.
-      if (t.to == cur) continue;
-      if (t.from == c.from && !(path_[cur] - path_[t.to] >= kSameSubmapApart &&
-                                cand.window > options_.loopSearchWindow)) {
-        continue;
-      }
-      const Agreement a = agreement(t);
-      if (!a.agree) continue;
-      if (a.vouches_for_t && !t.confirmed) {
-        t.confirmed = true;
-        constraints_.push_back(t);
-        ++pending_;
-        big_pending_ = true;
-        if (!t.along_axis) anchored_path_ = std::max(anchored_path_, path_[t.to]);
-      }
-      confirmed = confirmed || a.t_vouches;
-    }
-    if (confirmed) {
-      if (!along_axis) anchored_path_ = path_[cur];
-      c.confirmed = true;
-      constraints_.push_back(c);
-      ++pending_;
-      big_pending_ = true;
-    }
-    tentative_.push_back(c);
   }
   // Tentative constraints expire after kTentativeNodes processed scans.
   tentative_.erase(std::remove_if(tentative_.begin(), tentative_.end(),
                                   [&](const LoopConstraint& t) { return cur - t.to > kTentativeNodes; }),
                    tentative_.end());
   return pending_ > 0 && (big_pending_ || size() - last_optimized_ >= kOptimizeEvery);
+}
+
+bool LoopCloser::Match(const SubmapCandidate& cand, const std::vector<Pose2>& trajectory,
+                       const std::vector<Eigen::Vector2d>& points, const PreparedScan& prepared,
+                       LoopConstraint* c, Pose2* refined_pose) {
+  const int cur = size() - 1;
+  const Pose2& here = trajectory[cur];
+  RenderedSubmap* submap = Submap(cand.submap, trajectory);
+  if (submap == nullptr) return false;
+  ++searches_;
+  // The two best places at least kAmbiguitySeparation apart: a second one scoring nearly as well
+  // (a corridor seen along its axis, twin rooms) makes the match ambiguous, and it is dropped.
+  CorrelativeSearchOptions search = search_options_;
+  search.linear_search_window = cand.window;
+  const std::vector<CorrelativeMatch> found = submap->search->SearchAll(points, here, search);
+  if (found.empty()) return false;
+  const CorrelativeMatch& match = found.front();
+  // Several places: a corridor seen along its axis when they are all on one line at one heading.
+  Eigen::Vector2d axis(1.0, 0.0);
+  const bool along_axis = found.size() > 1;
+  if (along_axis && (options_.loopCorridors == 0 || !OnOneLine(found, &axis))) {
+    ++ambiguous_;
+    return false;
+  }
+  // The part of a displacement the match measures: all of it, or across the corridor.
+  const auto measured = [&](double dx, double dy) {
+    if (!along_axis) return std::hypot(dx, dy);
+    return std::fabs(axis.x() * dy - axis.y() * dx);
+  };
+  // Polish the lattice pose on the submap's own grid (the RBPF's matcher: hill climber from the
+  // lattice pose, then sub-cell refinement); a refinement that wanders off means the match was
+  // not a clear one.
+  Pose2 climbed;
+  matcher_->Optimize(submap->grid, prepared, match.pose, &climbed);
+  Pose2 refined = matcher_->Refine(submap->grid, prepared, climbed);
+  if (measured(refined.x - match.pose.x, refined.y - match.pose.y) > 3.0 * options_.delta ||
+      std::fabs(NormalizeAngle(refined.yaw - match.pose.yaw)) > 0.05) {
+    return false;
+  }
+  if (along_axis) {
+    // Along the corridor the match says nothing: keep the estimate's position there.
+    const double t = axis.x() * (here.x - refined.x) + axis.y() * (here.y - refined.y);
+    refined.x += t * axis.x();
+    refined.y += t * axis.y();
+  }
+  const int anchor = cand.submap * options_.loopSubmapScans;
+  c->from = anchor;
+  c->to = cur;
+  c->measurement = Between(trajectory[anchor], refined);
+  c->score = match.score;
+  c->correction = Compose(refined, Between(here, Pose2{}));
+  c->along_axis = along_axis;
+  c->axis = NormalizeAngle(std::atan2(axis.y(), axis.x()) - trajectory[anchor].yaw);
+  *refined_pose = refined;
+  return true;
+}
+
+// The rigid correction of the map t implies puts this scan within a third of kBigCorrection of
+// where its own match puts it, plus the drift the front-end may have made between the two scans
+// and between the two submaps (loopDriftRate per metre of path, a tenth of that in radians). A
+// corridor constraint measures only across its corridor (and the heading): compared with a full
+// one, only that component counts, and it vouches for no other constraint — a large correction
+// always has a full match behind it (two corridor constraints agreeing across parallel corridors
+// would leave the claim along them unchecked).
+LoopCloser::Agreement LoopCloser::Agree(const LoopConstraint& c, const Pose2& refined,
+                                        const LoopConstraint& t,
+                                        const std::vector<Pose2>& trajectory) const {
+  Agreement r;
+  const auto corridor = [&](const LoopConstraint& k) { return k.axis + trajectory[k.from].yaw; };
+  r.vouches_for_t = !c.along_axis;
+  r.t_vouches = !t.along_axis;
+  if (!r.vouches_for_t && !r.t_vouches) return r;
+  const Pose2 predicted = Compose(t.correction, trajectory[c.to]);  // where t puts this scan
+  const double apart = std::fabs(path_[c.to] - path_[t.to]) + std::fabs(path_[c.from] - path_[t.from]);
+  const double drift = options_.loopDriftRate * apart;
+  const double dx = predicted.x - refined.x, dy = predicted.y - refined.y;
+  double off = std::hypot(dx, dy);
+  if (c.along_axis || t.along_axis) {
+    const double a = corridor(c.along_axis ? c : t);
+    off = std::fabs(std::cos(a) * dy - std::sin(a) * dx);
+  }
+  r.agree = off < kBigCorrection / 3.0 + drift &&
+            std::fabs(NormalizeAngle(predicted.yaw - refined.yaw)) < kBigCorrection / 30.0 + drift / 10.0;
+  return r;
+}
+
+bool LoopCloser::SmallCorrection(const LoopConstraint& c, const Pose2& refined,
+                                 const std::vector<Pose2>& trajectory) const {
+  const Pose2& here = trajectory[c.to];
+  bool small = std::hypot(refined.x - here.x, refined.y - here.y) <= kBigCorrection &&
+               std::fabs(NormalizeAngle(refined.yaw - here.yaw)) <= kBigCorrection / 10.0;
+  // A correction just under kBigCorrection that repeats a large one still waiting for
+  // confirmation, from the same submap, is that same claim, not a small one: it waits too.
+  for (const LoopConstraint& t : tentative_) {
+    if (!small || t.confirmed || t.from != c.from || t.to == c.to) continue;
+    const Agreement a = Agree(c, refined, t, trajectory);
+    if (a.agree && a.vouches_for_t) small = false;
+  }
+  return small;
+}
+
+void LoopCloser::AddConstraint(LoopConstraint c, const Pose2& refined, double window,
+                               const std::vector<Pose2>& trajectory) {
+  const int cur = c.to;
+  if (SmallCorrection(c, refined, trajectory)) {
+    if (!c.along_axis) anchored_path_ = path_[cur];
+    constraints_.push_back(c);
+    ++pending_;
+    return;
+  }
+  // A constraint that says the estimate is far off enters the graph only once a constraint of
+  // another scan in another submap that can vouch for it agrees with it: a graph cannot check a
+  // lone loop edge — the chain of odometry edges bends to fit any one — so one look-alike place
+  // must not be able to move the trajectory by metres.
+  bool confirmed = false;
+  for (LoopConstraint& t : tentative_) {
+    // Another scan, and another submap: scans matched against the same submap share its
+    // errors (a submap slightly bent inside, a place it aliases), so they are not two opinions —
+    // except on the way back from a long stretch nothing has anchored (the window has grown
+    // past loopSearchWindow with the drift), when two scans kSameSubmapApart of path apart saw
+    // different stretches of it: the first corridor of a return may be the only submap the
+    // robot passes before it leaves the old track again.
+    if (t.to == cur) continue;
+    if (t.from == c.from && !(path_[cur] - path_[t.to] >= kSameSubmapApart &&
+                              window > options_.loopSearchWindow)) {
+      continue;
+    }
+    const Agreement a = Agree(c, refined, t, trajectory);
+    if (!a.agree) continue;
+    if (a.vouches_for_t && !t.confirmed) {
+      t.confirmed = true;
+      constraints_.push_back(t);
+      ++pending_;
+      big_pending_ = true;
+      if (!t.along_axis) anchored_path_ = std::max(anchored_path_, path_[t.to]);
+    }
+    confirmed = confirmed || a.t_vouches;
+  }
+  if (confirmed) {
+    if (!c.along_axis) anchored_path_ = path_[cur];
+    c.confirmed = true;
+    constraints_.push_back(c);
+    ++pending_;
+    big_pending_ = true;
+  }
+  tentative_.push_back(c);
 }
 
 std::vector<Pose2> LoopCloser::Optimize(const std::vector<Pose2>& trajectory) {

@@ -43,20 +43,18 @@
 // large correction waits (kTentativeNodes) for a constraint of another scan against another
 // submap to agree before it enters the graph at all — or, on the way back from a long stretch
 // nothing anchored (the search window grown past loopSearchWindow), of a scan at least
-// kSameSubmapApart further along against the same submap: on a synthetic 200 m × 80 m building
-// the first return to the start corridor was seen twice, 9 m apart, against one submap only,
-// both matches right, and the loop stayed open 11 m wide. Right after an anchor one submap stays
-// one opinion (with a 30 m laser two wrong matches 12 m apart against one submap agreed there).
+// kSameSubmapApart further along against the same submap: the first corridor of a return to the
+// old track may be the only submap the robot passes before it leaves the track again, and scans
+// that far apart see different stretches of it. Right after an anchor one submap stays one
+// opinion: with a long-range laser, two wrong matches against one submap can agree.
 // Why wait at all: the odometry chain bends to fit any single loop edge, so the graph cannot
 // reject a lone false one, and one look-alike place must not move a trajectory by metres
 // (pose_graph.h: loop edges under a Huber loss, outliers dropped and the graph re-solved). A
 // correction just under kBigCorrection that repeats such a waiting claim from the same submap
-// waits with it: otherwise the claim slips in by the next scan that matches a little nearer (on
-// the Intel log, seed 3, a 0.31 m claim entered as a 0.295 m one and raised the relations error
-// from 0.0186 to 0.0274 m). The corrected trajectory comes back to the RBPF, which applies it
-// only when it moves the newest node by kApplyShift / kApplyTurn or more: below that the filter is
-// at least as precise as the constraints (on the Intel log, applying every optimisation made the
-// relations error worse: 0.050 against 0.038 m).
+// waits with it: otherwise the claim slips in by the next scan that matches a little nearer. The
+// corrected trajectory comes back to the RBPF, which applies it only when it moves the newest node
+// by kApplyShift / kApplyTurn or more: below that the filter is at least as precise as the
+// constraints, and resetting the particles would only trade its precision for theirs.
 //
 // What the RBPF does with a correction (rbpf_slam.cpp): every particle is reset onto the corrected
 // best trajectory and its rebuilt map, with weights reset. Why not move every particle by the same
@@ -125,8 +123,6 @@ class LoopCloser {
   static constexpr double kSameSubmapApart = 6.0;  // m
   // An optimisation is applied to the filter only when it moves the newest node by this much.
   static constexpr double kApplyShift = 0.25, kApplyTurn = 0.035;  // m, rad
-  // (On the Intel log a pair of constraints against one submap agreed on a wrong 0.37 m
-  // correction; applied, it raised that seed's relations error from 0.019 to 0.031 m.)
   // Edge standard deviations: consecutive nodes (scan-matched) and loop closures.
   static constexpr double kSequentialSigmaXy = 0.02, kSequentialSigmaTheta = 0.005;
   static constexpr double kLoopSigmaXy = 0.03, kLoopSigmaTheta = 0.01;
@@ -179,8 +175,42 @@ class LoopCloser {
     explicit RenderedSubmap(double resolution) : grid(resolution) {}
   };
 
+  // A finished submap near enough to the current estimate to search the newest scan in.
+  struct SubmapCandidate {
+    double distance;  // from the estimate to the submap's nearest node
+    int submap;
+    double window;    // half-width of the search
+    bool operator<(const SubmapCandidate& o) const { return distance < o.distance; }
+  };
+  // Whether an earlier constraint t agrees with a new one, and which of the two can vouch for
+  // the other.
+  struct Agreement {
+    bool agree = false, vouches_for_t = false, t_vouches = false;
+  };
+
   void Render(const StoredScan& s, const Pose2& pose, Grid* grid) const;
   RenderedSubmap* Submap(int index, const std::vector<Pose2>& trajectory);
+  // The submaps to search the newest node's scan in, nearest first (see Detection above).
+  std::vector<SubmapCandidate> Candidates(const std::vector<Pose2>& trajectory) const;
+  // A stored scan's beams that end in a hit, as the scan matcher takes them.
+  static PreparedScan MatchingBeams(const StoredScan& s);
+  // Searches the newest scan in the candidate submap and refines the match there; false when
+  // there is no match, it is ambiguous (and not a corridor's), or the refinement wanders off.
+  // Otherwise *c is the constraint from the submap's first node to the newest one and
+  // *refined_pose the newest node's matched pose.
+  bool Match(const SubmapCandidate& cand, const std::vector<Pose2>& trajectory,
+             const std::vector<Eigen::Vector2d>& points, const PreparedScan& prepared,
+             LoopConstraint* c, Pose2* refined_pose);
+  Agreement Agree(const LoopConstraint& c, const Pose2& refined, const LoopConstraint& t,
+                  const std::vector<Pose2>& trajectory) const;
+  // Whether c corrects the estimate by less than kBigCorrection, and repeats no large claim
+  // still waiting for a second opinion.
+  bool SmallCorrection(const LoopConstraint& c, const Pose2& refined,
+                       const std::vector<Pose2>& trajectory) const;
+  // Puts a small correction into the graph; a large one waits in tentative_ until another
+  // constraint confirms it (see Back-end above). `window`: the search's half-width.
+  void AddConstraint(LoopConstraint c, const Pose2& refined, double window,
+                     const std::vector<Pose2>& trajectory);
 
   GmappingOptions options_;
   const ScanMatcher* matcher_;

@@ -8,8 +8,8 @@
 // jump by whole beams for millimetre moves; see ForEachBeam) — and the distance d to the nearest
 // such mean endpoint is used:
 //   * matching score (hill climbing):  Σ_beams exp(-d² / sigma)  (0 for a beam without match) —
-//     gmapping's wide kernel; the narrow exp(-d² / 2σ²) was measured worse on the Intel log (a
-//     slightly rotated, less consistent map, and 2× slower as the climber takes more steps),
+//     gmapping's wide kernel: it still rewards endpoints a few cells off, so the climber sees a
+//     slope from further away and takes fewer steps than with the narrow exp(-d² / 2σ²),
 //   * log-likelihood (particle weight): Σ_beams -d² / lsigma, or -0.5 / lsigma without match.
 // Only every (lskip+1)-th beam with a reading within maxUrange is used.
 //
@@ -28,12 +28,11 @@
 // cells just behind a wall (hit by range noise, never passed through) read as fully occupied there.
 // Gauss-Newton with re-association and a one-cell Gaussian weight per beam (iteratively reweighted
 // least squares, lightly damped for corridors) minimises the weighted squared distances over
-// (x, y, θ). The climber ends on a grid of poses lstep/2^iterations apart on a score that is flat
-// near its top and jumps as endpoints change cells (in scan_matcher_test it ends up to 0.9 cell
-// off from a fractional-cell start, the refinement within 0.2 cell). A result more than a cell or
-// astep from the climber's pose is discarded.
-// On the Intel log (30 particles, 5 seeds) it brings the relations error from 0.0444 to 0.0378 m,
-// for about a quarter more time (point-to-point residuals instead: 0.0387 m).
+// (x, y, θ). Why: the climber ends on a grid of poses lstep/2^iterations apart on a score that is
+// flat near its top and jumps as endpoints change cells, so it can stop most of a cell from the
+// best pose; the refinement is continuous (scan_matcher_test bounds both errors). Point-to-line
+// rather than point-to-point: a beam on a straight wall only says how far the wall is, and puts
+// no pull along it. A result more than a cell or astep from the climber's pose is discarded.
 //
 // SampleAround is the improved proposal of the paper (Sec. IV): around the mode x̂ found by the
 // matcher it evaluates the likelihood on a grid of poses (±llsamplerange step llsamplestep in x and

@@ -247,167 +247,229 @@ Pose2 InterpolatedPose(const Pose2& pose0, const Pose2& odom0, const Pose2& odom
   return minibot3d_slam::Compose(pose0, rel);
 }
 
-}  // namespace
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
-int main(int argc, char** argv) {
-  const Args args = ParseArgs(argc, argv);
-  const auto start = std::chrono::steady_clock::now();
-  auto wall = [&]() {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
-
-  std::unique_ptr<minibot3d_slam::LogReader> reader;
+// Opens the log or the bag; nullptr (having said why) when it cannot be read.
+std::unique_ptr<minibot3d_slam::LogReader> OpenLog(const Args& args) {
   try {
-    reader = args.bag.empty() ? minibot3d_slam::OpenCarmenLog(args.log)
-                              : minibot3d_slam::OpenBagLog(args.bag, args.bag_options);
+    return args.bag.empty() ? minibot3d_slam::OpenCarmenLog(args.log)
+                            : minibot3d_slam::OpenBagLog(args.bag, args.bag_options);
   } catch (const std::exception& e) {
     std::cerr << "slam_offline: " << e.what() << "\n";
-    return 1;
+    return nullptr;
   }
-  std::size_t warnings_shown = 0;
-  ShowWarnings(*reader, args.quiet, &warnings_shown);
-  std::error_code ec;
-  std::filesystem::create_directories(args.out, ec);
-  if (ec) {
-    std::cerr << "slam_offline: cannot create output folder " << args.out << ": " << ec.message() << "\n";
-    return 1;
-  }
+}
 
-  // Pass 1: the filter, one reading at a time. What is kept per reading is one bit (processed or
-  // not); the readings themselves are read again for the trajectory (pass 2).
-  std::signal(SIGINT, OnSigint);
-  minibot3d_slam::RbpfSlam slam(args.options);
+bool CreateOutputFolder(const std::string& out) {
+  std::error_code ec;
+  std::filesystem::create_directories(out, ec);
+  if (ec) {
+    std::cerr << "slam_offline: cannot create output folder " << out << ": " << ec.message() << "\n";
+    return false;
+  }
+  return true;
+}
+
+// What the filter's pass keeps of the log: one bit per reading (processed or not) and the
+// odometry of each processed one; the readings themselves are read again for the trajectory.
+struct FilterPass {
   std::vector<bool> processed_flags;
   std::vector<Pose2> processed_odom;  // the odometry at each processed reading
   std::size_t fed = 0;
   int processed = 0;
   std::size_t peak_map_bytes = 0;  // map cells of all particles, sampled every 10 processed scans
   double first_time = 0.0, last_time = 0.0;
+};
+
+// Pass 1: the filter, one reading at a time, until the log ends or SIGINT. Throws what the
+// reader or the filter throws.
+FilterPass RunFilter(minibot3d_slam::LogReader* reader, minibot3d_slam::RbpfSlam* slam, bool quiet,
+                     std::chrono::steady_clock::time_point start) {
+  FilterPass pass;
   double last_report = 0.0;
   minibot3d_slam::LogScan s;
-  try {
-    while (!g_interrupted && reader->Next(&s)) {
-      if (fed == 0) first_time = s.timestamp;
-      last_time = s.timestamp;
-      const bool used = slam.AddScan(s.scan, s.odom);
-      processed_flags.push_back(used);
-      if (used) processed_odom.push_back(s.odom);
-      ++fed;
-      if (used && ++processed % 10 == 0) peak_map_bytes = std::max(peak_map_bytes, slam.MapMemoryBytes());
-      if (!args.quiet && wall() - last_report >= 1.0) {
-        last_report = wall();
-        std::fprintf(stderr, "\rslam_offline: scans %zu  processed %d  log %.0f s  %.0f scans/s   ", fed, processed,
-                     last_time - first_time, static_cast<double>(fed) / std::max(wall(), 1e-9));
-      }
+  while (!g_interrupted && reader->Next(&s)) {
+    if (pass.fed == 0) pass.first_time = s.timestamp;
+    pass.last_time = s.timestamp;
+    const bool used = slam->AddScan(s.scan, s.odom);
+    pass.processed_flags.push_back(used);
+    if (used) pass.processed_odom.push_back(s.odom);
+    ++pass.fed;
+    if (used && ++pass.processed % 10 == 0) {
+      pass.peak_map_bytes = std::max(pass.peak_map_bytes, slam->MapMemoryBytes());
     }
-  } catch (const std::exception& e) {
-    std::cerr << "\nslam_offline: " << e.what() << "\n";
-    return 1;
+    if (!quiet && SecondsSince(start) - last_report >= 1.0) {
+      last_report = SecondsSince(start);
+      std::fprintf(stderr, "\rslam_offline: scans %zu  processed %d  log %.0f s  %.0f scans/s   ", pass.fed,
+                   pass.processed, pass.last_time - pass.first_time,
+                   static_cast<double>(pass.fed) / std::max(SecondsSince(start), 1e-9));
+    }
   }
-  if (!args.quiet) std::fprintf(stderr, "\rslam_offline: scans %zu  processed %d  log %.0f s\n", fed, processed,
-                                last_time - first_time);
-  ShowWarnings(*reader, args.quiet, &warnings_shown);
-  if (g_interrupted) {
-    std::cerr << "slam_offline: interrupted after " << fed << " scans; writing what was processed\n";
-  }
-  if (fed == 0) {
-    std::cerr << "slam_offline: no scan could be used\n";
-    return 1;
-  }
+  if (!quiet) std::fprintf(stderr, "\rslam_offline: scans %zu  processed %d  log %.0f s\n", pass.fed,
+                           pass.processed, pass.last_time - pass.first_time);
+  return pass;
+}
 
-  slam.FinishLoops();
-  // Pass 2, the trajectory: processed readings take the best particle's poses; the others are
-  // first placed by odometry between the processed ones around them, then (unless
-  // --odometry-between) matched against the final map — independent matches against a map no
-  // longer changing, so on the `threads` option's threads, a batch of readings at a time.
+// Readings of the trajectory's pass, a batch at a time.
+struct Batch {
+  std::vector<minibot3d_slam::LogScan> readings;
+  std::vector<Pose2> poses;
+  std::vector<std::size_t> to_localize;  // indices into readings
+
+  std::size_t Bytes() const {
+    std::size_t bytes = 0;
+    for (const auto& b : readings) {
+      bytes += sizeof(b) + (b.scan.ranges.capacity() + b.scan.angles.capacity()) * sizeof(double);
+    }
+    return bytes;
+  }
+};
+
+// Matches the batch's readings to localize against the final map — independent matches against a
+// map no longer changing, so on `threads` threads — and writes every reading's pose.
+void FlushBatch(const minibot3d_slam::RbpfSlam& slam, int threads, std::FILE* out, Batch* batch) {
+  minibot3d_slam::ParallelFor(batch->to_localize.size(), threads, [&](std::size_t j) {
+    const std::size_t i = batch->to_localize[j];
+    batch->poses[i] = slam.Localize(batch->readings[i].scan, batch->poses[i]);
+  });
+  for (std::size_t i = 0; i < batch->readings.size(); ++i) {
+    std::fprintf(out, "%.6f %.6f %.6f %.6f\n", batch->readings[i].timestamp, batch->poses[i].x,
+                 batch->poses[i].y, batch->poses[i].yaw);
+  }
+  batch->readings.clear();
+  batch->poses.clear();
+  batch->to_localize.clear();
+}
+
+// Pass 2: processed readings take the best particle's poses `best`; the others are first placed
+// by odometry between the processed ones around them, then (with `localize`) matched against the
+// final map. Throws std::runtime_error when the log no longer matches pass 1.
+void PlaceReadings(minibot3d_slam::LogReader* reader, const minibot3d_slam::RbpfSlam& slam,
+                   const std::vector<minibot3d_slam::StampedPose>& best, const FilterPass& pass,
+                   bool localize, int threads, std::FILE* out, std::size_t* peak_batch_bytes) {
+  constexpr std::size_t kBatch = 256;
+  Batch batch;
+  batch.readings.reserve(kBatch);
+  Pose2 anchor_pose, anchor_odom;  // best pose and odometry at the last processed reading
+  std::size_t k = 0;               // processed readings so far (index into best)
+  reader->Rewind();
+  for (std::size_t i = 0; i < pass.fed; ++i) {
+    batch.readings.emplace_back();
+    if (!reader->Next(&batch.readings.back())) {
+      throw std::runtime_error("the log ended after " + std::to_string(i) + " readings in the second pass, " +
+                               std::to_string(pass.fed) + " in the first");
+    }
+    const minibot3d_slam::LogScan& r = batch.readings.back();
+    if (pass.processed_flags[i]) {
+      if (k >= best.size()) throw std::runtime_error("more processed readings than trajectory poses");
+      anchor_pose = best[k++].pose;
+      anchor_odom = r.odom;
+    } else if (localize) {
+      batch.to_localize.push_back(batch.readings.size() - 1);
+    }
+    const bool next = k < best.size();
+    batch.poses.push_back(pass.processed_flags[i]
+                              ? anchor_pose
+                              : InterpolatedPose(anchor_pose, anchor_odom, r.odom, next ? &best[k].pose : nullptr,
+                                                 next ? &pass.processed_odom[k] : nullptr));
+    if (batch.readings.size() == kBatch) {
+      *peak_batch_bytes = std::max(*peak_batch_bytes, batch.Bytes());
+      FlushBatch(slam, threads, out, &batch);
+    }
+  }
+  FlushBatch(slam, threads, out, &batch);
+}
+
+// Writes OUT/trajectory.txt (through a temporary file, renamed when complete). Returns false,
+// having said why, when it could not.
+bool WriteTrajectory(minibot3d_slam::LogReader* reader, const minibot3d_slam::RbpfSlam& slam,
+                     const FilterPass& pass, const Args& args, std::size_t* peak_batch_bytes) {
   const std::vector<minibot3d_slam::StampedPose> best = slam.BestTrajectory();
-  if (best.size() != processed_odom.size()) {
-    std::cerr << "slam_offline: " << best.size() << " trajectory poses for " << processed_odom.size()
+  if (best.size() != pass.processed_odom.size()) {
+    std::cerr << "slam_offline: " << best.size() << " trajectory poses for " << pass.processed_odom.size()
               << " processed readings\n";
-    return 1;
+    return false;
   }
   const std::string traj_path = args.out + "/trajectory.txt";
   const std::string traj_tmp = traj_path + ".tmp";
   std::FILE* out = std::fopen(traj_tmp.c_str(), "w");
   if (out == nullptr) {
     std::cerr << "slam_offline: cannot write " << traj_tmp << ": " << std::strerror(errno) << "\n";
-    return 1;
+    return false;
   }
-  constexpr std::size_t kBatch = 256;
-  const int threads = minibot3d_slam::ResolveThreads(args.options.threads);
-  std::vector<minibot3d_slam::LogScan> batch;  // readings of this batch
-  std::vector<Pose2> poses;
-  std::vector<std::size_t> to_localize;  // indices into batch
-  batch.reserve(kBatch);
-  auto flush = [&]() {
-    minibot3d_slam::ParallelFor(to_localize.size(), threads, [&](std::size_t j) {
-      const std::size_t i = to_localize[j];
-      poses[i] = slam.Localize(batch[i].scan, poses[i]);
-    });
-    for (std::size_t i = 0; i < batch.size(); ++i) {
-      std::fprintf(out, "%.6f %.6f %.6f %.6f\n", batch[i].timestamp, poses[i].x, poses[i].y, poses[i].yaw);
-    }
-    batch.clear();
-    poses.clear();
-    to_localize.clear();
-  };
-  Pose2 anchor_pose, anchor_odom;  // best pose and odometry at the last processed reading
-  std::size_t k = 0;               // processed readings so far (index into best)
-  std::size_t peak_batch_bytes = 0;
   try {
-    reader->Rewind();
-    for (std::size_t i = 0; i < fed; ++i) {
-      batch.emplace_back();
-      if (!reader->Next(&batch.back())) {
-        throw std::runtime_error("the log ended after " + std::to_string(i) + " readings in the second pass, " +
-                                 std::to_string(fed) + " in the first");
-      }
-      const minibot3d_slam::LogScan& r = batch.back();
-      if (processed_flags[i]) {
-        if (k >= best.size()) throw std::runtime_error("more processed readings than trajectory poses");
-        anchor_pose = best[k++].pose;
-        anchor_odom = r.odom;
-      } else if (args.localize) {
-        to_localize.push_back(batch.size() - 1);
-      }
-      const bool next = k < best.size();
-      poses.push_back(processed_flags[i] ? anchor_pose
-                                         : InterpolatedPose(anchor_pose, anchor_odom, r.odom,
-                                                            next ? &best[k].pose : nullptr,
-                                                            next ? &processed_odom[k] : nullptr));
-      if (batch.size() == kBatch) {
-        std::size_t bytes = 0;
-        for (const auto& b : batch) {
-          bytes += sizeof(b) + (b.scan.ranges.capacity() + b.scan.angles.capacity()) * sizeof(double);
-        }
-        peak_batch_bytes = std::max(peak_batch_bytes, bytes);
-        flush();
-      }
-    }
-    flush();
+    PlaceReadings(reader, slam, best, pass, args.localize, minibot3d_slam::ResolveThreads(args.options.threads),
+                  out, peak_batch_bytes);
   } catch (const std::exception& e) {
     std::fclose(out);
     std::remove(traj_tmp.c_str());
     std::cerr << "slam_offline: " << e.what() << "\n";
-    return 1;
+    return false;
   }
   if (std::fclose(out) != 0 || std::rename(traj_tmp.c_str(), traj_path.c_str()) != 0) {
     std::cerr << "slam_offline: cannot write " << traj_path << ": " << std::strerror(errno) << "\n";
-    return 1;
+    return false;
   }
+  return true;
+}
+
+bool SaveCroppedMap(const minibot3d_slam::RbpfSlam& slam, const std::string& out) {
   try {
     const minibot3d_slam::GridMap map = CropToKnown(slam.Map());
-    minibot3d_map_io::SaveMap(map, args.out + "/map", minibot3d_slam::SlamMapSaveOptions(map));
+    minibot3d_map_io::SaveMap(map, out + "/map", minibot3d_slam::SlamMapSaveOptions(map));
   } catch (const std::exception& e) {
     std::cerr << "slam_offline: " << e.what() << "\n";
-    return 1;
+    return false;
   }
+  return true;
+}
+
+void PrintSummary(const FilterPass& pass, const minibot3d_slam::RbpfSlam& slam, std::size_t peak_batch_bytes,
+                  double wall_s) {
   // What the run held because of the log: one bit per reading and the second pass's batch.
-  const std::size_t log_bytes = processed_flags.capacity() / 8 + peak_batch_bytes;
+  const std::size_t log_bytes = pass.processed_flags.capacity() / 8 + peak_batch_bytes;
   std::printf("scans %zu processed %d wall_s %.2f log_s %.1f peak_mem_mb %.1f loop_closures %d loop_constraints %d "
               "map_peak_mb %.1f log_mb %.1f loop_scans_mb %.1f\n",
-              fed, processed, wall(), last_time - first_time, PeakMemoryMb(), slam.loop_closures(),
-              slam.loop_constraints(), static_cast<double>(peak_map_bytes) / 1048576.0,
+              pass.fed, pass.processed, wall_s, pass.last_time - pass.first_time, PeakMemoryMb(),
+              slam.loop_closures(), slam.loop_constraints(), static_cast<double>(pass.peak_map_bytes) / 1048576.0,
               static_cast<double>(log_bytes) / 1048576.0, static_cast<double>(slam.LoopScanBytes()) / 1048576.0);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Args args = ParseArgs(argc, argv);
+  const auto start = std::chrono::steady_clock::now();
+  const std::unique_ptr<minibot3d_slam::LogReader> reader = OpenLog(args);
+  if (reader == nullptr) return 1;
+  std::size_t warnings_shown = 0;
+  ShowWarnings(*reader, args.quiet, &warnings_shown);
+  if (!CreateOutputFolder(args.out)) return 1;
+
+  std::signal(SIGINT, OnSigint);
+  minibot3d_slam::RbpfSlam slam(args.options);
+  FilterPass pass;
+  try {
+    pass = RunFilter(reader.get(), &slam, args.quiet, start);
+  } catch (const std::exception& e) {
+    std::cerr << "\nslam_offline: " << e.what() << "\n";
+    return 1;
+  }
+  ShowWarnings(*reader, args.quiet, &warnings_shown);
+  if (g_interrupted) {
+    std::cerr << "slam_offline: interrupted after " << pass.fed << " scans; writing what was processed\n";
+  }
+  if (pass.fed == 0) {
+    std::cerr << "slam_offline: no scan could be used\n";
+    return 1;
+  }
+
+  slam.FinishLoops();
+  std::size_t peak_batch_bytes = 0;
+  if (!WriteTrajectory(reader.get(), slam, pass, args, &peak_batch_bytes)) return 1;
+  if (!SaveCroppedMap(slam, args.out)) return 1;
+  PrintSummary(pass, slam, peak_batch_bytes, SecondsSince(start));
   return g_interrupted ? 130 : 0;
 }

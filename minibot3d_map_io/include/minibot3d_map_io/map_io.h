@@ -1,9 +1,10 @@
 // Maps on disk in ROS map_server's format: NAME.yaml (image, resolution, origin, negate,
 // occupied_thresh, free_thresh, optional mode) and an image (PGM written; PGM/PNG/... read).
 //
-// The one reader and writer of the workspace (issue 16 item 6): the simulator's ground-truth
-// renderer, map_server, map_saver, slam_offline and the world loader's floor plans all go
-// through it; its Python twin is the module minibot3d_map_io (same semantics, same tests).
+// The one reader and writer of the workspace, so a map file means the same to every tool: the
+// simulator's ground-truth renderer, map_server, map_saver, slam_offline and the world loader's
+// floor plans all go through it; its Python twin is the module minibot3d_map_io (same semantics,
+// same tests).
 // ROS-free: yaml-cpp and OpenCV's image codecs only.
 //
 // Loading follows map_server's image_loader.cpp: a pixel's channels are averaged (alpha too, in

@@ -17,6 +17,19 @@ std::string Xy(double x, double y) {
   return os.str();
 }
 
+// Why the critics have no target: no plan pose lies on the known local costmap.
+std::string PlanOffCostmap(const Path& plan, const Pose2& pose) {
+  return "none of the " + std::to_string(plan.size()) +
+         " plan poses is on the known part of the local costmap (first pose " +
+         Xy(plan.front().x, plan.front().y) + ", robot at " + Xy(pose.x, pose.y) + ")";
+}
+
+// Why the robot cannot get to `what` (the plan, the local goal).
+std::string Unreachable(const std::string& what, const Pose2& pose) {
+  return what + " cannot be reached from the robot at " + Xy(pose.x, pose.y) +
+         " on the local costmap: lethal, inscribed or unknown cells separate them";
+}
+
 // Length of the polyline poses[0..index].
 double ArcLength(const std::vector<Pose2>& poses, size_t index) {
   double len = 0.0;
@@ -89,19 +102,12 @@ bool PathDistCritic::Prepare(const Pose2& pose, const Twist2& /*velocity*/,
   failure_.clear();
   FootprintCells(costmap, footprint_, pose, &robot_cells_);
   if (grid_.SetTargetCells(costmap, plan, robot_cells_) == 0) {
-    failure_ = "none of the " + std::to_string(plan.size()) +
-               " plan poses is on the known part of the local costmap "
-               "(first pose " +
-               Xy(plan.front().x, plan.front().y) + ", robot at " +
-               Xy(pose.x, pose.y) + ")";
+    failure_ = PlanOffCostmap(plan, pose);
     return false;
   }
   int mx, my;
   if (costmap.WorldToMap(pose.x, pose.y, &mx, &my) && !grid_.Reachable(mx, my)) {
-    failure_ = "the plan cannot be reached from the robot at " +
-               Xy(pose.x, pose.y) +
-               " on the local costmap: lethal, inscribed or unknown cells "
-               "separate them";
+    failure_ = Unreachable("the plan", pose);
     return false;
   }
   return true;
@@ -121,11 +127,7 @@ bool GoalDistCritic::Prepare(const Pose2& pose, const Twist2& /*velocity*/,
   bool in_obstacle = false;
   if (!MapGrid::FindLocalGoal(costmap, plan, &gx, &gy, &in_obstacle, &bx,
                               &by)) {
-    failure_ = "none of the " + std::to_string(plan.size()) +
-               " plan poses is on the known part of the local costmap "
-               "(first pose " +
-               Xy(plan.front().x, plan.front().y) + ", robot at " +
-               Xy(pose.x, pose.y) + ")";
+    failure_ = PlanOffCostmap(plan, pose);
     return false;
   }
   if (in_obstacle && bx >= 0) {
@@ -154,10 +156,7 @@ bool GoalDistCritic::Prepare(const Pose2& pose, const Twist2& /*velocity*/,
     grid_.SetTargetCell(costmap, gx, gy, robot_cells_);
   }
   if (on_map && !grid_.Reachable(mx, my)) {
-    failure_ = "the local goal " + Xy(local_goal_.x, local_goal_.y) +
-               " cannot be reached from the robot at " + Xy(pose.x, pose.y) +
-               " on the local costmap: lethal, inscribed or unknown cells "
-               "separate them";
+    failure_ = Unreachable("the local goal " + Xy(local_goal_.x, local_goal_.y), pose);
     return false;
   }
   return true;

@@ -27,6 +27,16 @@ std::string Xy(double x, double y) {
   return "(" + Fixed(x, 3) + ", " + Fixed(y, 3) + ")";
 }
 
+// The i-th of n forward speeds spanning the window (its top when n is 1).
+double VxSample(const VelocityWindow& win, int n, int i) {
+  return n == 1 ? win.max_vx : win.min_vx + (win.max_vx - win.min_vx) * i / (n - 1);
+}
+
+// The j-th of n turn rates spanning [lo, hi] (its middle when n is 1).
+double VthSample(int n, int j, double lo, double hi) {
+  return n == 1 ? 0.5 * (lo + hi) : lo + (hi - lo) * j / (n - 1);
+}
+
 bool SameGoal(const Pose2& a, const Pose2& b) {
   return std::fabs(a.x - b.x) < 1e-6 && std::fabs(a.y - b.y) < 1e-6 &&
          std::fabs(AngleDiff(a.yaw, b.yaw)) < 1e-6;
@@ -286,8 +296,8 @@ double DwaPlanner::Evaluate(double bound) {
   return cost;
 }
 
-Twist2 DwaPlanner::FollowPath(const Pose2& pose, const Twist2& velocity,
-                               const Costmap2D& costmap) {
+void DwaPlanner::PrepareCritics(const Pose2& pose, const Twist2& velocity,
+                                const Costmap2D& costmap) {
   const double res = options_.meter_scoring ? costmap.resolution() : 1.0;
   path_critic_.set_scale(options_.path_distance_bias * res);
   goal_critic_.set_scale(options_.goal_distance_bias * res);
@@ -297,6 +307,9 @@ Twist2 DwaPlanner::FollowPath(const Pose2& pose, const Twist2& velocity,
       throw ControlError("DWA local planner: " + c->failure());
     }
   }
+}
+
+void DwaPlanner::UpdateEscape(const Pose2& pose) {
   if (escaping_ &&
       (std::hypot(pose.x - escape_pose_.x, pose.y - escape_pose_.y) >
            options_.escape_reset_dist ||
@@ -304,28 +317,21 @@ Twist2 DwaPlanner::FollowPath(const Pose2& pose, const Twist2& velocity,
            options_.escape_reset_theta)) {
     escaping_ = false;
   }
+}
 
+Twist2 DwaPlanner::FollowPath(const Pose2& pose, const Twist2& velocity,
+                               const Costmap2D& costmap) {
+  PrepareCritics(pose, velocity, costmap);
+  UpdateEscape(pose);
   const VelocityWindow win = generator_.Window(velocity);
-  const int nvx = options_.vx_samples;
-  const int nth = options_.vtheta_samples;
-  auto vx_sample = [&](int i) {
-    return nvx == 1 ? win.max_vx
-                    : win.min_vx + (win.max_vx - win.min_vx) * i / (nvx - 1);
-  };
-  auto vth_sample = [&](int j, double lo, double hi) {
-    return nth == 1 ? 0.5 * (lo + hi) : lo + (hi - lo) * j / (nth - 1);
-  };
 
-  bool have_best = false;
-  double best_cost = kInf;
   // Two passes: first the rule of ObstacleCostCritic (the outline off lethal
   // cells, and inside the inscribed band no nearer to them than the speed's
   // margin); then, only if nothing passed, a way out: any trajectory (arc or
   // turn on the spot) that touches no lethal cell, brakes in time, and ends
-  // with the outline back out of the band.  A
-  // robot that drifted to the edge of the band (slip, localization, a
-  // recovery turn) can so leave it instead of freezing, but never creeps
-  // along inside it towards a wall.
+  // with the outline back out of the band.  A robot that drifted to the edge
+  // of the band (slip, localization, a recovery turn) can so leave it instead
+  // of freezing, but never creeps along inside it towards a wall.
   //
   // The way out is for a robot at creeping speed (at most
   // max(min_vel_x, |escape_vel|)), and is taken at that speed.  A robot
@@ -336,158 +342,191 @@ Twist2 DwaPlanner::FollowPath(const Pose2& pose, const Twist2& velocity,
   // fast arc through the band.
   const double creep = CreepSpeed();
   const bool fast = velocity.vx > creep + 1e-6 || velocity.vx < -creep - 1e-6;
-  for (int pass = 0; pass < 2 && !have_best; ++pass) {
+  Choice choice;
+  for (int pass = 0; pass < 2 && !choice.found; ++pass) {
     obstacle_critic_.set_lethal_only(pass == 1);
     if (pass == 1 && fast) {
       GenerateBraking(pose, velocity, &candidate_);
-      if (Evaluate(kInf) >= 0.0) {
-        std::swap(best_, candidate_);
-        best_cost = best_.cost;
-        have_best = true;
-      }
+      if (Evaluate(kInf) >= 0.0) Take(&choice);
       break;
     }
-    // In the second pass a trajectory must end outside the band.
-    auto exits_band = [&]() {
-      if (pass == 0) return true;
-      const int c = FootprintCost(costmap, footprint_, candidate_.end());
-      return c >= 0 && c < kInscribedInflatedObstacle;
-    };
-    // Among equally scored trajectories the faster wins (Fox et al.'s
-    // velocity term as a tie-break): costs move in whole cells, so a crawl
-    // at min_vel_x and an arc a few times faster that ends in the same cell
-    // score the same, and the crawl used to win for being sampled first.
-    auto take_if_better = [&]() {
-      const bool better =
-          candidate_.cost < best_cost ||
-          (have_best && candidate_.cost == best_cost &&
-           std::fabs(candidate_.command.vx) > std::fabs(best_.command.vx));
-      if (candidate_.cost >= 0.0 && better && exits_band()) {
-        std::swap(best_, candidate_);
-        best_cost = best_.cost;
-        have_best = true;
-      }
-    };
-
-    if (!escaping_) {
-      for (int i = 0; i < nvx; ++i) {
-        Twist2 cmd;
-        cmd.vx = vx_sample(i);
-        if (pass == 1 && cmd.vx > creep + 1e-6) break;
-        // The theta samples span the window, narrowed at this speed to the
-        // arcs within max_centripetal_acc (none if the robot turns too fast
-        // for this speed: it has to slow down first).
-        double lo = win.min_vth, hi = win.max_vth;
-        if (options_.max_centripetal_acc > 0.0 && std::fabs(cmd.vx) > 1e-9) {
-          const double limit = options_.max_centripetal_acc / std::fabs(cmd.vx);
-          lo = std::max(lo, -limit);
-          hi = std::min(hi, limit);
-        }
-        // The straight command first, then the theta samples.
-        for (int j = -1; j < nth; ++j) {
-          if (j >= 0 && lo > hi) break;
-          cmd.wz = j < 0 ? 0.0 : vth_sample(j, lo, hi);
-          if (j >= 0 && cmd.wz == 0.0) continue;
-          generator_.Generate(pose, velocity, cmd, TrajectoryKind::kSampled,
-                              &candidate_);
-          Evaluate(best_cost);
-          take_if_better();
-        }
-      }
-    }
-    // Way out, backwards: arcs at escape_vel.  A robot that drifted against a
-    // wall at an angle can neither turn (its corners sweep into the wall) nor
-    // back straight out, but an arc backs its nose off.
-    if (pass == 1 && options_.escape_vel < 0.0) {
-      for (int j = 0; j < nth; ++j) {
-        Twist2 cmd;
-        cmd.vx = options_.escape_vel;
-        cmd.wz = vth_sample(j, win.min_vth, win.max_vth);
-        generator_.Generate(pose, velocity, cmd, TrajectoryKind::kEscape, &candidate_);
-        Evaluate(best_cost);
-        take_if_better();
-      }
-    }
-
-    // In-place rotations (TrajectoryPlanner): taken if no worse than the best
-    // so far, preferring the one pointing the robot closest to the goal (goal
-    // distance heading_lookahead ahead of its end pose).  Unlike
-    // TrajectoryPlanner, a rotation must also point the robot closer to the
-    // goal than it is now, so a blocked robot does not turn just because it
-    // may; and never past a full circle on the spot.
-    const double dvth = nth > 1 ? (win.max_vth - win.min_vth) / (nth - 1) : 0.0;
-    const double ahead_now =
-        goal_critic_.DistanceAhead(pose, options_.heading_lookahead);
-    double heading_dist = kInf;
-    const bool spun_out = spun_in_place_ > 2.0 * kPi;
-    double last_limited = 0.0;
-    for (int j = 0; j < nth; ++j) {
-      const double samp = vth_sample(j, win.min_vth, win.max_vth);
-      if (!(samp > dvth || samp < -dvth)) continue;
-      const double limited =
-          samp > 0.0 ? std::max(samp, options_.min_in_place_vel_theta)
-                     : std::min(samp, -options_.min_in_place_vel_theta);
-      if (limited == last_limited) continue;  // same rollout as the last one
-      last_limited = limited;
-      if (spun_out) {
-        ++stats_.rotations_refused;
-        continue;
-      }
-      Twist2 cmd;
-      cmd.wz = limited;
-      generator_.Generate(pose, velocity, cmd, TrajectoryKind::kInPlace,
-                          &candidate_);
-      const double cost = Evaluate(have_best ? best_cost : kInf);
-      if (cost >= 0.0 && cost < kInf && (!have_best || cost <= best_cost) && exits_band()) {
-        // Never turn so far off the plan that the next cycle would turn back
-        // (rotate-to-path), or the two would take turns.
-        const double off_path = PathHeadingError(candidate_.end(), costmap);
-        if (pass == 0 && options_.rotate_to_path_angle < kPi && std::isfinite(off_path) &&
-            std::fabs(off_path) > options_.rotate_to_path_angle) {
-          if (!have_best) ++stats_.rotations_refused;
-          continue;
-        }
-        const double ahead =
-            goal_critic_.DistanceAhead(candidate_.end(), options_.heading_lookahead);
-        // In the second (stuck) pass any turn clear of lethal cells will do:
-        // turning is the only way out when both ways ahead are blocked.
-        if (pass == 0 && !(ahead < ahead_now)) {
-          if (!have_best) ++stats_.rotations_refused;
-        } else if (ahead < heading_dist) {
-          std::swap(best_, candidate_);
-          best_cost = cost;
-          heading_dist = ahead;
-          have_best = true;
-        }
-      }
-    }
-
-    // Braking to a standstill: the command every admissible trajectory leaves
-    // open (the dynamic window alone may not reach vx = 0), taken only when
-    // nothing else is legal; as a competitor it would win against slow
-    // rotations (lower obstacle cost) and make the robot stop-start.  Not while
-    // escaping: there the escape trajectory itself is the fallback.
-    if (!have_best && !escaping_ &&
-        (std::fabs(velocity.vx) > 1e-3 || std::fabs(velocity.wz) > 1e-3)) {
-      GenerateBraking(pose, velocity, &candidate_);
-      Evaluate(kInf);
-      take_if_better();
-    }
+    SearchPass(pass, pose, velocity, win, costmap, &choice);
   }
   obstacle_critic_.set_lethal_only(false);
 
-  if (have_best) {
+  if (choice.found) {
     for (TrajectoryCritic* c : critics_) c->Debrief(best_);
     stats_.mode = Mode::kFollowPath;
     return best_.command;
   }
+  return EscapeOrFail(pose, velocity, costmap);
+}
 
-  // Nothing legal.  A robot whose footprint already touches the inscribed
-  // band (or is escaping) backs up slowly, TrajectoryPlanner's escape, if
-  // that keeps it off lethal cells.  A robot that is clear but cannot go on
-  // is blocked, not stuck: backing up would only make it dither in front of
-  // the obstacle (or wander off along it), so the caller gets a ControlError
-  // (recovery, replanning).
+void DwaPlanner::Take(Choice* choice) {
+  std::swap(best_, candidate_);
+  choice->cost = best_.cost;
+  choice->found = true;
+}
+
+bool DwaPlanner::ExitsBand(int pass, const Costmap2D& costmap) const {
+  if (pass == 0) return true;
+  const int c = FootprintCost(costmap, footprint_, candidate_.end());
+  return c >= 0 && c < kInscribedInflatedObstacle;
+}
+
+// Among equally scored trajectories the faster wins (Fox et al.'s velocity
+// term as a tie-break): costs move in whole cells, so a crawl at min_vel_x and
+// an arc a few times faster that ends in the same cell score the same, and
+// the crawl would otherwise win for being sampled first.
+void DwaPlanner::TakeIfBetter(int pass, const Costmap2D& costmap, Choice* choice) {
+  const bool better =
+      candidate_.cost < choice->cost ||
+      (choice->found && candidate_.cost == choice->cost &&
+       std::fabs(candidate_.command.vx) > std::fabs(best_.command.vx));
+  if (candidate_.cost >= 0.0 && better && ExitsBand(pass, costmap)) Take(choice);
+}
+
+void DwaPlanner::SearchPass(int pass, const Pose2& pose, const Twist2& velocity,
+                            const VelocityWindow& win, const Costmap2D& costmap,
+                            Choice* choice) {
+  if (!escaping_) SampleArcs(pass, pose, velocity, win, costmap, choice);
+  if (pass == 1 && options_.escape_vel < 0.0) {
+    SampleEscapeArcs(pose, velocity, win, costmap, choice);
+  }
+  SampleRotations(pass, pose, velocity, win, costmap, choice);
+
+  // Braking to a standstill: the command every admissible trajectory leaves
+  // open (the dynamic window alone may not reach vx = 0), taken only when
+  // nothing else is legal; as a competitor it would win against slow
+  // rotations (lower obstacle cost) and make the robot stop-start.  Not while
+  // escaping: there the escape trajectory itself is the fallback.
+  if (!choice->found && !escaping_ &&
+      (std::fabs(velocity.vx) > 1e-3 || std::fabs(velocity.wz) > 1e-3)) {
+    GenerateBraking(pose, velocity, &candidate_);
+    Evaluate(kInf);
+    TakeIfBetter(pass, costmap, choice);
+  }
+}
+
+void DwaPlanner::SampleArcs(int pass, const Pose2& pose, const Twist2& velocity,
+                            const VelocityWindow& win, const Costmap2D& costmap,
+                            Choice* choice) {
+  const int nvx = options_.vx_samples;
+  const int nth = options_.vtheta_samples;
+  const double creep = CreepSpeed();
+  for (int i = 0; i < nvx; ++i) {
+    Twist2 cmd;
+    cmd.vx = VxSample(win, nvx, i);
+    if (pass == 1 && cmd.vx > creep + 1e-6) break;
+    // The theta samples span the window, narrowed at this speed to the
+    // arcs within max_centripetal_acc (none if the robot turns too fast
+    // for this speed: it has to slow down first).
+    double lo = win.min_vth, hi = win.max_vth;
+    if (options_.max_centripetal_acc > 0.0 && std::fabs(cmd.vx) > 1e-9) {
+      const double limit = options_.max_centripetal_acc / std::fabs(cmd.vx);
+      lo = std::max(lo, -limit);
+      hi = std::min(hi, limit);
+    }
+    // The straight command first, then the theta samples.
+    for (int j = -1; j < nth; ++j) {
+      if (j >= 0 && lo > hi) break;
+      cmd.wz = j < 0 ? 0.0 : VthSample(nth, j, lo, hi);
+      if (j >= 0 && cmd.wz == 0.0) continue;
+      generator_.Generate(pose, velocity, cmd, TrajectoryKind::kSampled,
+                          &candidate_);
+      Evaluate(choice->cost);
+      TakeIfBetter(pass, costmap, choice);
+    }
+  }
+}
+
+// The way out, backwards: arcs at escape_vel.  A robot that drifted against a
+// wall at an angle can neither turn (its corners sweep into the wall) nor back
+// straight out, but an arc backs its nose off.
+void DwaPlanner::SampleEscapeArcs(const Pose2& pose, const Twist2& velocity,
+                                  const VelocityWindow& win, const Costmap2D& costmap,
+                                  Choice* choice) {
+  const int nth = options_.vtheta_samples;
+  for (int j = 0; j < nth; ++j) {
+    Twist2 cmd;
+    cmd.vx = options_.escape_vel;
+    cmd.wz = VthSample(nth, j, win.min_vth, win.max_vth);
+    generator_.Generate(pose, velocity, cmd, TrajectoryKind::kEscape, &candidate_);
+    Evaluate(choice->cost);
+    TakeIfBetter(1, costmap, choice);
+  }
+}
+
+// In-place rotations (TrajectoryPlanner): taken if no worse than the best so
+// far, preferring the one pointing the robot closest to the goal (goal distance
+// heading_lookahead ahead of its end pose).  Unlike TrajectoryPlanner, a
+// rotation must also point the robot closer to the goal than it is now, so a
+// blocked robot does not turn just because it may; and never past a full
+// circle on the spot.
+void DwaPlanner::SampleRotations(int pass, const Pose2& pose, const Twist2& velocity,
+                                 const VelocityWindow& win, const Costmap2D& costmap,
+                                 Choice* choice) {
+  const int nth = options_.vtheta_samples;
+  const double dvth = nth > 1 ? (win.max_vth - win.min_vth) / (nth - 1) : 0.0;
+  const double ahead_now =
+      goal_critic_.DistanceAhead(pose, options_.heading_lookahead);
+  double heading_dist = kInf;
+  const bool spun_out = spun_in_place_ > 2.0 * kPi;
+  double last_limited = 0.0;
+  for (int j = 0; j < nth; ++j) {
+    const double samp = VthSample(nth, j, win.min_vth, win.max_vth);
+    if (!(samp > dvth || samp < -dvth)) continue;
+    const double limited =
+        samp > 0.0 ? std::max(samp, options_.min_in_place_vel_theta)
+                   : std::min(samp, -options_.min_in_place_vel_theta);
+    if (limited == last_limited) continue;  // same rollout as the last one
+    last_limited = limited;
+    if (spun_out) {
+      ++stats_.rotations_refused;
+      continue;
+    }
+    Twist2 cmd;
+    cmd.wz = limited;
+    generator_.Generate(pose, velocity, cmd, TrajectoryKind::kInPlace,
+                        &candidate_);
+    const double cost = Evaluate(choice->found ? choice->cost : kInf);
+    if (cost >= 0.0 && cost < kInf && (!choice->found || cost <= choice->cost) &&
+        ExitsBand(pass, costmap)) {
+      ConsiderRotation(pass, costmap, ahead_now, &heading_dist, choice);
+    }
+  }
+}
+
+void DwaPlanner::ConsiderRotation(int pass, const Costmap2D& costmap, double ahead_now,
+                                  double* heading_dist, Choice* choice) {
+  // Never turn so far off the plan that the next cycle would turn back
+  // (rotate-to-path), or the two would take turns.
+  const double off_path = PathHeadingError(candidate_.end(), costmap);
+  if (pass == 0 && options_.rotate_to_path_angle < kPi && std::isfinite(off_path) &&
+      std::fabs(off_path) > options_.rotate_to_path_angle) {
+    if (!choice->found) ++stats_.rotations_refused;
+    return;
+  }
+  const double ahead =
+      goal_critic_.DistanceAhead(candidate_.end(), options_.heading_lookahead);
+  // In the second (stuck) pass any turn clear of lethal cells will do:
+  // turning is the only way out when both ways ahead are blocked.
+  if (pass == 0 && !(ahead < ahead_now)) {
+    if (!choice->found) ++stats_.rotations_refused;
+  } else if (ahead < *heading_dist) {
+    Take(choice);
+    *heading_dist = ahead;
+  }
+}
+
+// Nothing legal.  A robot whose footprint already touches the inscribed band
+// (or is escaping) backs up slowly, TrajectoryPlanner's escape, if that keeps
+// it off lethal cells.  A robot that is clear but cannot go on is blocked, not
+// stuck: backing up would only make it dither in front of the obstacle (or
+// wander off along it), so the caller gets a ControlError (recovery,
+// replanning).
+Twist2 DwaPlanner::EscapeOrFail(const Pose2& pose, const Twist2& velocity,
+                                const Costmap2D& costmap) {
   const int here = FootprintCost(costmap, footprint_, pose);
   // Stuck: the footprint is in the band already, or at its edge so that
   // every trajectory enters it at once (a collision after ~0 m of travel).

@@ -10,11 +10,10 @@ radian off the current heading (keep going rather than dither between two equal 
 leads out of a room through its door and along corridors. An in-place turn keeps one direction
 until the way ahead is clear and the opening ahead; anything in the robot's swept path blocks it
 (a wall's end beside the bumper, outside the 25 deg front cone); and a whole turn in place without
-1 m driven (a gap it cannot pass) hands over to the side-steering wanderer for 5 s. Without those
-three it wedges itself in the default world's furniture (0.0-2.8 m driven in 150 s in 3 of 11
-starts). It is not the default: in the office study it finds the robot no sooner than the
-side-steering wanderer, and once let the filter claim a pose 2.7 m off with its heading reversed
-(README).
+1 m driven (a gap it cannot pass) hands over to the side-steering wanderer for 5 s. Those three
+keep it from wedging itself in furniture. It is not the default: it does not localize the robot
+sooner than steering by the sides, and on the default world it leaves more starts without a right
+fix (docs/benchmarks.md, global-localization study).
 
 Wanderer(laser_yaw).command(scan) -> (v, w): laser_yaw is the laser's heading on the base
 (minibot3d's RPLIDAR is mounted backwards: pi)."""

@@ -1,6 +1,6 @@
 // minibot3d_slam's maps on disk: minibot3d_map_io's reader and writer, with the PGM comment
-// that map_saver and slam_offline have always written, so that a map saved now is byte for byte
-// the map saved before the map I/O moved to minibot3d_map_io.
+// map_saver and slam_offline write ("CREATOR: minibot3d_slam map_io RESOLUTION m/pix"), part of
+// the file: saved maps are compared byte for byte.
 #ifndef MINIBOT3D_SLAM_MAP_FILES_H_
 #define MINIBOT3D_SLAM_MAP_FILES_H_
 

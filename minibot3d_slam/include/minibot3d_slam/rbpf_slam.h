@@ -40,11 +40,10 @@ class RbpfSlam {
   // heading (each refinement pass moves it at most a cell, so the guess's position must be about
   // that good: slam_offline places its readings between two processed poses). With subcellMatch
   // 0, the climber's pose as is. Returns `guess` when the climb scores at or below minimumScore or
-  // nothing was mapped yet. For the poses of readings the filter did not process: odometry alone
-  // carries its rotation error (on the Intel log 1.9° mean against 0.3° at processed scans). Why
-  // the position does not come from the climb: point-to-point, it wanders along a bare corridor
-  // (±0.2 m from one reading to the next on a synthetic building), while point-to-line puts no
-  // pull along a wall and keeps the guess's position there.
+  // nothing was mapped yet. For the poses of readings the filter did not process, which odometry
+  // alone places with its rotation error. Why the position does not come from the climb:
+  // point-to-point, it wanders along a bare corridor from one reading to the next, while
+  // point-to-line puts no pull along a wall and keeps the guess's position there.
   Pose2 Localize(const LaserScan& scan, const Pose2& guess) const;
   // Entropy of the normalised particle weights (gmapping's ~entropy).
   double Entropy() const;

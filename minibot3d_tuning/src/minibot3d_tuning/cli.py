@@ -1,4 +1,4 @@
-"""rosrun minibot3d_tuning tune_planner: the seed's trajectory-planner tuning experiment as a
+"""rosrun minibot3d_tuning tune_planner: the trajectory-planner tuning experiment as a
 reproducible study.  Every trial is a full headless stack (simulator + map_server + amcl +
 move_base) on its own ROS master port, on lock-step time as fast as it goes (--rtf 0; the same
 command gives the same times), driven through a route.
@@ -8,7 +8,7 @@ command gives the same times), driven through a route.
                [--world W] [--map M] [--start X,Y,YAW] [--goals "x,y x,y ..."] [--timeout S]
   tune_planner --optimize [--set NAME=lo:hi]... [--trials 30] [--storage URL] [--sampler-seed N]
 
-Without --set it runs the seed's six settings: min_vel_x in {0.01, 0.1} x max_vel_x in
+Without --set it runs six settings: min_vel_x in {0.01, 0.1} x max_vel_x in
 {0.1, 0.5, 1.0}.  Writes DIR/results.csv, DIR/results.md (also printed), DIR/time_to_goal.png and
 DIR/trajectories.png.  Exit status: 0 every trial reached the goal without a collision, 1 some did
 not, 2 bad arguments (e.g. an unknown parameter name, checked before any trial starts), 130

@@ -12,7 +12,7 @@ A trial's parameters are applied by writing two files into its directory, passed
 amcl_navigation.launch: trajectory_planner.yaml (the base file with TrajectoryPlannerROS values
 replaced) and move_base_params.yaml (the base file plus move_base / NavfnROS values and costmap
 overrides under global_costmap: / local_costmap:; move_base.launch loads it last, and roslaunch
-merges nested dictionaries key by key, so it overrides the seed's costmap files).
+merges nested dictionaries key by key, so it overrides the shipped costmap files).
 """
 import collections
 import difflib

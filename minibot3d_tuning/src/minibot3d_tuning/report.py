@@ -1,4 +1,4 @@
-"""The study's Markdown table (one row per setting, as the seed's: settings -> time to goal, or why
+"""The study's Markdown table (one row per setting: settings -> time to goal, or why
 it failed) and its PNG plots (time to goal against each swept parameter; the trajectories of each
 setting over the map)."""
 import collections

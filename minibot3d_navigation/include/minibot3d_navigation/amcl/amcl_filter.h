@@ -30,8 +30,8 @@
 //  5. the pose estimate is the weighted mean/covariance of the heaviest
 //     cluster of particles (pose_clusters.h).
 //
-// Confidence (what the published covariance claims; issue "global
-// localization that knows when it is wrong"):
+// Confidence (what the published covariance claims, so that a global
+// localization knows when it is wrong):
 //  * explained fraction: of the used (non-max-range) beams, the share whose
 //    end point at the estimate lies within confidence_hit_dist of a mapped
 //    obstacle (the likelihood field's distance);
@@ -52,8 +52,8 @@
 //    random draws since the hypotheses were last set (Particle::injected).
 //    A heaviest cluster made mostly of such particles is a place resampling
 //    stumbled on, never weighed against the map's look-alikes (in a building
-//    of similar rooms a kidnapped robot's filter otherwise claimed the first
-//    room that fitted, 27 m from the truth): it earns no evidence, and once
+//    of similar rooms a kidnapped robot's filter would otherwise claim the
+//    first room that fits): it earns no evidence, and once
 //    it explains the scan the map-wide search runs, keeping it as one more
 //    candidate (without a search it is treated like any other mode).
 //  The claim covariance (PoseEstimate::claim_covariance, what the node
@@ -70,8 +70,9 @@
 //    as well as the estimate's own place in that search, or better
 //    (>= confidence_challenge_min_relative_score of its score; of the best
 //    place's when the estimate's is not among the candidates), and lie
-//    >= 1 m or >= 45 deg from the estimate (the true place the first search
-//    ranked below six look-alikes, or a twin room it missed) are added as
+//    >= 1 m or >= 45 deg from the estimate (the true place may have ranked
+//    below the look-alikes the first search kept, or be a twin room it
+//    missed) are added as
 //    hypotheses beside the estimate, evidence restarts, and motion must
 //    decide again.  A pose the user gave is never challenged.
 //
@@ -82,9 +83,8 @@
 // keeps each probability in expectation, but a light hypothesis on a few
 // particles can die by chance, and an under-sampled one after an unlucky
 // stretch of updates.  A dead hypothesis never comes back, whatever the robot
-// sees later, so the survivor earned the claim by default (a false claim in
-// the study's default world: the search's first candidate was the truth, the
-// filter kept its second and claimed it).  So resampling keeps at least
+// sees later, so the survivor would earn the claim by default, even when the
+// dead one was the truth.  So resampling keeps at least
 // hypothesis_min_particles particles on every hypothesis not yet refuted:
 // drawn from its own particles in proportion to their weights, and weighted
 // so that the hypothesis keeps its probability exactly (stratified

@@ -102,8 +102,8 @@ struct AmclOptions {
   // estimate's own place in that search (of the best place found when the
   // estimate's is not among the candidates).  1.0: only places that explain
   // the view as well as the estimate or better; 0.9 also near look-alikes
-  // (safer among identical rooms; ~4 m more travel per claim in the office
-  // study, README).
+  // (safer among identical rooms, at the cost of more travel before a claim;
+  // docs/localization.md).
   double confidence_challenge_min_relative_score = 1.0;
   // Particles every seeded hypothesis keeps through resampling until the
   // evidence refutes it (amcl_filter.h, "Hypotheses"); 0: plain resampling,
@@ -128,7 +128,8 @@ struct AmclOptions {
   // return d (acos(1 - r^2 / 2d^2): about one cell at d, 0.24 deg at 12 m).
   // The search time is nearly proportional to the number of headings; the
   // filter refines the candidates, so a step that moves the farthest return
-  // by two cells loses no candidate in our studies (README).
+  // by two cells loses no candidate (tools/bench/global_loc_study.py checks
+  // it).
   double global_search_angular_step = 0.012;
 };
 

@@ -12,17 +12,15 @@
 // the filter spreads its particles round them (weighted by score) and decides
 // among them as the robot moves (amcl_filter.h).
 //
-// The search matches at most global_search_max_beams returns (evenly spaced;
-// 180 of a 360-beam scan): its time is nearly proportional to them, and the
-// filter, not the search, has the last word.
+// The search matches at most global_search_max_beams returns (evenly spaced
+// over the scan): its time is nearly proportional to them, and the filter,
+// not the search, has the last word.
 //
 // Budget: a whole-map search costs a fixed part (every heading's top nodes)
 // plus a part growing with the map's cell count; the constructor predicts it
-// as kFixedSeconds + cells / kCellsPerSecond, fitted to this project's 2-core
-// machine (correlative_search_bench's SearchAll: 0.19 s for the default
-// world's 41 k cells and 1.27 s for a 54 m x 59 m office's 1.37 M with 360
-// returns; amcl_bench BM_GlobalSearchOffice with the shipped 180: 0.64 s for
-// a 54 m x 59 m office's 1.27 M) and, when the prediction exceeds
+// as kFixedSeconds + cells / kCellsPerSecond, constants fitted to
+// correlative_search_bench (SearchAll) and amcl_bench (BM_GlobalSearchOffice)
+// on a 2-core machine, and, when the prediction exceeds
 // global_search_budget, builds nothing and says so in fallback_reason(): the
 // filter then keeps the uniform spread.  Every search is timed
 // (SearchReport) so a wrong prediction shows in the log.

@@ -32,9 +32,9 @@
 //                      most creeping) only lethal cells count, and from
 //                      full_margin_speed (min(full_margin_vel, max_vel_x))
 //                      on the whole band is kept; if that is not above
-//                      tight_speed, the whole band above tight_speed (the
-//                      rule before full_margin_vel).  The robot slows down as
-//                      far as the room it has asks, rather than to creeping
+//                      tight_speed, the whole band above tight_speed.  The
+//                      robot slows down as far as the room it has asks,
+//                      rather than to creeping
 //                      speed as soon as a gap is narrower than the robot plus
 //                      two inscribed radii, and keeps its whole margin at
 //                      full speed, where slip and a late costmap matter

@@ -61,6 +61,7 @@
 #define MINIBOT3D_NAVIGATION_DWA_DWA_PLANNER_H_
 
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -147,8 +148,49 @@ class DwaPlanner : public LocalPlanner {
   // Angle from the heading to the first plan pose heading_lookahead or more
   // from the robot; NaN if that pose is off the costmap.
   double PathHeadingError(const Pose2& pose, const Costmap2D& costmap) const;
+  // The best-scoring admissible trajectory (see the header comment, steps 4
+  // and 5), or the escape; throws ControlError when there is neither.
   Twist2 FollowPath(const Pose2& pose, const Twist2& velocity,
                      const Costmap2D& costmap);
+
+  // The trajectory FollowPath has chosen so far (held in best_).
+  struct Choice {
+    bool found = false;
+    double cost = std::numeric_limits<double>::infinity();
+  };
+  // Sets the critics' scales for this costmap and prepares them for the cycle.
+  void PrepareCritics(const Pose2& pose, const Twist2& velocity,
+                      const Costmap2D& costmap);
+  // Ends an escape once the robot has moved escape_reset_dist or turned
+  // escape_reset_theta since it began.
+  void UpdateEscape(const Pose2& pose);
+  // One pass of the search: pass 0 under the speed's margin, pass 1 (lethal
+  // cells only) for a way out of the inscribed band.
+  void SearchPass(int pass, const Pose2& pose, const Twist2& velocity,
+                  const VelocityWindow& win, const Costmap2D& costmap,
+                  Choice* choice);
+  void SampleArcs(int pass, const Pose2& pose, const Twist2& velocity,
+                  const VelocityWindow& win, const Costmap2D& costmap,
+                  Choice* choice);
+  void SampleEscapeArcs(const Pose2& pose, const Twist2& velocity,
+                        const VelocityWindow& win, const Costmap2D& costmap,
+                        Choice* choice);
+  void SampleRotations(int pass, const Pose2& pose, const Twist2& velocity,
+                       const VelocityWindow& win, const Costmap2D& costmap,
+                       Choice* choice);
+  // Takes the legal in-place rotation in candidate_ if it turns the robot
+  // towards the goal (pass 0) and nearer to it than the rotations so far.
+  void ConsiderRotation(int pass, const Costmap2D& costmap, double ahead_now,
+                        double* heading_dist, Choice* choice);
+  // Whether candidate_ ends with the outline out of the inscribed band (pass 1
+  // only; any end will do in pass 0).
+  bool ExitsBand(int pass, const Costmap2D& costmap) const;
+  // candidate_ becomes the choice.
+  void Take(Choice* choice);
+  void TakeIfBetter(int pass, const Costmap2D& costmap, Choice* choice);
+  // Nothing legal: backs up at escape_vel when stuck, else throws ControlError.
+  Twist2 EscapeOrFail(const Pose2& pose, const Twist2& velocity,
+                      const Costmap2D& costmap);
   // Scores `candidate_` into its cost: negative if illegal, or +infinity if
   // pruned (partial cost above `bound`).
   double Evaluate(double bound);

@@ -37,9 +37,10 @@ struct MoveBaseOptions {
   std::vector<std::string> recovery_behaviors;
 
   // --- Not in ROS move_base: getting out of clutter ---
-  // All off by default: on the 50 clutter worlds they do not yet beat
-  // move_base's own behaviour (README, "Mapless navigation"); typical values
-  // to try: back_out_distance 0.6, blocked_radius 0.2,
+  // All off by default, so the executive behaves as move_base does;
+  // config/move_base_mapless_params.yaml turns them on for mapless navigation
+  // (docs/navigation.md, "Backing out and remembering pockets"). Typical
+  // values: back_out_distance 0.6, blocked_radius 0.2,
   // recovery_reset_distance 0.5.
   // back_out: metres to reverse along the poses the robot drove through (its
   // trail, in the local frame) when the way ahead is blocked; 0 = no back_out

@@ -15,12 +15,13 @@
 //               With no behaviour left the goal is ABORTED, and the message
 //               says what kept failing (the planner's or controller's own
 //               error: which goal, which obstacle) — not just "failed".
-// Not in ROS move_base (issue 18, getting through clutter): the executive
-// keeps the robot's trail (poses driven through, local frame, loop-erased: a
-// return to where it has been drops the loop since) for the back_out recovery; when control fails or the robot oscillates it remembers
-// the stretch of plan it could not pass (a disc of blocked_radius round the
-// plan point blocked_lookahead ahead, in the global frame) and plans round
-// those discs for the rest of the goal — the pocket or gap is not tried again —
+// Not in ROS move_base, for getting through clutter: the executive keeps the
+// robot's trail (poses driven through, local frame, loop-erased: a return to
+// where it has been drops the loop since) for the back_out recovery; when
+// control fails or the robot oscillates it remembers the stretch of plan it
+// could not pass (a disc of blocked_radius round the plan point
+// blocked_lookahead ahead, in the global frame) and plans round those discs
+// for the rest of the goal — the pocket or gap is not tried again —
 // forgetting them only if no plan exists without them; and it restarts the
 // recovery list once the robot has driven recovery_reset_distance from where
 // the last recovery began (move_base restarts it after any valid command).

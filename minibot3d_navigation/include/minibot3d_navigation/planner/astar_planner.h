@@ -18,8 +18,8 @@
 // the octile distance in those same integer free-cell step costs, so it is
 // exact in free space; ties in f are broken last-in-first-out (RadixHeap),
 // so the search walks straight down one optimal path instead of flooding the
-// parallelogram of equal-cost octile paths (1.2k cells expanded for a 75 m
-// diagonal on an empty map instead of 270k).
+// parallelogram of equal-cost octile paths (on an empty map it expands about
+// one cell per cell of path, not the parallelogram's area).
 //
 // Speed: all per-cell state lives in one flat member array reused between
 // calls; a generation counter per cell (open/closed marks of this search)

@@ -1,4 +1,5 @@
-"""The seed's workflow, by its own commands, headless (README "The seed's workflow"):
+"""Mapping by hand, one launch file per step, headless (docs/slam.md "Mapping by hand, one
+launch file per step"):
 
   1. roslaunch minibot3d_sim minibot3d_gazebo.launch            -> /scan arrives
   2. roslaunch minibot3d_sim minibot3d_rviz_gmapping.launch     -> slam_gmapping publishes /map
@@ -97,7 +98,7 @@ def draining(fd, condition):
     return check
 
 
-def test_seed_workflow(ros, tmp_path):
+def test_mapping_workflow(ros, tmp_path):
     # 1. The robot in the default world.
     sim = ros.start(['roslaunch', 'minibot3d_sim', 'minibot3d_gazebo.launch',
                      'real_time_factor:=' + RTF], 'step1')
@@ -160,7 +161,7 @@ def test_seed_workflow(ros, tmp_path):
     ros.wait_message('/amcl_pose', 180)
     before = ros.truth()
 
-    # 6. The seed's goal client.
+    # 6. The goal client, one metre ahead.
     out = ros.run(['rosrun', 'minibot3d_navigation', 'simple_navi_goals.py', '1', '1',
                    '--timeout', '300'], 600)
     assert out.returncode == 0, out.stdout
