@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""The seed's spelling, `rosrun minibot3d_sim simple_navi_goals.py X W`: runs minibot3d_navigation's
-simple_navi_goals.py with the same arguments (see that script). A real file rather than a link,
+"""`rosrun minibot3d_sim simple_navi_goals.py X W`, the classic tutorial's spelling: runs
+minibot3d_navigation's simple_navi_goals.py with the same arguments (see that script). A real file rather than a link,
 so it is installed and works from the install space as from the source tree."""
 import os
 import sys
