@@ -8,6 +8,11 @@ JOBS ?= 2
 # FORCE=1: run catkin_make even when no source file changed since the last build.
 FORCE ?= 0
 WORLD ?=
+# make demo's robot: ROBOT=NAME a shipped one (config/robots/NAME); CONFIG=DIR a user's config set
+# (its robot.yaml names the model and topics), MODEL=path/to/robot.xacro replacing that model.
+ROBOT ?=
+CONFIG ?=
+MODEL ?=
 BENCH_LOG ?= ../shared/datasets/intel/intel.clf
 
 .PHONY: setup deps build install test demo bench clean
@@ -30,7 +35,8 @@ test: setup
 	tools/run_tests.sh
 
 demo: setup
-	tools/demo.sh $(WORLD)
+	tools/demo.sh $(if $(ROBOT),--robot '$(ROBOT)') $(if $(CONFIG),--config '$(CONFIG)') \
+	  $(if $(MODEL),--model '$(MODEL)') $(WORLD)
 
 bench: setup
 	tools/bench.sh $(BENCH_LOG)

@@ -26,3 +26,33 @@ def test_time_against_path_per_goal_and_mean():
 def test_time_against_path_without_the_speed_limit_says_so():
     goals = [dict(ok=True, sim_s=10.0, path=[(0, 0, 0), (2, 0, 0)])]
     assert demo_report.time_against_path(goals, None).startswith('n/a')
+
+
+def write_set(d, **files):
+    for name, text in files.items():
+        (d / (name + '.yaml')).write_text(text)
+    return str(d)
+
+
+def test_max_vel_x_comes_from_the_config_sets_local_planner(tmp_path):
+    assert demo_report.max_vel_x_of(os.path.join(ROOT, 'config')) == 0.5
+    d = write_set(tmp_path, trajectory_planner='TrajectoryPlannerROS: {max_vel_x: 0.7}\n'
+                  'DWAPlannerROS: {max_vel_x: 0.4}\n', move_base_params='controller_frequency: 10\n')
+    assert demo_report.max_vel_x_of(d) == 0.7
+    write_set(tmp_path, move_base_params='base_local_planner: dwa_local_planner/DWAPlannerROS\n')
+    assert demo_report.max_vel_x_of(d) == 0.4
+    write_set(tmp_path, trajectory_planner='TrajectoryPlannerROS: {min_vel_x: 0.1}\n',
+              move_base_params='{}\n')
+    assert demo_report.max_vel_x_of(d) is None
+
+
+def test_reach_clearance_is_the_robots_inscribed_radius_when_larger(tmp_path):
+    # minibot3d: 0.24 m x 0.23 m, padding 0.01: inscribed 0.125 m, so the 0.15 m floor holds.
+    assert abs(demo_report.inscribed_radius(os.path.join(ROOT, 'config')) - 0.125) < 1e-12
+    assert demo_report.reach_clearance(os.path.join(ROOT, 'config')) == 0.15
+    d = write_set(tmp_path, costmap_common_params=(
+        'footprint: "[[-0.2, -0.25], [-0.2, 0.25], [0.35, 0.25], [0.35, -0.25]]"\n'
+        'footprint_padding: 0.02\n'))
+    assert abs(demo_report.reach_clearance(d) - 0.22) < 1e-12
+    write_set(tmp_path, costmap_common_params='robot_radius: 0.3\n')
+    assert demo_report.reach_clearance(d) == 0.3

@@ -22,13 +22,7 @@ ENTRY_POINTS = sorted(glob.glob(os.path.join(ROOT, 'launch', '*.launch')))
 # (included file, arg): why a file that includes it sets the arg itself or leaves its default.
 NOT_FORWARDED = {
     ('minibot3d_gazebo.launch', 'rviz'): 'the stacks start their own rviz with their own config',
-    ('minibot3d_gazebo.launch', 'model'): "the stacks' parameters are for this robot",
-    ('amcl.launch', 'scan_topic'): "the simulator's topic names are fixed",
     ('amcl.launch', 'use_map_topic'): 'map_server offers the static_map service',
-    ('move_base.launch', 'scan_topic'): "the simulator's topic names are fixed",
-    ('move_base.launch', 'odom_topic'): "the simulator's topic names are fixed",
-    ('move_base.launch', 'config_dir'): 'each of its files is forwarded by its own arg',
-    ('slam_gmapping.launch', 'scan_topic'): "the simulator's topic names are fixed",
 }
 
 _rospack = rospkg.RosPack()
@@ -145,3 +139,76 @@ def test_exploration_lockstep_participants():
         '/slam_gmapping /move_base /explore'
     assert load_params(path, 'explore:=false', 'lockstep_clients:=/my_client')[
         '/minibot3d_sim/lockstep_participants'] == '/slam_gmapping /move_base /my_client'
+
+
+# ---- a robot other than minibot3d: its launch-level args reach every node --------------------
+
+QUADBOT = ['model:=' + os.path.join(ROOT, 'minibot3d_description', 'urdf', 'quadbot.xacro'),
+           'robot_params:=' + os.path.join(ROOT, 'config', 'robots', 'quadbot', 'control.yaml'),
+           'scan_topic:=front_laser/scan', 'cmd_vel_topic:=mobile_base_controller/cmd_vel',
+           'odom_topic:=mobile_base_controller/odom', 'rviz:=true']
+# The remaps each node type must carry (from, to), where the file starts that node.
+ROBOT_REMAPS = {
+    'slam_gmapping': {('scan', 'front_laser/scan')},
+    'amcl': {('scan', 'front_laser/scan')},
+    'move_base': {('scan', 'front_laser/scan'), ('cmd_vel', 'mobile_base_controller/cmd_vel'),
+                  ('odom', 'mobile_base_controller/odom')},
+    'rviz': {('scan', 'front_laser/scan')},
+    'diff_wheeled_robot_key': {('turtlebot_teleop_keyboard/cmd_vel',
+                                'mobile_base_controller/cmd_vel')},
+}
+ROBOT_CALLS = [('launch/mapping_teleop.launch', []), ('launch/exploration.launch', []),
+               ('launch/navigation.launch', []), ('launch/demo.launch', []),
+               ('launch/demo.launch', ['phase:=navigate', 'map_file:=' + os.path.join(
+                   ROOT, 'maps', 'default_world.yaml')]),
+               ('minibot3d_navigation/launch/mapless_navigation.launch', [])]
+
+
+@pytest.fixture(scope='module')
+def marked_config_dir(tmp_path_factory):
+    """config/ with one value changed in each parameter file, to see which folder was read."""
+    d = tmp_path_factory.mktemp('config_set')
+    marks = {'gmapping.yaml': ('particles', 7), 'amcl.yaml': ('max_particles', 1234),
+             'explore.yaml': ('clearance', 0.31), 'move_base_params.yaml': ('planner_patience', 4.5),
+             'move_base_mapless_params.yaml': ('blocked_radius', 0.33)}
+    import yaml
+    for f in glob.glob(os.path.join(ROOT, 'config', '*.yaml')):
+        with open(f) as src:
+            data = yaml.safe_load(src)
+        name = os.path.basename(f)
+        if name in marks:
+            data[marks[name][0]] = marks[name][1]
+        with open(str(d / name), 'w') as dst:
+            yaml.safe_dump(data, dst)
+    return str(d)
+
+
+@pytest.mark.parametrize('path,args', ROBOT_CALLS,
+                         ids=['%s %s' % (c[0], ' '.join(c[1])[:14]) for c in ROBOT_CALLS])
+def test_robot_args_reach_every_node(path, args, marked_config_dir):
+    config = roslaunch.config.load_config_default(
+        [(os.path.join(ROOT, path), args + QUADBOT + ['config_dir:=' + marked_config_dir])],
+        None, verbose=False)
+    p = {k: v.value for k, v in config.params.items()}
+    assert '<robot name="quadbot"' in p['/robot_description']
+    # robot_params at the root namespace, where a ros_control robot's controllers live.
+    assert p['/mobile_base_controller/type'] == 'diff_drive_controller/DiffDriveController'
+    types = {n.type for n in config.nodes}
+    for node in config.nodes:
+        wanted = ROBOT_REMAPS.get(node.type, set())
+        assert wanted <= {tuple(r) for r in node.remap_args}, (path, node.type, node.remap_args)
+    # Every parameter file came from config_dir.
+    marked = {'slam_gmapping': ('/slam_gmapping/particles', 7),
+              'amcl': ('/amcl/max_particles', 1234), 'explore': ('/explore/clearance', 0.31),
+              'move_base': ('/move_base/planner_patience', 4.5)}
+    for node_type, (key, value) in marked.items():
+        if node_type in types:
+            assert p[key] == value, (path, key)
+    if 'mapless' in path:
+        assert p['/move_base/blocked_radius'] == 0.33
+
+
+def test_minibot3d_is_the_default_robot():
+    p = load_params(os.path.join(ROOT, 'launch', 'exploration.launch'))
+    assert '<robot name="minibot3d"' in p['/robot_description']
+    assert not any(k.startswith('/mobile_base_controller') for k in p)

@@ -122,3 +122,38 @@ def test_turns_one_way_to_the_opening_without_dithering():
     assert v > 0.0, 'still turning on the spot after 30 s'
     assert signs == {-1.0}, 'turned both ways'
     assert abs(wrap(heading - opening)) < math.radians(30)
+
+
+# ---- mount_yaw: where the laser looks, from a robot description ---------------------------------
+
+def urdf(*joints):
+    links = {'base_footprint'} | {j[1] for j in joints} | {j[2] for j in joints}
+    text = ''.join('<link name="%s"/>' % n for n in sorted(links))
+    for name, parent, child, rpy in joints:
+        origin = '' if rpy is None else '<origin xyz="0.1 0 0.2" rpy="%s"/>' % rpy
+        text += ('<joint name="%s" type="fixed"><parent link="%s"/><child link="%s"/>%s</joint>'
+                 % (name, parent, child, origin))
+    return '<robot name="r">%s</robot>' % text
+
+
+def test_mount_yaw_composes_the_joints_up_to_the_base():
+    from minibot3d_navigation.wanderer import mount_yaw
+    r = urdf(('a', 'base_footprint', 'base_link', '0 0 0'), ('b', 'base_link', 'chassis', None),
+             ('c', 'chassis', 'laser', '0 0 3.141592653589793'),
+             ('d', 'base_link', 'side', '0 0 0.5'), ('e', 'side', 'side_laser', '0 0 0.25'),
+             ('f', 'base_link', 'tilted', '0 0.3 1.0'),
+             ('g', 'base_link', 'flipped', '3.141592653589793 0 0'))
+    # minibot3d's mounting (backwards) gives exactly pi, as the wanderer was given before.
+    assert mount_yaw(r, 'base_footprint', 'laser') == math.pi
+    assert mount_yaw(r, 'base_footprint', '/laser') == math.pi  # a tf1-style frame name
+    assert abs(mount_yaw(r, 'base_footprint', 'side_laser') - 0.75) < 1e-12
+    assert abs(mount_yaw(r, 'side', 'side_laser') - 0.25) < 1e-12  # on another frame
+    assert abs(mount_yaw(r, 'base_link', 'tilted') - 1.0) < 1e-12  # pitch does not turn it
+    assert mount_yaw(r, 'laser', 'laser') == 0.0
+    for frame, said in (('flipped', 'upside down'), ('camera', 'not a link')):
+        try:
+            mount_yaw(r, 'base_footprint', frame)
+        except ValueError as e:
+            assert said in str(e) and frame in str(e)
+        else:
+            raise AssertionError('no ValueError for %s' % frame)

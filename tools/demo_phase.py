@@ -1,15 +1,19 @@
 #!/usr/bin/env python3
 """One phase of `make demo` (tools/demo.sh starts the ROS stack; this drives and records it).
 
-  demo_phase.py explore  --out DIR --timeout SIM_S
-      runs `explore` until no reachable frontier is left, recording the true path, then saves the
-      SLAM map to DIR/demo_map.{pgm,yaml}; writes DIR/demo_explore.json.
+  demo_phase.py explore  --out DIR --timeout SIM_S [--config-dir CONFIG]
+      runs `explore` with CONFIG/explore.yaml until no reachable frontier is left, recording the
+      true path, then saves the SLAM map to DIR/demo_map.{pgm,yaml}; writes DIR/demo_explore.json.
   demo_phase.py navigate --out DIR --spawn X,Y,YAW --goals "x,y,yaw ..." --timeout SIM_S
-      global localization (amcl's global_localization, then wandering (minibot3d_navigation.wanderer) until
-      amcl has a confident fix: see confident_fix), then each goal with simple_navi_goals.py in
-      the SLAM map's frame; writes DIR/demo_nav.json.
+                [scan:=TOPIC cmd_vel:=TOPIC]
+      global localization (amcl's global_localization, then wandering (minibot3d_navigation.wanderer)
+      until amcl has a confident fix: see Recorder.fix_problems), then each goal with
+      simple_navi_goals.py in the SLAM map's frame; writes DIR/demo_nav.json. The wanderer reads
+      the robot's laser on `scan` and drives it on `cmd_vel` (ROS remappings name the robot's
+      topics); the laser's mounting comes from robot_description and amcl's base_frame_id.
 Poses given on the command line are in the world frame; the SLAM map's frame is the world frame
 moved to the exploration's spawn pose (--spawn), as gmapping starts its map at the robot.
+CONFIG is the robot's config set (default config/, minibot3d's).
 
 Under lock-step time (/use_lockstep, as make demo runs it) this script is a participant: sim time
 moves only while it waits, each process it starts (explore, simple_navi_goals.py) joins while sim
@@ -27,6 +31,7 @@ import time
 
 from minibot3d_lockstep import Participant  # before rospy.init_node: it counts messages
 
+import rosparam
 import rospy
 from geometry_msgs.msg import PoseWithCovarianceStamped, Twist
 from minibot3d_sim.msg import SimStatus
@@ -34,7 +39,9 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import Float32MultiArray
 from std_srvs.srv import Empty
-from minibot3d_navigation.wanderer import Wanderer
+from minibot3d_navigation.wanderer import Wanderer, mount_yaw
+
+ROOT = os.path.realpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'))
 
 # A confident fix (what the demo trusts before sending goals): amcl's covariance
 # cov_xx + cov_yy under COV_FIX, its scan explained at the estimate (amcl/confidence) and one mode.
@@ -75,7 +82,7 @@ class Recorder(object):
         self.scan = None
         rospy.Subscriber('/ground_truth/odom', Odometry, self.on_truth, queue_size=20)
         rospy.Subscriber('/amcl/confidence', Float32MultiArray, self.on_confidence, queue_size=5)
-        rospy.Subscriber('/scan', LaserScan, self.on_scan, queue_size=1)
+        rospy.Subscriber('scan', LaserScan, self.on_scan, queue_size=1)
         rospy.Subscriber('/minibot3d_sim/status', SimStatus, self.on_status, queue_size=5)
         rospy.Subscriber('/amcl_pose', PoseWithCovarianceStamped, self.on_amcl, queue_size=5)
 
@@ -136,11 +143,13 @@ def wait_for(lockstep, predicate, sim_timeout, what):
 
 def explore(args, lockstep, rec):
     wait_for(lockstep, lambda: rec.truth is not None, 60, '/ground_truth/odom')
+    # The robot's explore parameters, set before the node starts, as explore.launch loads them.
+    for params, ns in rosparam.load_file(os.path.join(args.config_dir, 'explore.yaml'),
+                                         default_namespace='/explore'):
+        rosparam.upload_params(ns, params)
     t0_sim, t0_wall = rospy.Time.now(), time.time()
     finished, proc = lockstep.run(
-        '/explore',
-        ['rosrun', 'minibot3d_navigation', 'explore', '_min_frontier_size:=0.5', '_clearance:=0.2'],
-        args.timeout)
+        '/explore', ['rosrun', 'minibot3d_navigation', 'explore'], args.timeout)
     ok = finished
     try:
         if not finished:
@@ -170,7 +179,12 @@ def localize(lockstep, rec, cmd_pub, spawn, timeout=300.0):
     rospy.ServiceProxy('/global_localization', Empty)()
     with rec.lock:  # the claim must come from an update after the call
         rec.amcl_cov = rec.confidence = None
-    wanderer = Wanderer(laser_yaw=math.pi)  # minibot3d's lidar is mounted backwards
+    wait_for(lockstep, lambda: rec.scan is not None, 60, rospy.resolve_name('scan'))
+    # Where the laser looks on the robot (minibot3d's is mounted backwards): from the robot
+    # description, on the base frame amcl localizes.
+    wanderer = Wanderer(laser_yaw=mount_yaw(rospy.get_param('/robot_description'),
+                                            rospy.get_param('/amcl/base_frame_id', 'base_link'),
+                                            rec.scan.header.frame_id))
     start = rospy.Time.now()
     travel, last = 0.0, rec.truth
     cmd = Twist()
@@ -280,11 +294,8 @@ def navigate(args, lockstep, rec, cmd_pub):
               % (g[0], g[1], 'reached' if out.returncode == 0 else 'FAILED',
                  m.group(1) if m else '?', results[-1]['error'],
                  '%.3f' % amcl_err if amcl_err is not None else '?'), flush=True)
-    # The controller's speed limit, for the summary's time against path length / max_vel_x.
-    max_vel_x = rospy.get_param('/move_base/TrajectoryPlannerROS/max_vel_x', None)
     write_json(os.path.join(args.out, 'demo_nav.json'), dict(
-        localization_error=loc_error, goals=results, collisions=rec.collisions,
-        max_vel_x=max_vel_x))
+        localization_error=loc_error, goals=results, collisions=rec.collisions))
     return 0 if all(r['ok'] for r in results) else 1
 
 
@@ -295,19 +306,21 @@ def main():
     parser.add_argument('--timeout', type=float, default=1500.0, help='sim seconds')
     parser.add_argument('--spawn', default='-3,-1.5,0')
     parser.add_argument('--goals', default='')
+    parser.add_argument('--config-dir', default=os.path.join(ROOT, 'config'),
+                        help="the robot's config set (default config/, minibot3d's)")
     args = parser.parse_args(rospy.myargv()[1:])
     rospy.init_node('demo_' + args.phase)
     # Subscribers first: the simulator's first messages reach those the master knows of when the
     # participant joins; one made later would see the first pose at a sim time that depends on
     # how fast this process started.
     rec = Recorder()
-    cmd_pub = rospy.Publisher('/cmd_vel', Twist, queue_size=1) if args.phase == 'navigate' else None
+    cmd_pub = rospy.Publisher('cmd_vel', Twist, queue_size=1) if args.phase == 'navigate' else None
     lockstep = Participant(wake_on_participants=True)
     try:
         if args.phase == 'explore':
             return explore(args, lockstep, rec)
         return navigate(args, lockstep, rec, cmd_pub)
-    except RuntimeError as e:
+    except (RuntimeError, ValueError) as e:  # ValueError: the laser's mounting
         print('demo: %s' % e, file=sys.stderr, flush=True)
         return 1
     finally:

@@ -2,8 +2,13 @@
 """`make demo`'s summary: the table on the terminal and out/demo.png (the saved map with the
 exploration path and the navigation paths drawn on it).
 
-  demo_report.py --out DIR --truth-map GT.yaml --spawn X,Y,YAW
-  demo_report.py --reachable-area --out DIR --truth-map GT.yaml --spawn X,Y,YAW
+  demo_report.py --out DIR --truth-map GT.yaml --spawn X,Y,YAW [--config-dir CONFIG]
+  demo_report.py --reachable-area --out DIR --truth-map GT.yaml --spawn X,Y,YAW [--config-dir CONFIG]
+
+CONFIG is the robot's config set (default config/, minibot3d's): the time ratio takes max_vel_x
+from its trajectory_planner.yaml (the local planner move_base_params.yaml names), and the free
+area counts as reachable where the robot fits: REACH_CLEARANCE from walls, or the footprint's
+inscribed radius in costmap_common_params.yaml when that is larger.
 
 Map accuracy compares the saved SLAM map with the world's ground-truth map: the SLAM map's
 occupied cells are moved into the world frame (the SLAM map frame is the world frame moved to the
@@ -21,10 +26,12 @@ import sys
 from collections import deque
 
 import numpy as np
+import yaml
 from minibot3d_map_io import load_map
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 MIN_COVERAGE = 0.97  # make demo's bar: exploration maps >= 97 % of the reachable free area
+REACH_CLEARANCE = 0.15  # m from walls for a free cell to count as reachable, at least
 
 
 def route_driver():
@@ -41,7 +48,7 @@ def load_trinary(yaml_path):
     return grid.free, grid.occupied, grid.resolution, grid.origin
 
 
-def reachable_free(free, occupied, res, origin, start, clearance=0.15):
+def reachable_free(free, occupied, res, origin, start, clearance=REACH_CLEARANCE):
     """Free cells connected to start (4-connected), as a boolean array."""
     blocked = route_driver().inflate(occupied, int(math.ceil(clearance / res)))
     h, w = free.shape
@@ -90,6 +97,47 @@ def coverage(reach, gres, gorigin, known, res, origin, spawn):
     return float(hit.mean())
 
 
+def load_yaml(path):
+    with open(path) as f:
+        return yaml.safe_load(f) or {}
+
+
+def max_vel_x_of(config_dir):
+    """The local planner's max_vel_x (m/s) in a config set, None if it sets none: move_base loads
+    trajectory_planner.yaml, then move_base_params.yaml, whose base_local_planner names the
+    namespace (TrajectoryPlannerROS or DWAPlannerROS)."""
+    params = load_yaml(os.path.join(config_dir, 'trajectory_planner.yaml'))
+    params.update(load_yaml(os.path.join(config_dir, 'move_base_params.yaml')))
+    planner = str(params.get('base_local_planner', 'base_local_planner/TrajectoryPlannerROS'))
+    ns = 'DWAPlannerROS' if 'DWAPlannerROS' in planner else 'TrajectoryPlannerROS'
+    value = (params.get(ns) or {}).get('max_vel_x')
+    return float(value) if value is not None else None
+
+
+def inscribed_radius(config_dir):
+    """The robot's inscribed radius (m) from costmap_common_params.yaml: the footprint polygon's
+    nearest edge to the base (or robot_radius), plus footprint_padding; 0 if it gives neither."""
+    params = load_yaml(os.path.join(config_dir, 'costmap_common_params.yaml'))
+    footprint = params.get('footprint')
+    if isinstance(footprint, str):  # costmap_2d also takes "[[x, y], ...]" as a string
+        footprint = yaml.safe_load(footprint)
+    if footprint:
+        pts = np.asarray(footprint, dtype=float)
+        radius = float('inf')
+        for a, b in zip(pts, np.roll(pts, -1, axis=0)):
+            d = b - a
+            t = np.clip(-a.dot(d) / max(d.dot(d), 1e-12), 0.0, 1.0)
+            radius = min(radius, float(np.hypot(*(a + t * d))))
+    else:
+        radius = float(params.get('robot_radius', 0.0))
+    return radius + float(params.get('footprint_padding', 0.0))
+
+
+def reach_clearance(config_dir):
+    """How far from walls a free cell must be to count as reachable by the robot."""
+    return max(REACH_CLEARANCE, inscribed_radius(config_dir))
+
+
 def path_length(path):
     """Length (m) of a driven path, a list of [x, y, ...] points."""
     if len(path) < 2:
@@ -122,12 +170,16 @@ def main():
     parser.add_argument('--reachable-area', action='store_true',
                         help='print the free area (m^2) reachable from --spawn on --truth-map '
                         'and exit (demo.sh sizes the exploration time budget by it)')
+    parser.add_argument('--config-dir', default=os.path.join(HERE, '..', 'config'),
+                        help="the robot's config set (default config/, minibot3d's)")
     args = parser.parse_args()
+    clearance = reach_clearance(args.config_dir)
     spawn = tuple(float(v) for v in args.spawn.split(','))
     failures = []
     if args.reachable_area:
         gfree, gocc, gres, gorigin = load_trinary(args.truth_map)
-        print('%.1f' % (reachable_free(gfree, gocc, gres, gorigin, spawn).sum() * gres * gres))
+        print('%.1f' % (reachable_free(gfree, gocc, gres, gorigin, spawn, clearance).sum() *
+                        gres * gres))
         return 0
 
     with open(os.path.join(args.out, 'demo_explore.json')) as f:
@@ -143,7 +195,7 @@ def main():
     free, occ, res, origin = load_trinary(os.path.join(args.out, 'demo_map.yaml'))
     gfree, gocc, gres, gorigin = load_trinary(args.truth_map)
     explored = free.sum() * res * res
-    reach = reachable_free(gfree, gocc, gres, gorigin, spawn)
+    reach = reachable_free(gfree, gocc, gres, gorigin, spawn, clearance)
     world_free = reach.sum() * gres * gres
     covered = coverage(reach, gres, gorigin, free | occ, res, origin, spawn)
     if covered < MIN_COVERAGE:
@@ -178,7 +230,8 @@ def main():
                  ('goals reached', '%d of %d' % (len(reached), len(goals))),
                  ('time per goal', ', '.join('%.1f s' % g['sim_s'] if g['sim_s'] else '?'
                                              for g in goals) + ' (sim)'),
-                 ('time / (path / max_vel_x)', time_against_path(goals, nav.get('max_vel_x'))),
+                 ('time / (path / max_vel_x)',
+                  time_against_path(goals, max_vel_x_of(args.config_dir))),
                  ('collisions while navigating', str(nav['collisions']))]
         if len(reached) != len(goals):
             failures.append('navigation (%d of %d goals)' % (len(reached), len(goals)))

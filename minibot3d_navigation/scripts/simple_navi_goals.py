@@ -30,6 +30,11 @@ is sent.  With --global-localization it first calls amcl's
 global_localization service, so the wait is for a fix found from nothing.  Without a fix in time it
 says what was missing and exits 1 without sending the goal.
 
+Its topics are relative names (cmd_vel, scan, amcl_pose, amcl/confidence): a robot whose drive
+and laser use others gets them as ROS remappings, as the launch files' cmd_vel_topic and
+scan_topic do for move_base, e.g.  cmd_vel:=mobile_base_controller/cmd_vel scan:=front_laser/scan.
+--base-frame is amcl's base_frame_id.
+
 Under lock-step time (/use_lockstep, see minibot3d_lockstep) it is a participant: it waits for
 the server and the result on sim time that moves only when it is done looking, so a route of
 goals gives the same times in every run.

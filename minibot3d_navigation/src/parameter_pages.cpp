@@ -115,8 +115,10 @@ ParameterPage ExplorePage() {
   return ParameterPage{
       "explore.md", "explore",
       "Private parameters of the `explore` node (`~name`), with explore_lite's names where "
-      "explore_lite has the parameter. explore.launch sets `clearance` and `min_frontier_size`; "
-      "no shipped YAML sets the others. " +
+      "explore_lite has the parameter. A robot's config set gives `robot_base_frame`, "
+      "`min_frontier_size`, `clearance` and `goal_clearance` in explore.yaml (minibot3d's: "
+      "`config/explore.yaml`, loaded by explore.launch and make demo); no shipped YAML sets the "
+      "others. " +
           std::string(kReported),
       {Section("Frontier search", "Which frontiers count, where a robot goes to see past them, "
                "and when a place is given up.",

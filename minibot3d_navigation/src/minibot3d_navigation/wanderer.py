@@ -16,8 +16,56 @@ sooner than steering by the sides, and on the default world it leaves more start
 fix (docs/benchmarks.md, global-localization study).
 
 Wanderer(laser_yaw).command(scan) -> (v, w): laser_yaw is the laser's heading on the base
-(minibot3d's RPLIDAR is mounted backwards: pi)."""
+(minibot3d's RPLIDAR is mounted backwards: pi); mount_yaw(urdf, base, laser) reads it from a robot
+description."""
 import math
+from xml.etree import ElementTree
+
+
+def _rpy_matrix(roll, pitch, yaw):
+    """URDF's fixed-axis roll, pitch, yaw as a rotation matrix: Rz(yaw) Ry(pitch) Rx(roll)."""
+    cr, sr, cp, sp, cy, sy = (math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch),
+                              math.cos(yaw), math.sin(yaw))
+    return [[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+            [-sp, cp * sr, cp * cr]]
+
+
+def _mul(a, b):
+    return [[sum(a[i][k] * b[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
+
+
+def mount_yaw(urdf_xml, base_frame, frame):
+    """The heading (rad) of `frame`'s x axis on `base_frame`, from the joints of a robot
+    description (URDF XML): where a laser looks on the base, Wanderer's laser_yaw. ValueError
+    naming the frame when the description lacks it or it is mounted upside down (the scan would
+    run clockwise, which the wanderer does not handle)."""
+    parent_of = {}
+    links = set()
+    root = ElementTree.fromstring(urdf_xml)
+    for link in root.findall('link'):
+        links.add(link.get('name'))
+    for joint in root.findall('joint'):
+        origin = joint.find('origin')
+        rpy = (origin.get('rpy') if origin is not None else None) or '0 0 0'
+        parent_of[joint.find('child').get('link')] = (joint.find('parent').get('link'),
+                                                      _rpy_matrix(*map(float, rpy.split())))
+
+    def in_root(link):
+        link = link.lstrip('/')
+        if link not in links:
+            raise ValueError('frame %s is not a link of the robot description' % link)
+        rotation = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+        while link in parent_of:
+            link, joint = parent_of[link]
+            rotation = _mul(joint, rotation)
+        return rotation
+
+    base, sensor = in_root(base_frame), in_root(frame)
+    relative = _mul([list(r) for r in zip(*base)], sensor)  # base^T sensor
+    if relative[2][2] < 0.0:
+        raise ValueError('frame %s is mounted upside down on %s' % (frame, base_frame))
+    return math.atan2(relative[1][0], relative[0][0])
 
 
 class Wanderer(object):
