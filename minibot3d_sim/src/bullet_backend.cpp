@@ -169,38 +169,18 @@ void ConfigureWorld(btDiscreteDynamicsWorld* world) {
   info.m_numIterations = 4;
 }
 
-// The robot seen from above: its footprint, or the body box's outline.
-std::vector<Eigen::Vector2d> ChassisOutline(const RobotModel& robot) {
-  std::vector<Eigen::Vector2d> outline = robot.footprint;
-  if (outline.size() < 3) {
-    const Eigen::Vector3d body_centre = robot.body_pose.translation();
-    const Eigen::Vector3d h = robot.body_size / 2.0;
-    outline = {body_centre.head<2>() + Eigen::Vector2d(-h.x(), -h.y()),
-               body_centre.head<2>() + Eigen::Vector2d(h.x(), -h.y()),
-               body_centre.head<2>() + Eigen::Vector2d(h.x(), h.y()),
-               body_centre.head<2>() + Eigen::Vector2d(-h.x(), h.y())};
-  }
-  return outline;
-}
-
-// The chassis' height band: from just above the floor to the top of body and wheels. The chassis
-// only meets meshes within it: there they become boxes.
-MeshBand ChassisBand(const RobotModel& robot) {
-  const Eigen::Vector3d body_centre = robot.body_pose.translation();
-  double z_top = body_centre.z() + robot.body_size.z() / 2.0;
-  double z_bottom = body_centre.z() - robot.body_size.z() / 2.0;
-  double min_radius = robot.wheels.empty() ? 0.02 : robot.wheels[0].radius;
-  for (const WheelSpec& w : robot.wheels) {
-    z_top = std::max(z_top, w.position.z() + w.radius);
-    min_radius = std::min(min_radius, w.radius);
-  }
-  // Obstacles lower than a quarter wheel radius are below the hull: a real wheel would climb them.
-  z_bottom = std::max(0.005, std::min(z_bottom, 0.25 * min_radius));
-  if (z_top <= z_bottom) z_top = z_bottom + 0.01;
+// The robot's height band, from the floor clearance to its top part; the chassis only meets meshes
+// within it, where they become boxes a few centimetres tall each.
+MeshBand ChassisBand(const std::vector<BodyPart>& parts) {
   MeshBand band;
-  band.z_min = z_bottom;
-  band.z_max = z_top;
-  band.layers = 1;
+  band.z_min = std::numeric_limits<double>::infinity();
+  band.z_max = -band.z_min;
+  for (const BodyPart& p : parts) {
+    band.z_min = std::min(band.z_min, p.z_min);
+    band.z_max = std::max(band.z_max, p.z_max);
+  }
+  if (!(band.z_max > band.z_min)) band.z_max = band.z_min + 0.01;
+  band.layers = std::max(1, static_cast<int>(std::ceil((band.z_max - band.z_min) / 0.05)));
   return band;
 }
 
@@ -231,26 +211,41 @@ double InnerRadius(const std::vector<Eigen::Vector2d>& outline, const Eigen::Vec
   return inner_radius;
 }
 
-// The chassis shape: the outline extruded over the band, relative to the centre of mass.
-std::unique_ptr<btConvexHullShape> ChassisHull(const std::vector<Eigen::Vector2d>& outline,
-                                               const Eigen::Vector2d& com, double com_height,
-                                               const MeshBand& band) {
+// The part of the largest area seen from above (the body, on any robot with one).
+const BodyPart& LargestPart(const std::vector<BodyPart>& parts) {
+  const auto area = [](const BodyPart& p) {
+    double a2 = 0.0;
+    for (std::size_t i = 0; i < p.outline.size(); ++i) {
+      const Eigen::Vector2d& u = p.outline[i];
+      const Eigen::Vector2d& v = p.outline[(i + 1) % p.outline.size()];
+      a2 += u.x() * v.y() - u.y() * v.x();
+    }
+    return std::abs(a2);
+  };
+  return *std::max_element(parts.begin(), parts.end(), [&](const BodyPart& a, const BodyPart& b) {
+    return area(a) < area(b);
+  });
+}
+
+// One hull per body part: its outline extruded over its band, relative to the centre of mass.
+// Polyhedral features let Bullet clip whole faces against boxes (a full contact manifold in one
+// step) instead of adding one GJK point per step.
+std::unique_ptr<btConvexHullShape> PartHull(const BodyPart& part, const Eigen::Vector2d& com,
+                                            double com_height) {
   auto hull = std::make_unique<btConvexHullShape>();
-  for (const Eigen::Vector2d& p : outline) {
+  for (const Eigen::Vector2d& p : part.outline) {
     const Eigen::Vector2d q = p - com;
-    hull->addPoint(btVector3(q.x(), q.y(), band.z_min - com_height), false);
-    hull->addPoint(btVector3(q.x(), q.y(), band.z_max - com_height), false);
+    hull->addPoint(btVector3(q.x(), q.y(), part.z_min - com_height), false);
+    hull->addPoint(btVector3(q.x(), q.y(), part.z_max - com_height), false);
   }
   hull->recalcLocalAabb();
   hull->setMargin(kChassisMargin);
-  // Polyhedral features let Bullet clip whole faces against boxes (a full contact manifold in one
-  // step) instead of adding one GJK point per step.
   hull->initializePolyhedralFeatures();
   return hull;
 }
 
 // The planar chassis body: x, y and yaw free, no damping, bouncing or gyroscopic terms.
-std::unique_ptr<btRigidBody> MakeChassis(double mass, double inertia_z, btConvexHullShape* shape,
+std::unique_ptr<btRigidBody> MakeChassis(double mass, double inertia_z, btCollisionShape* shape,
                                          double inner_radius) {
   btRigidBody::btRigidBodyConstructionInfo ci(mass, nullptr, shape,
                                               btVector3(inertia_z, inertia_z, inertia_z));
@@ -325,12 +320,18 @@ BulletBackend::BulletBackend(const RobotModel& robot, const World& world) {
   dynamics_world_ = std::make_unique<btDiscreteDynamicsWorld>(
       dispatcher_.get(), broadphase_.get(), solver_.get(), collision_config_.get());
   ConfigureWorld(dynamics_world_.get());
-  const std::vector<Eigen::Vector2d> outline = ChassisOutline(robot);
-  const MeshBand band = ChassisBand(robot);
-  world_objects_ = std::make_unique<BulletWorldObjects>(world, dynamics_world_.get(), band);
+  const std::vector<BodyPart> parts = BodyParts(robot);
+  if (parts.empty()) throw std::invalid_argument("BulletBackend: the robot has no body part");
+  world_objects_ =
+      std::make_unique<BulletWorldObjects>(world, dynamics_world_.get(), ChassisBand(parts));
   MarkFloorPlanes(dynamics_world_.get());
-  chassis_shape_ = ChassisHull(outline, com_, com_height_, band);
-  chassis_ = MakeChassis(mass_, inertia_z_, chassis_shape_.get(), InnerRadius(outline, com_));
+  chassis_shape_ = std::make_unique<btCompoundShape>(/*enableDynamicAabbTree=*/parts.size() > 4);
+  for (const BodyPart& part : parts) {
+    part_hulls_.push_back(PartHull(part, com_, com_height_));
+    chassis_shape_->addChildShape(btTransform::getIdentity(), part_hulls_.back().get());
+  }
+  chassis_ = MakeChassis(mass_, inertia_z_, chassis_shape_.get(),
+                         InnerRadius(LargestPart(parts).outline, com_));
   dynamics_world_->addRigidBody(chassis_.get(), btBroadphaseProxy::DefaultFilter,
                                 btBroadphaseProxy::StaticFilter);
   SetPose(Pose2{});

@@ -3,10 +3,12 @@
 // Model. The robot drives on a flat floor (z = 0), so its chassis is one planar btRigidBody (x, y,
 // yaw free; z, roll, pitch locked with linear/angular factors, no gravity) carrying the whole
 // robot's mass and yaw inertia about its centre of mass, in a btDiscreteDynamicsWorld holding the
-// static world. Walls stop it through Bullet's own contacts: the chassis' collision shape is the
-// robot's footprint extruded over the height of body and wheels (a convex hull with polyhedral
-// features, so faces are clipped into full manifolds), and Bullet's sequential-impulse solver
-// resolves them (split impulses: pushing out of a wall never becomes a bounce).
+// static world. Walls stop it through Bullet's own contacts: the chassis' collision shape is a
+// compound of every link's collision shapes (BodyParts: each shape's outline from above extruded
+// over its own height band, a convex hull with polyhedral features, so faces are clipped into full
+// manifolds), so a mast, a bumper or a wheel meets what is at its height and a table top above the
+// body does not stop it; Bullet's sequential-impulse solver resolves the contacts (split impulses:
+// pushing out of a wall never becomes a bounce).
 //
 // Wheels are not Bullet bodies. Each driven wheel is a 1-DOF rotor (axle inertia from the URDF)
 // driven by a velocity motor whose torque is clamped to the drive's torque — what Gazebo's drive
@@ -14,8 +16,8 @@
 // centre with the normal load N it carries at rest (m g shared by the least-norm statics of all
 // floor contacts about the centre of mass: the wheels and the casters, which carry load but no
 // traction). A holonomic base (planar move) is instead given the commanded body velocity every
-// step, as Gazebo's planar-move plugin sets the model's velocity; walls still stop it. Before every Bullet step the wheel–ground contacts are
-// solved as velocity-level constraints by projected Gauss–Seidel (sequential impulses, warm
+// step, as Gazebo's planar-move plugin sets the model's velocity; walls still stop it. Before
+// every Bullet step the wheel–ground contacts are solved as velocity-level constraints by projected Gauss–Seidel (sequential impulses, warm
 // started): per wheel one block couples the motor, the longitudinal slip (chassis velocity at the
 // contact minus r·ω) and the lateral slip; its friction impulse is confined to Coulomb's
 // anisotropic friction ellipse (λ_along / μ1 N dt)² + (λ_across / μ2 N dt)² ≤ 1 (mu1/mu2 of the
@@ -34,7 +36,7 @@
 // steady speeds and slipping yaw rates agree with the full model within a few per cent
 // (bullet_backend_test): slip, torque and friction limits and wall contacts are kept. What it
 // leaves out: suspension/pitch, load transfer under acceleration, rolling resistance, climbing
-// over obstacles lower than a quarter wheel radius (the hull starts there; they are ignored).
+// over obstacles lower than a quarter wheel radius (the parts start there; they are ignored).
 //
 // Precision: Bullet is used in single precision (the Debian default); the pose is kept in double
 // and integrated from Bullet's post-contact velocity, see Step().
@@ -131,7 +133,8 @@ class BulletBackend : public PhysicsBackend {
   std::unique_ptr<btSequentialImpulseConstraintSolver> solver_;
   std::unique_ptr<btDiscreteDynamicsWorld> dynamics_world_;
   std::unique_ptr<BulletWorldObjects> world_objects_;
-  std::unique_ptr<btConvexHullShape> chassis_shape_;
+  std::unique_ptr<btCompoundShape> chassis_shape_;                  // one child per body part
+  std::vector<std::unique_ptr<btConvexHullShape>> part_hulls_;
   std::unique_ptr<btRigidBody> chassis_;
 };
 

@@ -2,16 +2,19 @@
 //
 // Model: the no-slip body twist the drive's targets ask for (DriveTargets::body_twist: the wheel
 // speeds' twist for a wheeled drive, the command for a holonomic one), integrated exactly as a
-// constant twist over each step (a straight line or a circular arc, IntegrateTwist). Walls are handled by refusing steps: the robot's
-// footprint polygon at the step's end pose is tested against the world's horizontal cross-section
-// at the body's mid-height (WorldSlice); a step that would overlap is not taken, the robot stands
-// still (twist 0, wheels 0) and a Contact is reported. Since a blocked step is never taken the
-// robot never penetrates anything, and reversing out of a contact is always possible.
+// constant twist over each step (a straight line or a circular arc, IntegrateTwist). Walls are
+// handled by refusing steps: every body part (each link's collision shapes, BodyParts) at the
+// step's end pose is tested against the world's horizontal cross-sections (WorldSlice) at the
+// heights the part spans — its band's ends, every 5 cm between, and the heights where a world
+// shape begins or ends within it, so a table top above the robot or a low step under its body
+// count where they are. A step that would overlap is not taken, the robot stands still (twist 0,
+// wheels 0) and a Contact is reported. Since a blocked step is never taken the robot never
+// penetrates anything, and reversing out of a contact is always possible.
 //
-// It is meant to be very cheap (well under 1 µs per step): the 2-D overlap test runs only when the
-// robot may have come within reach of an obstacle — the clearance of the robot's centre (minus the
-// footprint's radius) is cached and steps are taken unchecked until the distance travelled since
-// then uses it up.
+// It is meant to be cheap (well under 1 µs per step in the open): the overlap tests run only when
+// the robot may have come within reach of an obstacle — the clearance of the robot's centre in
+// every cross-section (minus the parts' radius) is cached and steps are taken unchecked until the
+// distance travelled since then uses it up.
 #ifndef MINIBOT3D_SIM_KINEMATIC_BACKEND_H_
 #define MINIBOT3D_SIM_KINEMATIC_BACKEND_H_
 
@@ -46,16 +49,24 @@ class KinematicBackend : public PhysicsBackend {
   long collision_checks() const { return collision_checks_; }
 
  private:
-  // Whether the footprint at `p` overlaps the world; *shape gets one shape it touches.
+  // Whether a body part at `p` overlaps the world; *shape gets one shape it touches, and the part
+  // and cross-section are remembered for MakeContact.
   bool Collides(const Pose2& p, int* shape);
-  // The contact of the footprint at pose_ with the nearest world geometry of `shape` (any shape
-  // when none matches).
+  // The contact of the last overlapping part at pose_ with the nearest world geometry of `shape`
+  // in the last overlapping cross-section (any shape when none matches).
   Contact MakeContact(int shape) const;
+  // Distance from p to the nearest geometry of any cross-section.
+  double Clearance(const Eigen::Vector2d& p) const;
 
-  std::vector<Eigen::Vector2d> footprint_;  // root frame
-  double footprint_radius_ = 0.0;           // max |vertex| about the root frame's origin
-  double slice_height_ = 0.0;
-  WorldSlice slice_;
+  struct Part {
+    std::vector<Eigen::Vector2d> outline;  // root frame, counter-clockwise
+    std::vector<int> slices;               // cross-sections it is tested against
+  };
+  std::vector<Part> parts_;
+  std::vector<WorldSlice> slices_;
+  std::vector<double> slice_heights_;
+  double footprint_radius_ = 0.0;  // max |vertex| of every part about the root frame's origin
+  int hit_part_ = 0, hit_slice_ = 0;
 
   Pose2 pose_;
   Twist2 twist_;

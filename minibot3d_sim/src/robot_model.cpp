@@ -163,6 +163,27 @@ std::vector<Eigen::Vector3d> ShapeCorners(const Shape& s) {
   return corners;
 }
 
+// Points whose convex hull seen from above is the shape's outline: a box's corners, a mesh's
+// vertices, the rims of a cylinder and the equator of a sphere as 32-gons circumscribing them
+// (0.5 % outside the round shape, never inside it).
+std::vector<Eigen::Vector3d> OutlinePoints(const Shape& s) {
+  if (s.type == ShapeType::kBox || s.type == ShapeType::kMesh) return ShapeCorners(s);
+  constexpr int kSides = 32;
+  const double r = s.size.x() / std::cos(M_PI / kSides);
+  std::vector<Eigen::Vector3d> points;
+  for (int k = 0; k < kSides; ++k) {
+    const double a = 2.0 * M_PI * k / kSides;
+    if (s.type == ShapeType::kCylinder) {
+      for (double z : {-0.5 * s.size.z(), 0.5 * s.size.z()}) {
+        points.push_back(s.pose * Eigen::Vector3d(r * std::cos(a), r * std::sin(a), z));
+      }
+    } else {  // sphere: the equator in the root frame
+      points.push_back(s.pose.translation() + Eigen::Vector3d(r * std::cos(a), r * std::sin(a), 0));
+    }
+  }
+  return points;
+}
+
 std::vector<Eigen::Vector2d> ConvexHull(std::vector<Eigen::Vector2d> p) {
   std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
@@ -302,10 +323,10 @@ void ReadCollisions(const urdf::Model& urdf, const RobotModelOptions& options, R
       cs.z_min = std::numeric_limits<double>::infinity();
       cs.z_max = -cs.z_min;
       for (const auto& p : ShapeCorners(cs.shape)) {
-        flat.emplace_back(p.x(), p.y());
         cs.z_min = std::min(cs.z_min, p.z());
         cs.z_max = std::max(cs.z_max, p.z());
       }
+      for (const auto& p : OutlinePoints(cs.shape)) flat.emplace_back(p.x(), p.y());
       cs.outline = ConvexHull(flat);
       m->collisions.push_back(std::move(cs));
     }
@@ -1080,7 +1101,7 @@ RobotModel ParseRobotModel(const std::string& urdf_xml, const RobotModelOptions&
     for (const auto& c : m.collisions) {
       if (c.link != link->name) continue;
       const auto link_corners = ShapeCorners(c.shape);
-      for (const auto& p : link_corners) outline.emplace_back(p.x(), p.y());
+      outline.insert(outline.end(), c.outline.begin(), c.outline.end());
       if (!wheel_links.count(link->name) && !movable && c.shape.type != ShapeType::kMesh) {
         corners.insert(corners.end(), link_corners.begin(), link_corners.end());
       }
@@ -1105,6 +1126,39 @@ RobotModel ParseRobotModel(const std::string& urdf_xml, const RobotModelOptions&
   m.body_pose.translation() = 0.5 * (lo + hi);
   m.footprint = ConvexHull(outline);
   return m;
+}
+
+double FloorClearance(const RobotModel& robot) {
+  double min_radius = std::numeric_limits<double>::infinity();
+  for (const WheelSpec& w : robot.wheels) min_radius = std::min(min_radius, w.radius);
+  return std::isfinite(min_radius) ? std::max(0.005, 0.25 * min_radius) : 0.005;
+}
+
+std::vector<BodyPart> BodyParts(const RobotModel& robot) {
+  const double floor = FloorClearance(robot);
+  std::vector<BodyPart> parts;
+  for (const CollisionShape& c : robot.collisions) {
+    if (c.outline.size() < 3 || c.z_max <= floor) continue;
+    parts.push_back(BodyPart{c.link, c.outline, std::max(c.z_min, floor), c.z_max});
+  }
+  if (!robot.collisions.empty()) return parts;
+  const Eigen::Vector3d centre = robot.body_pose.translation();
+  const Eigen::Vector3d h = robot.body_size / 2.0;
+  BodyPart part;
+  part.link = robot.root_link;
+  part.outline = robot.footprint;
+  if (part.outline.size() < 3) {
+    part.outline = {centre.head<2>() + Eigen::Vector2d(-h.x(), -h.y()),
+                    centre.head<2>() + Eigen::Vector2d(h.x(), -h.y()),
+                    centre.head<2>() + Eigen::Vector2d(h.x(), h.y()),
+                    centre.head<2>() + Eigen::Vector2d(-h.x(), h.y())};
+  }
+  part.z_min = std::max(floor, centre.z() - h.z());
+  part.z_max = centre.z() + h.z();
+  for (const WheelSpec& w : robot.wheels) part.z_max = std::max(part.z_max, w.position.z() + w.radius);
+  if (part.z_max <= part.z_min) part.z_max = part.z_min + 0.01;
+  parts.push_back(std::move(part));
+  return parts;
 }
 
 }  // namespace minibot3d_sim

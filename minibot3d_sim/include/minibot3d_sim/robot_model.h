@@ -105,6 +105,23 @@ struct RobotModel {
   bool HasLink(const std::string& link) const { return link_poses.count(link) > 0; }
 };
 
+// One piece of the robot's body as the physics backends see it: a collision shape's outline from
+// above (convex, root frame, counter-clockwise) over its height band above the floor.
+struct BodyPart {
+  std::string link;
+  std::vector<Eigen::Vector2d> outline;
+  double z_min = 0.0, z_max = 0.0;
+};
+
+// Height (m) under which obstacles pass below the robot (its wheels climb them): a quarter of the
+// smallest wheel radius, at least 5 mm.
+double FloorClearance(const RobotModel& robot);
+
+// Every link's collision shapes as body parts, each band starting at FloorClearance; a shape that
+// lies wholly below it is left out. A model without collision shapes (made by hand) gives one part:
+// its footprint (or body box) over the body's and wheels' height.
+std::vector<BodyPart> BodyParts(const RobotModel& robot);
+
 // Where gazebo_ros_control's controllers are configured: for each controller namespace under
 // the robot's namespace, its keys as text (nested keys joined with '/', e.g. "linear/x/max_velocity";
 // lists as "[a, b]"). The simulator node fills it from the parameter server.
