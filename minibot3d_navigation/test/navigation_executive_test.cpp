@@ -53,13 +53,16 @@ class CountingRecovery : public RecoveryBehavior {
  public:
   explicit CountingRecovery(std::string n) : name_(std::move(n)) {}
   std::string name() const override { return name_; }
-  void Start(const RobotState&) override { ++starts; cycles_left = 3; }
+  void Start(const RobotState&) override { ++starts; cycles_left = cycles; }
   bool Step(const RobotState&, Twist2* cmd) override {
     cmd->wz = 0.5;
+    cmd->vx = -reverse;
     return cycles_left-- > 0;
   }
   int starts = 0;
   int cycles_left = 0;
+  int cycles = 3;
+  double reverse = 0.0;  // m/s backwards while it runs (a back-out)
 
  private:
   std::string name_;
@@ -193,6 +196,28 @@ TEST(NavigationExecutive, OscillationTriggersRecoveryAndAbort) {
     said |= m.rfind("recovering: ", 0) == 0 && m.find("oscillation_distance=") != std::string::npos;
   }
   EXPECT_TRUE(said);
+}
+
+// Recoveries that move the robot (backing out 0.5 m) are not progress: an oscillating goal still
+// runs out of recoveries and aborts. Counting their motion as progress restarted the list after
+// every back-out and kept the robot shuttling in and out of a pocket for good.
+TEST(NavigationExecutive, ARecoverysOwnMotionIsNotProgress) {
+  MoveBaseOptions o;
+  o.oscillation_timeout = 2.0;
+  o.recovery_reset_distance = 0.3;
+  Harness h(o);
+  for (CountingRecovery* r : {&h.r1, &h.r2}) {
+    r->cycles = 20;
+    r->reverse = 0.5;
+  }
+  h.controller.stall = true;
+  h.exec.SetGoal({3.0, 0.0, 0.0}, 0.0);
+  const CycleResult r = h.Run(100.0);
+  ASSERT_EQ(r.status, GoalStatus::kAborted) << "still active after 100 s";
+  EXPECT_NE(r.message.find("even after executing recovery behaviors"), std::string::npos)
+      << r.message;
+  EXPECT_EQ(h.r1.starts, 1);
+  EXPECT_EQ(h.r2.starts, 1);
 }
 
 TEST(NavigationExecutive, CancelStopsAndPreemptionReplaces) {

@@ -230,10 +230,11 @@ CycleResult NavigationExecutive::Step(const RobotState& input, const Pose2& glob
   const double t = state.time;
 
   // Progress resets the oscillation clock (and the recoveries, if they were
-  // started because of oscillation), as in move_base.
-  if (!std::isfinite(oscillation_pose_.x) ||
+  // started because of oscillation), as in move_base. A recovery's own motion (backing out) is
+  // not progress: move_base's recoveries run to completion inside one cycle, these across many.
+  if (state_ != NavState::kClearing && (!std::isfinite(oscillation_pose_.x) ||
       std::hypot(state.global_pose.x - oscillation_pose_.x,
-                 state.global_pose.y - oscillation_pose_.y) >= options_.oscillation_distance) {
+                 state.global_pose.y - oscillation_pose_.y) >= options_.oscillation_distance)) {
     last_oscillation_reset_ = t;
     oscillation_pose_ = state.global_pose;
     if (trigger_ == Trigger::kOscillation) recovery_index_ = 0;
@@ -253,6 +254,9 @@ CycleResult NavigationExecutive::Step(const RobotState& input, const Pose2& glob
     }
     recovery_running_ = false;
     ++recovery_index_;
+    // Progress and moving on are measured from where the recovery left the robot.
+    oscillation_pose_ = state.global_pose;
+    recovery_pose_ = state.global_pose;
     state_ = NavState::kPlanning;
     last_valid_plan_ = t;
     last_valid_control_ = t;
