@@ -63,6 +63,35 @@ for physics in kinematic kinematic kinematic bullet bullet bullet; do
   ros_stop_core
 done
 
+echo "== simulator node with diffbot (depth camera, laser, IMU; kinematic physics, real_time_factor"
+echo "   0), the same arc: the camera at its own 640x480 / 15 Hz and at 320x240 / 15 Hz, with a"
+echo "   C++ listener on its depth image and point cloud (cameras render only for a listener), and"
+echo "   with nobody listening; one run each"
+for camera in "640 480 listened" "320 240 listened" "320 240 unlistened"; do
+  read -r width height listen <<< "$camera"
+  xacro minibot3d_description/urdf/diffbot.xacro camera_width:="$width" camera_height:="$height" \
+    -o build/bench/diffbot_node.urdf
+  ros_start_core
+  setsid roslaunch minibot3d_sim minibot3d_gazebo.launch physics:=kinematic \
+    model:="$PWD/build/bench/diffbot_node.urdf" real_time_factor:=0 x:=-2.6 y:=-2.1 yaw:=0 \
+    cmd_timeout:=1000000 > build/bench/node_diffbot.log 2>&1 &
+  pid=$!
+  ros_wait_launch 60
+  sink=
+  if [ "$listen" = listened ]; then
+    devel/lib/minibot3d_sim/topic_sink /camera/depth/image_raw /camera/depth/points &
+    sink=$!
+  fi
+  rostopic pub /cmd_vel geometry_msgs/Twist '{linear: {x: 0.2}, angular: {z: 0.4}}' > /dev/null 2>&1 &
+  pub=$!
+  /usr/bin/python3 tools/bench/measure_node_rtf.py "camera=${width}x$height $listen" --warmup 5 \
+    --span 60 --timeout 600 || true
+  [ -n "$sink" ] && kill -INT "$sink" 2>/dev/null && wait "$sink" || true
+  kill "$pub" 2>/dev/null || true
+  ros_stop_groups "$pid"
+  ros_stop_core
+done
+
 tools/bench/lockstep_bench.sh
 
 echo "== AMCL core: one filter update (motion + 60-beam correction + resampling + clustering)"
