@@ -28,8 +28,12 @@ mapfile -t pytest_dirs < <(ls -d test minibot3d_*/test 2>/dev/null)
 /usr/bin/python3 -m pytest -q -p no:cacheprovider --junitxml="$results/pytest/pytest.xml" \
   "${pytest_dirs[@]}"
 rc=$?
-# 5: no tests collected — not a failure of the suite by itself; the summary counts what ran.
-if [ $rc -ne 0 ] && [ $rc -ne 5 ]; then status=1; fi
+# Any non-zero status fails the run, 5 ("no tests collected") too: a test directory that yields
+# no test is a broken suite, not an empty one.
+if [ $rc -ne 0 ]; then
+  [ $rc -eq 5 ] && echo "pytest: no tests collected from ${pytest_dirs[*]}" >&2
+  status=1
+fi
 
 /usr/bin/python3 tools/summarize_tests.py "$results" || status=1
 exit $status

@@ -37,6 +37,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "minibot3d_slam/bag_log.h"
+#include "minibot3d_slam/between_processed.h"
 #include "minibot3d_slam/carmen_log.h"
 #include "minibot3d_slam/gmapping_options.h"
 #include "minibot3d_slam/log_reader.h"
@@ -227,26 +228,6 @@ void ShowWarnings(const minibot3d_slam::LogReader& reader, bool quiet, std::size
   }
 }
 
-// The pose of a reading between two processed ones: the first processed pose moved by the odometry
-// increment since it, plus the share of the gap at the second (where the filter put it, against
-// where that odometry puts it) proportional to how far the odometry had moved (translation + rotation;
-// a reading at the second's odometry gets all of it). Without a second (after the last processed
-// reading) the odometry alone. Spread linearly in that measure: odometry errors grow with the
-// motion (the motion model's assumption too), and a reading's own match corrects what is left.
-Pose2 InterpolatedPose(const Pose2& pose0, const Pose2& odom0, const Pose2& odom, const Pose2* pose1, const Pose2* odom1) {
-  const Pose2 u = minibot3d_slam::Between(odom0, odom);
-  if (pose1 == nullptr) return minibot3d_slam::Compose(pose0, u);
-  const Pose2 u1 = minibot3d_slam::Between(odom0, *odom1);
-  const Pose2 v = minibot3d_slam::Between(pose0, *pose1);
-  const double total = std::hypot(u1.x, u1.y) + std::fabs(u1.yaw);
-  // (Two processed readings at one odometry pose — temporalUpdate, standing still — leave nothing
-  // to spread by: the readings between keep the first's pose.)
-  const double f = total > 1e-9 ? std::min(1.0, (std::hypot(u.x, u.y) + std::fabs(u.yaw)) / total) : 0.0;
-  const Pose2 rel{u.x + f * (v.x - u1.x), u.y + f * (v.y - u1.y),
-                  minibot3d_slam::NormalizeAngle(u.yaw + f * minibot3d_slam::NormalizeAngle(v.yaw - u1.yaw))};
-  return minibot3d_slam::Compose(pose0, rel);
-}
-
 double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -372,7 +353,7 @@ void PlaceReadings(minibot3d_slam::LogReader* reader, const minibot3d_slam::Rbpf
     const bool next = k < best.size();
     batch.poses.push_back(pass.processed_flags[i]
                               ? anchor_pose
-                              : InterpolatedPose(anchor_pose, anchor_odom, r.odom, next ? &best[k].pose : nullptr,
+                              : minibot3d_slam::PoseBetweenProcessed(anchor_pose, anchor_odom, r.odom, next ? &best[k].pose : nullptr,
                                                  next ? &pass.processed_odom[k] : nullptr));
     if (batch.readings.size() == kBatch) {
       *peak_batch_bytes = std::max(*peak_batch_bytes, batch.Bytes());

@@ -1,5 +1,8 @@
 """Checks every closed-loop rostest makes on the whole run, beside its own: RunChecks.
 
+/tf arrived at all: a run whose monitor heard nothing has checked nothing for repeats (the
+simulator never published, or the test subscribed to the wrong master or topic).
+
 TfRepeatMonitor: tf2 drops a transform whose child frame already has one at the same stamp and
 warns "TF_REPEATED_DATA ignoring data with redundant timestamp" in every listener, on stderr rather
 than /rosout. The monitor watches /tf for that cause itself: a (child frame, stamp) pair sent twice,
@@ -169,7 +172,7 @@ def non_loopback_listeners(root_pid=None, caller_id=None):
 
 
 class RunChecks(object):
-    """Both checks for a closed-loop rostest: create it right after rospy.init_node, and call
+    """The checks for a closed-loop rostest: create it right after rospy.init_node, and call
     problems() at the end of the run, while the nodes are still up::
 
         checks = RunChecks()
@@ -181,9 +184,13 @@ class RunChecks(object):
         self.tf = TfRepeatMonitor()
 
     def problems(self):
+        out = []
+        if self.tf.messages == 0:
+            out.append('no message on /tf during the run: nothing was checked for repeated '
+                       'transforms (is the simulator up on this master?)')
         repeats = self.tf.repeats()
-        out = ['tf sent twice at one stamp (listeners drop it with TF_REPEATED_DATA): ' + r
-               for r in repeats[:20]]
+        out += ['tf sent twice at one stamp (listeners drop it with TF_REPEATED_DATA): ' + r
+                for r in repeats[:20]]
         if len(repeats) > 20:
             out.append('... and %d more repeated transforms' % (len(repeats) - 20))
         out += ['listening beyond loopback (run with ROS_IP=127.0.0.1, as tools/ros_env.sh and '
