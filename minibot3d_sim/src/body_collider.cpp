@@ -118,9 +118,8 @@ bool ConvexOverlap(const std::vector<Eigen::Vector2d>& a, const std::vector<Eige
 }  // namespace
 
 const WorldSlice* SliceCache::At(double height) {
-  const long mm = std::lround(height * 1000.0);  // NOLINT(runtime/int)
-  auto& slice = slices_[mm];
-  if (!slice) slice = std::make_unique<WorldSlice>(*world_, mm / 1000.0);
+  auto& slice = slices_[std::llround(height * 1e6)];
+  if (!slice) slice = std::make_unique<WorldSlice>(*world_, height);
   return slice.get();
 }
 

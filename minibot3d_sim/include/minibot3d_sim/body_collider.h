@@ -25,16 +25,15 @@ namespace minibot3d_sim {
 
 using minibot3d_common::Pose2;
 
-// Cross-sections of one world, made on first use and kept (keyed by the height in mm).
+// Cross-sections of one world, made on first use and kept (keyed by the height in µm).
 class SliceCache {
  public:
   explicit SliceCache(const World* world) : world_(world) {}
-  // The cross-section at `height` rounded to the millimetre.
   const WorldSlice* At(double height);
 
  private:
   const World* world_;
-  std::map<long, std::unique_ptr<WorldSlice>> slices_;  // NOLINT(runtime/int)
+  std::map<long long, std::unique_ptr<WorldSlice>> slices_;  // NOLINT(runtime/int)
 };
 
 class BodyCollider {
