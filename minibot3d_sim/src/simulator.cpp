@@ -81,6 +81,7 @@ SimRobot::SimRobot(Simulator* sim, size_t index, RobotEntry entry, unsigned seed
       seed_(seed) {}
 
 double SimRobot::time() const { return sim_->time(); }
+double SimRobot::physics_step() const { return sim_->physics_step(); }
 
 void SimRobot::Command(const Twist2& command) { drive_->OnCommand(command, time()); }
 

@@ -1,9 +1,11 @@
 """The simulator node refuses bad input with a message naming what is wrong, and does not crash:
-missing or broken robot_description, a URDF without the drive plugin or the ray sensor, a world
+missing or broken robot_description, a URDF without the drive plugin or with a laser it cannot
+simulate, a world
 that does not exist or does not parse, a mesh that cannot be found, bad parameters.
 
 Each case runs the real node against a ROS master of the test's own."""
 import os
+import re
 import subprocess
 import tempfile
 
@@ -62,9 +64,10 @@ def test_no_drive_plugin(master, urdf):
     expect_refusal(master, broken, 'libgazebo_ros_skid_steer_drive.so', '_world:=' + ARENA)
 
 
-def test_no_ray_sensor(master, urdf):
-    broken = urdf.replace('type="ray"', 'type="camera"')
-    expect_refusal(master, broken, 'type="ray"', '_world:=' + ARENA)
+def test_laser_without_beams(master, urdf):
+    broken = re.sub(r'<samples>\s*360\s*</samples>', '<samples>0</samples>', urdf)
+    assert broken != urdf
+    expect_refusal(master, broken, '<samples> must be a whole number', '_world:=' + ARENA)
 
 
 def test_world_missing(master, urdf):
