@@ -99,3 +99,26 @@ def test_bad_parameters(master, urdf):
 
 def test_spawn_inside_a_wall(master, urdf):
     expect_refusal(master, urdf, 'overlaps', '_world:=' + ARENA, '_x:=3.05', '_y:=0')
+
+
+def set_descriptions(env, urdf, names):
+    with tempfile.NamedTemporaryFile('w', suffix='.urdf', delete=False) as f:
+        f.write(urdf)
+    for name in names:
+        subprocess.run(['rosparam', 'set', '/%s/robot_description' % name, '-t', f.name],
+                       env=env, check=True, capture_output=True)
+    os.unlink(f.name)
+
+
+def test_several_robots_bad_names_and_spawns(master, urdf):
+    set_descriptions(master, urdf, ['r1', 'r2'])
+    expect_refusal(master, urdf, "'r1'", '_world:=' + ARENA, '_robots:=r1 r1',
+                   '_r1/x:=0', '_r1/y:=0')
+    expect_refusal(master, urdf, '2r', '_world:=' + ARENA, '_robots:=r1 2r', '_r1/x:=0',
+                   '_r1/y:=0')
+    # r2 0.1 m from r1: the bodies overlap.
+    expect_refusal(master, urdf, 'overlap', '_world:=' + ARENA, '_robots:=r1 r2', '_r1/x:=0',
+                   '_r1/y:=0', '_r2/x:=0.1', '_r2/y:=0')
+    # r2 inside the arena's wall: the message names the robot.
+    expect_refusal(master, urdf, 'robot r2', '_world:=' + ARENA, '_robots:=r1 r2', '_r1/x:=0',
+                   '_r1/y:=0', '_r2/x:=3.05', '_r2/y:=0')
