@@ -35,13 +35,20 @@ def test_every_robot_has_its_stack_in_its_namespace(robots):
     names = sorted(node_name(n) for n in config.nodes)
     stacks = sorted('/robot%d/%s' % (k, n) for k in range(1, robots + 1)
                     for n in ('amcl', 'move_base'))
-    # One simulator and one map for all; nothing else at the root.
-    assert names == sorted(stacks + ['/map_server', '/minibot3d_sim', '/robot_state_publisher'])
+    # One simulator and one map for all; each robot's robot_state_publisher in its namespace.
+    assert names == sorted(stacks + ['/map_server', '/minibot3d_sim'] +
+                           ['/robot%d/robot_state_publisher' % k for k in range(1, robots + 1)])
     p = {k: v.value for k, v in config.params.items()}
+    assert p['/minibot3d_sim/robots'] == str(robots)
+    assert '/robot_description' not in p
     poses = default_poses()
     for k in range(1, robots + 1):
         assert p['/robot%d/frame_prefix' % k] == 'robot%d' % k
+        assert '<robot name="minibot3d"' in p['/robot%d/robot_description' % k]
         x, y, yaw = poses[k - 1]
+        # The simulator spawns robot K where its amcl starts.
+        assert (p['/minibot3d_sim/robot%d/x' % k], p['/minibot3d_sim/robot%d/y' % k],
+                p['/minibot3d_sim/robot%d/yaw' % k]) == (x, y, yaw)
         assert (p['/robot%d/amcl/initial_pose_x' % k], p['/robot%d/amcl/initial_pose_y' % k],
                 p['/robot%d/amcl/initial_pose_a' % k]) == (x, y, yaw)
         # Each robot's config set: the same files, in its own namespace.
@@ -74,7 +81,7 @@ def test_the_params_resolve_to_each_robots_frames():
     config = load('robots:=3')
     seen = collections.Counter()
     for node in config.nodes:
-        if not node.namespace.startswith('/robot'):
+        if not node.namespace.startswith('/robot') or node.type == 'robot_state_publisher':
             continue
         r = node.namespace.strip('/')
         frames = resolved_frames(config, node)
@@ -156,6 +163,8 @@ def test_the_spawn_poses_are_free_apart_and_connected_in_the_default_world():
 
 def test_the_default_spawn_pose_of_robot1_is_the_simulators():
     """robot1 starts where the single-robot stacks start, the simulator's own default."""
-    p = {k: v.value for k, v in load('robots:=1').params.items()}
-    assert (p['/minibot3d_sim/x'], p['/minibot3d_sim/y'], p['/minibot3d_sim/yaw']) == \
-        default_poses()[0]
+    from xml.etree import ElementTree
+    sim = os.path.join(ROOT, 'minibot3d_sim', 'launch', 'minibot3d_gazebo.launch')
+    default = {a.get('name'): float(a.get('default'))
+               for a in ElementTree.parse(sim).getroot().iter('arg') if a.get('name') in ('x', 'y', 'yaw')}
+    assert (default['x'], default['y'], default['yaw']) == default_poses()[0]

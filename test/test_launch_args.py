@@ -23,6 +23,8 @@ ENTRY_POINTS = sorted(glob.glob(os.path.join(ROOT, 'launch', '*.launch')))
 NOT_FORWARDED = {
     ('minibot3d_gazebo.launch', 'rviz'): 'the stacks start their own rviz with their own config',
     ('amcl.launch', 'use_map_topic'): 'map_server offers the static_map service',
+    ('minibot3d_gazebo.launch', 'robots'): 'a single-robot stack runs the one unnamed robot '
+                                           '(fleet_navigation.launch starts several)',
 }
 
 _rospack = rospkg.RosPack()
