@@ -6,7 +6,8 @@ three times what a passing run takes) are sent at once; each robot must reach it
 within 0.3 m and 0.3 rad, within its limit. Reported per robot: reached, time, collisions with
 walls and with robots (from its /NAME/minibot3d_sim/collisions, whose object names the other
 robot as "robot NAME"), and the smallest distance between two robots' true positions over the run.
-No collision may be reported (read from each robot's status sent after the end of the run).
+No collision may be reported (read from each robot's status sent after the end of the run), and
+run_checks finds no transform sent twice and nothing listening beyond loopback.
 Catches: a robot whose costmaps do not see the others (they meet head-on and collide, or stop
 for good), a stack reading another robot's topics or frames (no pose, or the wrong robot moves),
 lock-step time that leaves out a robot's nodes (results differ between runs; the test prints the
@@ -16,6 +17,7 @@ import threading
 import unittest
 
 from minibot3d_lockstep import Participant, action_server_ready  # before rospy.init_node
+from minibot3d_lockstep.run_checks import RunChecks
 from minibot3d_testing.sim_status import SimStatusWatch
 
 import actionlib
@@ -96,6 +98,7 @@ class FleetSwap(unittest.TestCase):
             ['/%s/amcl_pose' % r.name for r in cls.robots]
         cls.lockstep = Participant(wake_topics=wake)
         cls.lockstep.add_periodic(0.05, lambda now: None)
+        cls.checks = RunChecks()
         for r in cls.robots:
             assert cls.lockstep.wait_for(lambda: action_server_ready(r.client), 120.0), \
                 'no move_base action server for ' + r.name
@@ -183,6 +186,9 @@ class FleetSwap(unittest.TestCase):
             if r.hits:
                 problems.append('%s collided with %s' % (r.name, ', '.join(r.hits)))
         self.assertEqual([], problems)
+
+    def test_3_run_checks(self):
+        self.assertEqual([], self.checks.problems())
 
 
 if __name__ == '__main__':
