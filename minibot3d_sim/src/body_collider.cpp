@@ -215,4 +215,45 @@ bool BodyOverlap(const BodyCollider& a, const Pose2& pose_a, const BodyCollider&
   return overlap;
 }
 
+bool BodyTouchesDisc(const BodyCollider& body, const Pose2& pose, const Eigen::Vector2d& center,
+                     double radius, double z_min, double z_max, Eigen::Vector2d* normal) {
+  const double dx = pose.x - center.x(), dy = pose.y - center.y();
+  const double reach = body.radius() + radius;
+  if (dx * dx + dy * dy > reach * reach) return false;
+  const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
+  thread_local std::vector<Eigen::Vector2d> outline;
+  for (const BodyCollider::Part& part : body.parts()) {
+    if (part.z_max <= z_min || z_max <= part.z_min || part.outline.empty()) continue;
+    outline.clear();
+    for (const auto& v : part.outline) {
+      outline.emplace_back(pose.x + c * v.x() - s * v.y(), pose.y + s * v.x() + c * v.y());
+    }
+    const bool inside =
+        outline.size() >= 3 && minibot3d_common::PointInPolygon(outline, center.x(), center.y());
+    double nearest = std::numeric_limits<double>::infinity();
+    Eigen::Vector2d closest = outline[0];
+    for (size_t i = 0; i < outline.size(); ++i) {
+      const Eigen::Vector2d& a = outline[i];
+      const Eigen::Vector2d& b = outline[(i + 1) % outline.size()];
+      const Eigen::Vector2d ab = b - a;
+      const double len2 = ab.squaredNorm();
+      const double t = len2 > 0.0 ? std::clamp((center - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+      const Eigen::Vector2d q = a + t * ab;
+      const double d = (center - q).norm();
+      if (d < nearest) {
+        nearest = d;
+        closest = q;
+      }
+    }
+    if (!inside && nearest >= radius) continue;
+    if (normal != nullptr) {
+      Eigen::Vector2d n = inside ? Eigen::Vector2d(pose.x, pose.y) - center : closest - center;
+      if (n.norm() < 1e-12) n = Eigen::Vector2d(pose.x, pose.y) - center;
+      *normal = n.norm() < 1e-12 ? Eigen::Vector2d::UnitX() : Eigen::Vector2d(n.normalized());
+    }
+    return true;
+  }
+  return false;
+}
+
 }  // namespace minibot3d_sim

@@ -19,6 +19,7 @@
 #include "node/lockstep_host.h"
 #include "minibot3d_lockstep/participant.h"
 #include "minibot3d_ros/params.h"
+#include "minibot3d_sim/SimActors.h"
 #include "minibot3d_sim/Collision.h"
 #include "minibot3d_sim/SetPose.h"
 #include "minibot3d_sim/SimStatus.h"
@@ -255,6 +256,7 @@ class SimNode {
       robots_.push_back(std::move(x));
     }
     status_pub_ = pnh_.advertise<SimStatus>("status", q(5), true);
+    if (sim_->actor_count() > 0) actors_pub_ = pnh_.advertise<SimActors>("actors", q(5));
     if (lockstep_) {
       LockstepHost::Options lo;
       lo.coordinator.quantum = options_.lockstep_quantum;
@@ -378,6 +380,10 @@ class SimNode {
   void Publish(bool all) {
     const double t = sim_->time();
     const ros::Time stamp(t);
+    if (actors_pub_ && (all || t + 1e-9 >= actors_published_ / options_.actors_rate)) {
+      PublishActors(stamp);
+      actors_published_ = std::floor(t * options_.actors_rate + 1e-6) + 1.0;
+    }
     bool collided = false;
     for (Robot& r : robots_) {
       r.ros->Publish(all);
@@ -427,6 +433,29 @@ class SimNode {
     if ((ros::WallTime::now() - last_clock_wall_).toSec() >= 1.0 / options_.pub_clock_frequency) {
       PublishClock();
     }
+  }
+
+  // The actors where they are (for evaluation; a robot's stack does not read it).
+  void PublishActors(const ros::Time& stamp) {
+    SimActors m;
+    m.header.stamp = stamp;
+    m.header.frame_id = options_.world_frame;
+    for (size_t k = 0; k < sim_->actor_count(); ++k) {
+      const ActorState& a = sim_->actor_state(k);
+      SimActor out;
+      out.name = sim_->world().actors[k].name;
+      out.pose.position.x = a.x;
+      out.pose.position.y = a.y;
+      out.pose.orientation.z = std::sin(0.5 * a.yaw);
+      out.pose.orientation.w = std::cos(0.5 * a.yaw);
+      out.twist.linear.x = a.vx;
+      out.twist.linear.y = a.vy;
+      out.twist.angular.z = a.wz;
+      out.radius = options_.actor_radius;
+      out.height = options_.actor_height;
+      m.actors.push_back(out);
+    }
+    actors_pub_.publish(m);
   }
 
   // The simulation's status (collisions and contact: all robots'), and each named robot's.
@@ -560,7 +589,8 @@ class SimNode {
   std::vector<Robot> robots_;
   std::unique_ptr<LockstepHost> lockstep_host_;
   ros::CallbackQueue cmd_queue_;
-  ros::Publisher clock_pub_, status_pub_, tf_static_pub_;
+  ros::Publisher clock_pub_, status_pub_, tf_static_pub_, actors_pub_;
+  double actors_published_ = 0.0;  // ~actors messages sent (the next is due at this / rate)
   ros::Time last_clock_;
   bool clock_published_ = false;
   ros::WallTime last_clock_wall_;

@@ -78,6 +78,11 @@ const OptionTable<SimNodeOptions>& SimNodeOptionTable() {
              "Frame of the ground truth and the collision reports."),
        Field("publish_ground_truth", &O::publish_ground_truth,
              "Publish the root link's true pose and twist on ground_truth/odom (in world_frame)."),
+       Field("actor_radius", &O::actor_radius,
+             "Radius of the upright cylinder that stands for each of the world's <actor>s (m)."),
+       Field("actor_height", &O::actor_height, "Height of each actor's cylinder (m)."),
+       Field("actors_rate", &O::actors_rate,
+             "Rate of ~actors, the actors' poses and velocities (Hz of sim time)."),
        Field("lockstep_quantum", &O::lockstep_quantum,
              "Lock-step: sim time between rounds (s), a whole number of physics steps."),
        Field("lockstep_timeout", &O::lockstep_timeout,
@@ -117,6 +122,9 @@ void ValidateSimNodeOptions(const SimNodeOptions& o, bool lockstep) {
   p.Positive("pub_clock_frequency", o.pub_clock_frequency);
   p.Positive("floorplan_wall_height", o.floorplan_wall_height);
   p.Require(!o.world_frame.empty(), "world_frame must not be empty");
+  p.Positive("actor_radius", o.actor_radius);
+  p.Positive("actor_height", o.actor_height);
+  p.Positive("actors_rate", o.actors_rate);
   p.Positive("lockstep_quantum", o.lockstep_quantum);
   p.Positive("lockstep_timeout", o.lockstep_timeout);
   p.Positive("lockstep_start_timeout", o.lockstep_start_timeout);
@@ -231,6 +239,8 @@ SimulatorOptions ToSimulatorOptions(const SimNodeOptions& o) {
   s.odom_wheel_separation_multiplier = o.odom_wheel_separation_multiplier;
   s.cmd_wheel_separation_multiplier = o.cmd_wheel_separation_multiplier;
   s.odom_error = ToOdometryErrorOptions(o);
+  s.actor_radius = o.actor_radius;
+  s.actor_height = o.actor_height;
   return s;
 }
 

@@ -22,6 +22,8 @@ void ValidateOptions(const SimulatorOptions& o) {
   }
   ValidateOdometryError(o.odom_error);
   if (!(o.cmd_timeout > 0.0)) bad("cmd_timeout must be > 0 s, got " + std::to_string(o.cmd_timeout));
+  if (!(o.actor_radius > 0.0)) bad("actor_radius must be > 0 m, got " + std::to_string(o.actor_radius));
+  if (!(o.actor_height > 0.0)) bad("actor_height must be > 0 m, got " + std::to_string(o.actor_height));
   if (!std::isfinite(o.spawn.x) || !std::isfinite(o.spawn.y) || !std::isfinite(o.spawn.yaw)) {
     bad("spawn pose (x, y, yaw) must be finite");
   }
@@ -68,6 +70,8 @@ DepthCameraSpec CameraSpecOf(const CameraSpec& c) {
 bool SamePose(const Pose2& a, const Pose2& b) {
   return a.x == b.x && a.y == b.y && a.yaw == b.yaw;
 }
+
+constexpr int kActorSides = 32;
 
 }  // namespace
 
@@ -117,6 +121,9 @@ void SimRobot::Observe(double now, double dt) {
       e.shape_name = sim_->world_.shapes[c.shape].name;
     } else if (c.shape >= world_shapes && c.shape - world_shapes < static_cast<int>(sim_->robot_count())) {
       e.shape_name = "robot " + sim_->at(c.shape - world_shapes).name();
+    } else if (c.shape >= sim_->ActorShapeId(0) &&
+               c.shape - sim_->ActorShapeId(0) < static_cast<int>(sim_->actor_count())) {
+      e.shape_name = "actor " + sim_->world_.actors[c.shape - sim_->ActorShapeId(0)].name;
     } else {
       e.shape_name = "(unknown)";
     }
@@ -141,11 +148,24 @@ void SimRobot::OtherBodies(const Eigen::Vector2d& from, double height, double re
       }
     }
   }
+  const double r = sim_->options_.actor_radius;
+  if (height < 0.0 || height > sim_->options_.actor_height) return;
+  for (const ActorState& a : sim_->actor_states_) {
+    if (std::hypot(a.x - from.x(), a.y - from.y()) - r > reach) continue;
+    // A polygon circumscribing the circle would be seen up to 0.5 % of r too early; one inscribed
+    // too late: vertices at the radius that keeps the polygon's area the circle's.
+    const double rv = r * std::sqrt(2.0 * M_PI / (kActorSides * std::sin(2.0 * M_PI / kActorSides)));
+    out->emplace_back();
+    for (int k = 0; k < kActorSides; ++k) {
+      const double t = 2.0 * M_PI * k / kActorSides;
+      out->back().emplace_back(a.x + rv * std::cos(t), a.y + rv * std::sin(t));
+    }
+  }
 }
 
 void SimRobot::TakeScan(size_t laser, std::vector<float>* ranges) {
   const Pose2 pose = backend_->pose();
-  if (sim_->robot_count() > 1) {
+  if (sim_->robot_count() > 1 || sim_->actor_count() > 0) {
     const LaserSpec& spec = lidars_[laser]->spec();
     const Eigen::Vector2d at =
         minibot3d_common::TransformPoint(pose, Eigen::Vector2d(spec.pose_in_root.translation().x(),
@@ -224,6 +244,14 @@ bool SimRobot::PoseCollides(const Pose2& pose, std::string* what) const {
     const SimRobot& other = sim_->at(j);
     if (BodyOverlap(*collider_, pose, other.collider(), other.true_pose())) {
       if (what) *what = "robot " + other.name();
+      return true;
+    }
+  }
+  for (size_t k = 0; k < sim_->actor_count(); ++k) {
+    const ActorState& a = sim_->actor_states_[k];
+    if (BodyTouchesDisc(*collider_, pose, Eigen::Vector2d(a.x, a.y), sim_->options_.actor_radius,
+                        0.0, sim_->options_.actor_height)) {
+      if (what) *what = "actor " + sim_->world_.actors[k].name;
       return true;
     }
   }
@@ -348,6 +376,50 @@ void Simulator::Build(std::vector<RobotEntry> robots, const BackendFactory& make
     x.backend_->SetPose(x.options_.spawn);
     robots_.push_back(std::move(robot));
   }
+  if (ray_scene_) {
+    for (const Actor& a : world_.actors) {
+      Shape cylinder;
+      cylinder.type = ShapeType::kCylinder;
+      cylinder.name = "actor " + a.name;
+      cylinder.size = Eigen::Vector3d(options_.actor_radius, options_.actor_radius,
+                                      options_.actor_height);
+      cylinder.pose.translation() = Eigen::Vector3d(0.0, 0.0, 0.5 * options_.actor_height);
+      cylinder.color = Eigen::Vector3f(0.25f, 0.3f, 0.55f);  // clothes: a dark blue
+      actor_bodies_.push_back(ray_scene_->AddBody({cylinder}, cylinder.name));
+    }
+  }
+  UpdateActors();
+}
+
+void Simulator::UpdateActors() {
+  actor_states_.resize(world_.actors.size());
+  const double t = time();
+  for (size_t k = 0; k < world_.actors.size(); ++k) actor_states_[k] = ActorAt(world_.actors[k], t);
+}
+
+void Simulator::SeparateFromActors() {
+  for (auto& r : robots_) {
+    for (size_t k = 0; k < actor_states_.size(); ++k) {
+      const ActorState& a = actor_states_[k];
+      const Eigen::Vector2d centre(a.x, a.y);
+      Eigen::Vector2d normal;
+      if (!BodyTouchesDisc(r->collider(), r->true_pose(), centre, options_.actor_radius, 0.0,
+                           options_.actor_height, &normal)) {
+        continue;
+      }
+      if (!SamePose(r->true_pose(), r->before_step_) &&
+          !BodyTouchesDisc(r->collider(), r->before_step_, centre, options_.actor_radius, 0.0,
+                           options_.actor_height)) {
+        r->backend_->SetPose(r->before_step_);
+      }
+      Contact c;
+      c.point = Eigen::Vector3d(a.x + options_.actor_radius * normal.x(),
+                                a.y + options_.actor_radius * normal.y(), 0.0);
+      c.normal = Eigen::Vector3d(normal.x(), normal.y(), 0.0);
+      c.shape = ActorShapeId(k);
+      r->contacts_.push_back(c);
+    }
+  }
 }
 
 SimRobot* Simulator::Find(const std::string& name) {
@@ -369,6 +441,10 @@ const RayScene& Simulator::SceneNow(size_t viewer) {
     }
     if (r->body_ >= 0 && r->body_ == r->self_body_) ray_scene_->SetBodyPose(r->body_, at);
   }
+  for (size_t k = 0; k < actor_bodies_.size(); ++k) {
+    const ActorState& a = actor_states_[k];
+    ray_scene_->SetBodyPose(actor_bodies_[k], RootTransform(Pose2{a.x, a.y, a.yaw}));
+  }
   ray_scene_->Commit();
   return *ray_scene_;
 }
@@ -379,6 +455,10 @@ void Simulator::Step() {
   for (auto& r : robots_) r->Advance(t, dt);
   ++steps_;
   const double now = time();
+  if (!world_.actors.empty()) {
+    UpdateActors();
+    SeparateFromActors();
+  }
   if (robots_.size() > 1) SeparateRobots(now);
   for (auto& r : robots_) r->Observe(now, dt);
 }

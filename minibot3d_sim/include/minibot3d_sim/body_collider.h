@@ -74,6 +74,12 @@ class BodyCollider {
 bool BodyOverlap(const BodyCollider& a, const Pose2& pose_a, const BodyCollider& b,
                  const Pose2& pose_b, Eigen::Vector2d* normal = nullptr);
 
+// A robot's body at `pose` against an upright cylinder (an actor): whether a part whose height band
+// meets [z_min, z_max] comes within `radius` of `center` in plan. *normal, when not null, gets the
+// unit direction from the cylinder's axis towards the body.
+bool BodyTouchesDisc(const BodyCollider& body, const Pose2& pose, const Eigen::Vector2d& center,
+                     double radius, double z_min, double z_max, Eigen::Vector2d* normal = nullptr);
+
 }  // namespace minibot3d_sim
 
 #endif  // MINIBOT3D_SIM_BODY_COLLIDER_H_

@@ -40,6 +40,9 @@ struct SimNodeOptions {
   // Extras beyond Gazebo's plugins.
   std::string world_frame = "world";
   bool publish_ground_truth = true;
+  double actor_radius = 0.25;
+  double actor_height = 1.8;
+  double actors_rate = 20.0;
   // Lock-step time (when /use_lockstep is true).
   double lockstep_quantum = 0.005;
   double lockstep_timeout = 10.0;

@@ -11,6 +11,11 @@
 // then each drive observes the step (its odometry) and contacts that begin become collision
 // events. Sensors fire when sim time reaches a multiple of their period (every step for a rate of
 // 0); lasers and cameras see the other robots' bodies where they are.
+//
+// The world's actors (actor.h) move on their scripts with sim time. Each is an upright cylinder of
+// `actor_radius` and `actor_height`: lasers and cameras see it where it is at the scan's time, a
+// robot that drives into one is put back where it was (a robot an actor walks into may drive out)
+// and the contact is reported naming the actor ("actor NAME").
 #ifndef MINIBOT3D_SIM_SIMULATOR_H_
 #define MINIBOT3D_SIM_SIMULATOR_H_
 
@@ -50,6 +55,9 @@ struct SimulatorOptions {
   double odom_wheel_separation_multiplier = 1.0;
   double cmd_wheel_separation_multiplier = 1.0;
   OdometryErrorOptions odom_error;
+  // The upright cylinder that stands for each of the world's actors (m).
+  double actor_radius = 0.25;
+  double actor_height = 1.8;
 };
 
 // Throws std::invalid_argument naming the offending option and value.
@@ -176,7 +184,8 @@ class SimRobot {
   void Advance(double t, double dt);
   // After the step (and the robots' contacts): the drive's odometry, the collision events.
   void Observe(double t, double dt);
-  // The bodies of the other robots at `height` within `reach` of `from`, as world polygons.
+  // The bodies of the other robots and the actors at `height` within `reach` of `from`, as world
+  // polygons (an actor's cylinder as a 32-gon, within 0.5 % of its radius).
   void OtherBodies(const Eigen::Vector2d& from, double height, double reach,
                    std::vector<std::vector<Eigen::Vector2d>>* out) const;
 
@@ -242,6 +251,14 @@ class Simulator {
   // Id of robot i in Contact::shape and last-touch maps: after the world's shapes.
   int RobotShapeId(size_t i) const { return static_cast<int>(world_.shapes.size() + i); }
 
+  // The world's actors where they are now (in World::actors order), and actor k's id in
+  // Contact::shape: after the robots'.
+  size_t actor_count() const { return world_.actors.size(); }
+  const ActorState& actor_state(size_t k) const { return actor_states_[k]; }
+  int ActorShapeId(size_t k) const {
+    return static_cast<int>(world_.shapes.size() + robots_.size() + k);
+  }
+
   // The first robot (the only one of a single-robot simulation).
   void Command(const Twist2& command) { at(0).Command(command); }
   void SetCommand(double v, double w) { at(0).Command(Twist2{v, 0.0, w}); }
@@ -287,12 +304,18 @@ class Simulator {
   void SeparateRobots(double t);
   // The ray scene with every robot's body where it is now, as robot `viewer`'s cameras see it.
   const RayScene& SceneNow(size_t viewer);
+  // The actors' states at the current time.
+  void UpdateActors();
+  // Robots that moved into an actor this step go back to where they were; contacts reported.
+  void SeparateFromActors();
 
   World world_;
   SimulatorOptions options_;
   SliceCache slices_;
   std::unique_ptr<RayScene> ray_scene_;  // when a robot has a camera
   std::vector<std::unique_ptr<SimRobot>> robots_;
+  std::vector<ActorState> actor_states_;
+  std::vector<int> actor_bodies_;  // each actor's cylinder in the ray scene
   std::uint64_t steps_ = 0;
 };
 
