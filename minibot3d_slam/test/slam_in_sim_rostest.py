@@ -198,9 +198,10 @@ class SlamInSim(unittest.TestCase):
         dr, slam, path = traj.errors(spawn, start)
         self.assertGreater(len(dr), 500, 'too few /odom messages matched with the truth')
         dr_rms, slam_rms = float(np.sqrt(np.mean(dr ** 2))), float(np.sqrt(np.mean(slam ** 2)))
-        print('slam_in_sim: %d poses; position error RMS (max, final): SLAM %.3f m (%.3f, %.3f), '
-              'dead reckoning %.3f m (%.3f, %.3f); ratio %.2f'
-              % (len(dr), slam_rms, slam.max(), slam[-1], dr_rms, dr.max(), dr[-1],
+        length = float(np.hypot(*np.diff(np.array(path), axis=0).T).sum()) if path else 0.0
+        print('slam_in_sim: %d poses along %.1f m; position error RMS (max, final): SLAM %.3f m '
+              '(%.3f, %.3f), dead reckoning %.3f m (%.3f, %.3f); ratio %.2f'
+              % (len(dr), length, slam_rms, slam.max(), slam[-1], dr_rms, dr.max(), dr[-1],
                  slam_rms / max(dr_rms, 1e-9)))
 
         # The map: its cells in the world frame (SLAM's map frame is where the robot started).
