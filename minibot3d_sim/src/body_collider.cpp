@@ -180,17 +180,27 @@ double BodyCollider::Distance(const Eigen::Vector2d& p) const {
 
 bool BodyOverlap(const BodyCollider& a, const Pose2& pose_a, const BodyCollider& b,
                  const Pose2& pose_b, Eigen::Vector2d* normal) {
-  if (std::hypot(pose_a.x - pose_b.x, pose_a.y - pose_b.y) > a.radius() + b.radius()) return false;
-  std::vector<Eigen::Vector2d> pa, pb;
+  const double dx = pose_a.x - pose_b.x, dy = pose_a.y - pose_b.y;
+  const double reach = a.radius() + b.radius();
+  if (dx * dx + dy * dy > reach * reach) return false;
+  // The outlines in the world frame, as minibot3d_common::TransformPoint places them (one sine and
+  // cosine per pose rather than per vertex).
+  const double ca = std::cos(pose_a.yaw), sa = std::sin(pose_a.yaw);
+  const double cb = std::cos(pose_b.yaw), sb = std::sin(pose_b.yaw);
+  thread_local std::vector<Eigen::Vector2d> pa, pb;  // reused: no allocation per pair
   double best = std::numeric_limits<double>::infinity();
   bool overlap = false;
   for (const BodyCollider::Part& x : a.parts()) {
     pa.clear();
-    for (const auto& v : x.outline) pa.push_back(minibot3d_common::TransformPoint(pose_a, v));
+    for (const auto& v : x.outline) {
+      pa.emplace_back(pose_a.x + ca * v.x() - sa * v.y(), pose_a.y + sa * v.x() + ca * v.y());
+    }
     for (const BodyCollider::Part& y : b.parts()) {
       if (x.z_max <= y.z_min || y.z_max <= x.z_min) continue;
       pb.clear();
-      for (const auto& v : y.outline) pb.push_back(minibot3d_common::TransformPoint(pose_b, v));
+      for (const auto& v : y.outline) {
+        pb.emplace_back(pose_b.x + cb * v.x() - sb * v.y(), pose_b.y + sb * v.x() + cb * v.y());
+      }
       double depth = 0.0;
       Eigen::Vector2d axis = Eigen::Vector2d::UnitX();
       if (!ConvexOverlap(pa, pb, &depth, &axis)) continue;

@@ -81,6 +81,7 @@ SimRobot::SimRobot(Simulator* sim, size_t index, RobotEntry entry, unsigned seed
       seed_(seed) {}
 
 double SimRobot::time() const { return sim_->time(); }
+double SimRobot::physics_step() const { return sim_->physics_step(); }
 
 void SimRobot::Command(const Twist2& command) { drive_->OnCommand(command, time()); }
 
@@ -387,26 +388,45 @@ void Simulator::SeparateRobots(double /*now*/) {
   std::vector<char> reverted(n, 0);
   std::vector<std::pair<size_t, size_t>> touching;
   std::vector<Eigen::Vector2d> normals;
+  // Sweep and prune along x: only robots whose bounding circles overlap in x are tested, in the
+  // order (a, b) with a < b so the outcome does not depend on where the robots stand.
+  std::vector<std::pair<size_t, size_t>> candidates;
+  std::vector<size_t> order(n);
   for (bool changed = true; changed;) {
     changed = false;
-    for (size_t a = 0; a < n; ++a) {
-      for (size_t b = a + 1; b < n; ++b) {
-        SimRobot& ra = *robots_[a];
-        SimRobot& rb = *robots_[b];
-        Eigen::Vector2d normal;
-        if (!BodyOverlap(ra.collider(), ra.true_pose(), rb.collider(), rb.true_pose(), &normal)) {
-          continue;
-        }
-        if (std::find(touching.begin(), touching.end(), std::make_pair(a, b)) == touching.end()) {
-          touching.emplace_back(a, b);
-          normals.push_back(normal);
-        }
-        for (SimRobot* r : {&ra, &rb}) {
-          if (reverted[r->index_] || SamePose(r->true_pose(), r->before_step_)) continue;
-          r->backend_->SetPose(r->before_step_);
-          reverted[r->index_] = 1;
-          changed = true;
-        }
+    for (size_t i = 0; i < n; ++i) order[i] = i;
+    std::vector<double> lo(n), hi(n);
+    for (size_t i = 0; i < n; ++i) {
+      const double x = robots_[i]->true_pose().x, r = robots_[i]->collider().radius();
+      lo[i] = x - r;
+      hi[i] = x + r;
+    }
+    std::sort(order.begin(), order.end(),
+              [&](size_t a, size_t b) { return lo[a] < lo[b] || (lo[a] == lo[b] && a < b); });
+    candidates.clear();
+    for (size_t i = 0; i < n; ++i) {
+      for (size_t j = i + 1; j < n && lo[order[j]] <= hi[order[i]]; ++j) {
+        candidates.emplace_back(std::min(order[i], order[j]), std::max(order[i], order[j]));
+      }
+    }
+    std::sort(candidates.begin(), candidates.end());
+    for (const auto& pair : candidates) {
+      const size_t a = pair.first, b = pair.second;
+      SimRobot& ra = *robots_[a];
+      SimRobot& rb = *robots_[b];
+      Eigen::Vector2d normal;
+      if (!BodyOverlap(ra.collider(), ra.true_pose(), rb.collider(), rb.true_pose(), &normal)) {
+        continue;
+      }
+      if (std::find(touching.begin(), touching.end(), std::make_pair(a, b)) == touching.end()) {
+        touching.emplace_back(a, b);
+        normals.push_back(normal);
+      }
+      for (SimRobot* r : {&ra, &rb}) {
+        if (reverted[r->index_] || SamePose(r->true_pose(), r->before_step_)) continue;
+        r->backend_->SetPose(r->before_step_);
+        reverted[r->index_] = 1;
+        changed = true;
       }
     }
   }

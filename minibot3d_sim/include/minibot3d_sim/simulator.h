@@ -104,6 +104,7 @@ class SimRobot {
   const RobotModel& model() const { return model_; }
   const RobotOptions& options() const { return options_; }
   double time() const;
+  double physics_step() const;
 
   // A body twist command (m/s, m/s, rad/s), as received on cmd_vel; stamped with the sim time.
   void Command(const Twist2& command);
