@@ -279,3 +279,49 @@ def test_a_named_robots_lockstep_clients_keep_full_names_and_take_relative_ones(
         '/r2/amcl /r2/move_base /goal_client /r2/my_client'
     assert load_params(path, 'lockstep_clients:=/goal_client my_client')[
         '/minibot3d_sim/lockstep_participants'] == '/amcl /move_base /goal_client /my_client'
+
+
+# ---- the simulator's odometry error --------------------------------------------------------
+
+TYPICAL_ODOM_ERROR = os.path.join(ROOT, 'minibot3d_sim', 'config', 'typical_odometry_error.yaml')
+ODOM_ERROR_CALLS = [('launch/mapping_teleop.launch', []), ('launch/exploration.launch', []),
+                    ('launch/navigation.launch', []),
+                    ('minibot3d_navigation/launch/mapless_navigation.launch', []),
+                    ('launch/demo.launch', ['odom_error_params:=none']),
+                    ('launch/demo.launch', ['phase:=navigate', 'odom_error_params:=none',
+                                            'map_file:=' + os.path.join(
+                                                ROOT, 'maps', 'default_world.yaml')])]
+
+
+def odom_error_of(params):
+    return {k.rsplit('/', 1)[1]: v for k, v in params.items()
+            if k.startswith('/minibot3d_sim/odom_error_')}
+
+
+@pytest.mark.parametrize('path,args', ODOM_ERROR_CALLS,
+                         ids=['%s %s' % (c[0], ' '.join(c[1])[:14]) for c in ODOM_ERROR_CALLS])
+def test_odometry_error_reaches_the_simulator(path, args):
+    import yaml
+    path = os.path.join(ROOT, path)
+    # Off unless asked: the drive's odometry exactly.
+    assert set(odom_error_of(load_params(path, *args)).values()) == {0}
+    one = odom_error_of(load_params(path, *args, 'odom_error_heading_drift:=0.03',
+                                    'odom_error_turn_noise:=0.01'))
+    assert (one['odom_error_heading_drift'], one['odom_error_turn_noise'],
+            one['odom_error_scale']) == (0.03, 0.01, 0)
+    # The typical robot's file sets all six, over the args.
+    with open(TYPICAL_ODOM_ERROR) as f:
+        typical = yaml.safe_load(f)
+    assert len(typical) == 6 and all(v != 0 for v in typical.values()), typical
+    args = [a for a in args if not a.startswith('odom_error_params')]
+    assert odom_error_of(load_params(path, *args, 'odom_error_scale:=0.5',
+                                     'odom_error_params:=' + TYPICAL_ODOM_ERROR)) == typical
+
+
+def test_demo_launch_runs_with_the_typical_odometry_error_as_make_demo():
+    import yaml
+    with open(TYPICAL_ODOM_ERROR) as f:
+        typical = yaml.safe_load(f)
+    for args in ([], ['phase:=navigate']):
+        assert odom_error_of(load_params(os.path.join(ROOT, 'launch', 'demo.launch'), *args)) \
+            == typical
