@@ -126,6 +126,18 @@ done
 echo "== move_base in the simulator: 20 random reachable goals in the default world (seed 1)"
 tools/bench/nav_sim_bench.sh
 
+echo "== several robots with full stacks (amcl + move_base each, fleet.launch) on lock-step time at"
+echo "   full speed: robots swap ends of the default world's corridor (fleet_swap.test; 2 robots,"
+echo "   then 3), 3 runs each; per robot reached, time, collisions, and the robots' closest approach"
+for scenario in corridor corridor3; do
+  for run in 1 2 3; do
+    t0=$SECONDS
+    rostest --text minibot3d_navigation fleet_swap.test scenario:="$scenario" 2>&1 \
+      | grep -E "^fleet_swap:|RESULT" | sed "s/^/  $scenario run $run: /" || true
+    echo "  $scenario run $run: $((SECONDS - t0)) s wall, start-up and shut-down included"
+  done
+done
+
 echo "== make demo on the shipped worlds (explore with SLAM until no frontier is left, save the map,"
 echo "   localize globally on it, visit the goals; lock-step at full speed): the summary of each"
 for spec in "default||" "arena|minibot3d_sim/worlds/arena.world|" \

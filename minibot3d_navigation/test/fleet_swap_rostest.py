@@ -13,6 +13,7 @@ for good), a stack reading another robot's topics or frames (no pose, or the wro
 lock-step time that leaves out a robot's nodes (results differ between runs; the test prints the
 times so that two runs can be compared)."""
 import math
+import time
 import threading
 import unittest
 
@@ -132,6 +133,7 @@ class FleetSwap(unittest.TestCase):
 
     def test_1_swap(self):
         start = rospy.get_rostime()
+        wall_start = time.monotonic()
         for r in self.robots:
             x, y, yaw, _ = r.goal
             goal = MoveBaseGoal()
@@ -150,6 +152,11 @@ class FleetSwap(unittest.TestCase):
             return all(r.done_at is not None for r in self.robots)
         self.lockstep.wait_for(all_done, max(r.goal[3] for r in self.robots))
         all_done()
+        sim_span = (rospy.get_rostime() - start).to_sec()
+        wall_span = time.monotonic() - wall_start
+        print('fleet_swap: %d robots, %.2f s of sim time in %.2f s wall: %.1fx real time' % (
+            len(self.robots), sim_span, wall_span, sim_span / wall_span if wall_span > 0 else 0.0),
+            flush=True)
         for r in self.robots:
             if r.done_at is None:
                 r.client.cancel_goal()
