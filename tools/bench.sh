@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# make bench: prints the performance figures README.md quotes.
+# make bench: prints the performance figures docs/benchmarks.md quotes.
 #   tools/bench.sh [CARMEN_LOG]   (the log is for the SLAM benchmark, once minibot3d_slam exists)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."

@@ -9,12 +9,17 @@ export PATH="/usr/local/bin:/usr/bin:/bin:/usr/sbin:/sbin:${PATH}"
 unset PYTHONPATH PYTHONHOME
 stamp=build/.minibot3d_source_stamp
 
-# Anything in the source tree (files or folders, so added and removed files count too) newer than
-# the stamp of the last successful build.
+# The packages' files (what catkin builds; the top-level maps/, config/ and launch/ are read where
+# they are, and a user's files saved beside them change nothing), without Python's caches.
+package_files() {
+  find CMakeLists.txt minibot3d_* \( -name __pycache__ -o -name .pytest_cache \) -prune \
+       -o \( -type f -o -type l \) "$@" -print
+}
+# A file edited since the stamp of the last successful build, or one added or removed (the stamp
+# holds the list's digest).
 changed_since_stamp() {
-  find . \( -path ./build -o -path ./devel -o -path ./install -o -path ./out -o -path ./.git \
-            -o -name __pycache__ -o -name .pytest_cache \) -prune \
-         -o -newer "$stamp" -print -quit | grep -q .
+  [ -n "$(package_files -newer "$stamp" | head -n 1)" ] && return 0
+  [ "$(package_files | LC_ALL=C sort | sha1sum)" != "$(cat "$stamp")" ]
 }
 
 if [ $# -eq 0 ] && [ "${FORCE:-0}" != 1 ] && [ -f "$stamp" ] && [ -f devel/setup.bash ] \
@@ -30,4 +35,11 @@ catkin_make --source . --build build \
   -DPYTHON_EXECUTABLE=/usr/bin/python3 \
   -DCATKIN_ENABLE_TESTING=ON \
   -j"${JOBS:-2}" "$@"
-if [ $# -eq 0 ]; then mv "$new_stamp" "$stamp"; else rm -f "$new_stamp"; fi
+if [ $# -eq 0 ]; then
+  # The digest goes in a file dated like new_stamp: the build's start is what -newer compares with.
+  digest="$(mktemp)"
+  package_files | LC_ALL=C sort | sha1sum > "$digest"
+  touch -r "$new_stamp" "$digest"
+  mv "$digest" "$stamp"
+fi
+rm -f "$new_stamp"
