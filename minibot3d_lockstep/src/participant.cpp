@@ -28,6 +28,12 @@ Participant::Participant(const ros::NodeHandle& nh, const ParticipantOptions& op
   service_nh_.setCallbackQueue(&service_queue_);
   tick_nh_.setCallbackQueue(&service_queue_);
   ack_pub_ = nh_.advertise<Ack>(kAckTopic, 100);
+  try {
+    digest_ = DigestRecorder::FromEnvironment();
+  } catch (const std::runtime_error& e) {
+    ROS_FATAL("%s: %s", name_.c_str(), e.what());
+    throw;
+  }
 }
 
 Participant::~Participant() { Unregister(); }
@@ -53,7 +59,7 @@ void Participant::AddPeriodic(double period, std::function<void(const ros::Time&
 
 void Participant::WakeAt(const ros::Time& t) { wake_at_.push_back(t.toSec()); }
 
-bool Participant::Register() {
+bool Participant::WaitForSimulator() {
   int waited = 0;
   while (ros::ok() && !ros::service::waitForService(kRegisterService, 1000)) {
     if (++waited % 10 == 1) {
@@ -61,7 +67,10 @@ bool Participant::Register() {
                "running with lockstep:=true?)", name_.c_str(), kRegisterService);
     }
   }
-  if (!ros::ok()) return false;
+  return ros::ok();
+}
+
+bool Participant::Register() {
   minibot3d_lockstep::Register srv;
   srv.request.name = name_;
   for (const auto& t : options_.wake_topics) srv.request.wake_topics.push_back(nh_.resolveName(t));
@@ -192,6 +201,11 @@ void Participant::WaitForClock(const ros::Time& stamp) {
     }
     ros::WallDuration(0.00005).sleep();
   }
+  // Timers made with ros::Timer (by a library: actionlib's status) fire at this tick if due.
+  if (!WaitForDueTimers(options_.delivery_timeout)) {
+    ROS_WARN_THROTTLE(10.0, "%s: roscpp's timer thread has not queued the timers due at %.3f",
+                      name_.c_str(), stamp.toSec());
+  }
 }
 
 bool Participant::Spin() {
@@ -199,6 +213,12 @@ bool Participant::Spin() {
     ros::spin();
     return true;
   }
+  if (digest_) digest_->Instrument();
+  // Every connection the node's topics call for is made, and every latched message is here,
+  // before it joins: whoever holds sim time while it joins (a script starting it), nothing is
+  // published meanwhile, so it starts with the same messages in every run.
+  if (!WaitForSimulator()) return false;
+  SettleConnections();
   if (!Register()) return false;
   while (ros::ok()) {
     TickConstPtr tick;
@@ -206,9 +226,12 @@ bool Participant::Spin() {
     current_ = tick;
     SettleConnections();
     WaitForDelivery(*tick);
+    if (digest_) digest_->Tick(tick->seq, tick->stamp);
     WaitForClock(tick->stamp);
-    // tf first, so a message's transform is in the buffer when its callback looks it up.
+    // tf first, so a message's transform is in the buffer when its callback looks it up; then
+    // timers and the other topics' messages in an order that does not depend on the sockets.
     tf_queue_.callAvailable();
+    OrderCallbacks(ros::getGlobalCallbackQueue());
     ros::getGlobalCallbackQueue()->callAvailable();
     service_queue_.callAvailable();
     const double t = tick->stamp.toSec();
@@ -229,12 +252,15 @@ bool Participant::Spin() {
     // Topics advertised or subscribed during this tick connect before the ack, sim time still
     // held: a latched message published at once is counted now, not delivered at a later tick
     // that depends on how fast the master and the peer answered.
+    if (digest_) digest_->Instrument();
     SettleConnections();
     Ack ack;
     ack.name = name_;
     ack.seq = tick->seq;
     ack.next_wake = std::isfinite(next_wake) ? ros::Time(next_wake) : ros::Time(0);
-    for (const auto& l : SentCounts()) {
+    const std::vector<LinkCount> sent = SentCounts();
+    if (digest_) digest_->Acknowledged(sent, ack.next_wake);
+    for (const auto& l : sent) {
       Link link;
       link.topic = l.topic;
       link.peer = l.peer;

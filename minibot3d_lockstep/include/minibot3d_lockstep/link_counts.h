@@ -11,6 +11,9 @@
 
 #include <vector>
 
+#include <ros/callback_queue.h>
+#include <ros/forwards.h>
+
 #include "minibot3d_lockstep/coordinator.h"
 
 namespace minibot3d_lockstep {
@@ -23,6 +26,8 @@ namespace minibot3d_lockstep {
 std::vector<LinkCount> SentCounts();
 // Per (topic, publisher caller id): messages this process has received, sorted.
 std::vector<LinkCount> ReceivedCounts();
+// This process's subscriptions (roscpp keeps its list private).
+std::vector<ros::SubscriptionPtr> Subscriptions();
 // Returns once roscpp's poll thread has handed every message it counted before the call to the
 // callback queues (it counts a message just before queueing its callback).
 void SyncWithPollThread();
@@ -31,6 +36,20 @@ void SyncWithPollThread();
 // latching publisher whose message has not arrived. Empty when the graph is settled (or the master
 // cannot be asked: then "master" is the one entry).
 std::vector<std::string> MissingConnections();
+
+// Returns once roscpp's timer thread has queued the callback of every sim-time timer
+// (ros::Timer, such as actionlib's status timer) that is due at ros::Time::now(), or after
+// `timeout` wall seconds (false). The timer thread looks at the clock about once a wall
+// millisecond, so without this wait a timer due at a tick runs in it or in the next one, as
+// the threads happen to run.
+bool WaitForDueTimers(double timeout);
+
+// Puts the callbacks waiting in `queue` in an order that does not depend on which message's
+// socket was read first: callbacks that are not a subscription's (timers, in the order they fell
+// due) first, then subscriptions' topic by topic in name order; one topic's messages keep their
+// order. roscpp calls them in the order they were queued, which across topics is the order the
+// messages happened to arrive in.
+void OrderCallbacks(ros::CallbackQueue* queue);
 
 // Blocks until roscpp's poll thread starts another iteration (it has handled socket activity) or
 // `timeout` wall seconds pass; false on time-out.

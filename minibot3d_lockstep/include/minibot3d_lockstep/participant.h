@@ -28,6 +28,7 @@
 #include <tf2_ros/buffer.h>
 
 #include "minibot3d_lockstep/Tick.h"
+#include "minibot3d_lockstep/digest.h"
 
 namespace minibot3d_lockstep {
 
@@ -92,6 +93,7 @@ class Participant {
     std::function<void(const ros::Time&)> fn;
     ros::Timer timer;
   };
+  bool WaitForSimulator();
   bool Register();
   void Unregister();
   bool WaitForTick(TickConstPtr* tick);
@@ -115,6 +117,7 @@ class Participant {
   std::vector<std::unique_ptr<Job>> jobs_;
   std::vector<double> wake_at_;
   std::vector<std::string> settled_topics_;
+  std::unique_ptr<DigestRecorder> digest_;  // with MINIBOT3D_LOCKSTEP_DIGEST set
 };
 
 }  // namespace minibot3d_lockstep

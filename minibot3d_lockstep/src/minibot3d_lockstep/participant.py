@@ -33,6 +33,7 @@ With ``/use_lockstep`` false (or unset) the same calls fall back to ordinary ros
 time, so a script written this way runs both ways.
 """
 import math
+import os
 import socket
 import subprocess
 import threading
@@ -45,6 +46,7 @@ import rospy.impl.registration
 import rospy.impl.tcpros_base
 import rospy.impl.tcpros_pubsub
 import rospy.topics
+from minibot3d_lockstep.digest import DIGEST_ENV, DigestWriter, chain_crc, format_stamp
 from minibot3d_lockstep.msg import Ack, Link, Participants, Tick
 from minibot3d_lockstep.srv import Register, Unregister
 
@@ -53,12 +55,36 @@ REGISTER_SERVICE = '/minibot3d_sim/lockstep/register'
 UNREGISTER_SERVICE = '/minibot3d_sim/lockstep/unregister'
 ACK_TOPIC = '/minibot3d_sim/lockstep/ack'
 PARTICIPANTS_TOPIC = '/minibot3d_sim/lockstep/participants'
+TICK_TOPIC_PREFIX = '/minibot3d_sim/lockstep/tick/'
 
 _patch_lock = threading.Lock()
 _patched = False
 # Under lock-step a subscriber's queue_size drops nothing (set by Participant): rospy applies it to
 # whatever one socket read returned, so what it kept would depend on how TCP batched the bytes.
 _keep_all = False
+# The digest's directory (see minibot3d_lockstep.digest), read once: the CRCs of received messages
+# are chained as rospy reads them, on every connection made after this module's import.
+_digest_dir = os.environ.get(DIGEST_ENV) or None
+
+
+def _recorded(topic):
+    """Topics the digest records: not /clock (its count depends on the wall clock) nor the
+    lock-step protocol's own."""
+    return topic not in ('/clock', ACK_TOPIC) and not topic.startswith(TICK_TOPIC_PREFIX)
+
+
+class _Hashed(object):
+    """Stands in for a message class in rospy's deserialize_messages: chains the CRC of each
+    message's bytes onto its connection's before deserializing it."""
+    __slots__ = ('_msg', '_proto')
+
+    def __init__(self, msg, proto):
+        self._msg, self._proto = msg, proto
+
+    def deserialize(self, data):
+        n, crc = self._proto.__dict__.get('_lockstep_digest', (0, 0))
+        self._proto.__dict__['_lockstep_digest'] = (n + 1, chain_crc(crc, data))
+        return self._msg.deserialize(data)
 
 
 def lockstep_enabled():
@@ -102,11 +128,14 @@ def _install_counting():
         protocol = rospy.impl.tcpros_base.TCPROSTransportProtocol
 
         def counting_read(self, b, msg_queue, sock):
+            cls = self.recv_data_class
+            if _digest_dir and _recorded(getattr(self, 'resolved_name', '')):
+                def cls(real=self.recv_data_class, proto=self):
+                    return _Hashed(real(), proto)
             if self.queue_size is None or _keep_all:
-                return rospy.impl.tcpros_base.deserialize_messages(b, msg_queue,
-                                                                   self.recv_data_class)
+                return rospy.impl.tcpros_base.deserialize_messages(b, msg_queue, cls)
             parsed = []
-            rospy.impl.tcpros_base.deserialize_messages(b, parsed, self.recv_data_class)
+            rospy.impl.tcpros_base.deserialize_messages(b, parsed, cls)
             dropped = max(0, len(msg_queue) + len(parsed) - self.queue_size)
             msg_queue.extend(parsed)
             del msg_queue[:-self.queue_size]
@@ -167,6 +196,21 @@ def handled_counts():
             else:  # made before this module was imported: received is the best we know
                 n = c.stat_num_msg
             out[key] = out.get(key, 0) + n
+    return out
+
+
+def received_digests():
+    """{(topic, publisher caller id): (messages, CRC)} read so far on each recorded connection."""
+    out = {}
+    tm = rospy.impl.registration.get_topic_manager()
+    for topic, impl in list(tm.subs.items()):
+        if not _recorded(topic):
+            continue
+        for c in list(impl.connections):
+            proto = getattr(c, 'protocol', None)
+            d = proto.__dict__.get('_lockstep_digest') if proto is not None else None
+            if d is not None:
+                out[(topic, getattr(c, 'callerid_pub', ''))] = d
     return out
 
 
@@ -264,13 +308,21 @@ class Participant(object):
         self._current = None     # being worked on, not yet acknowledged
         self._registered = False
         self.dropped = False  # the simulator dropped this script: its sim time no longer holds
+        self._digest = None
         if not self.enabled:
             return
+        if _digest_dir:
+            self._digest = DigestWriter(_digest_dir, self.name, rospy.get_param('/run_id', ''))
         global _keep_all
         _keep_all = True
         self._ack_pub = rospy.Publisher(ACK_TOPIC, Ack, queue_size=100, tcp_nodelay=True)
         self._participants_sub = rospy.Subscriber(PARTICIPANTS_TOPIC, Participants,
                                                   self._on_participants, queue_size=10)
+        # Every connection this script's topics call for is made, and every latched message is
+        # here, before it joins: whoever holds sim time while it joins (a script starting it),
+        # nothing is published meanwhile, so it starts with the same messages in every run.
+        self._wait_for_simulator()
+        self._settle_connections()
         self._register()
         rospy.on_shutdown(self.close)
 
@@ -394,18 +446,20 @@ class Participant(object):
 
     # -- protocol ----------------------------------------------------------------------------
 
-    def _register(self):
+    def _wait_for_simulator(self):
         warned = 0.0
         while not rospy.is_shutdown():
             try:
                 rospy.wait_for_service(REGISTER_SERVICE, timeout=1.0)
-                break
+                return
             except rospy.ROSException:
                 if time.time() - warned > 10.0:
                     warned = time.time()
                     rospy.logwarn('%s: /use_lockstep is true; waiting for the simulator\'s %s '
                                   '(is minibot3d_sim running with lockstep:=true?)',
                                   self.name, REGISTER_SERVICE)
+
+    def _register(self):
         res = rospy.ServiceProxy(REGISTER_SERVICE, Register)(self.name, self._wake_topics)
         if not res.accepted:
             raise RuntimeError('%s: the simulator refused lock-step registration: %s'
@@ -437,7 +491,11 @@ class Participant(object):
             if job[1] is not None and (wake is None or job[1] < wake):
                 wake = job[1]
         ack = Ack(name=self.name, seq=tick.seq, next_wake=wake if wake is not None else rospy.Time(0))
-        ack.sent = [Link(topic=t, peer=p, count=n) for t, p, n in sent_counts()]
+        sent = sent_counts()
+        ack.sent = [Link(topic=t, peer=p, count=n) for t, p, n in sent]
+        if self._digest is not None:
+            self._digest.acknowledged([s for s in sent if _recorded(s[0])],
+                                      format_stamp(ack.next_wake))
         self._ack_pub.publish(ack)
 
     def _next_tick(self, deadline):
@@ -458,6 +516,8 @@ class Participant(object):
         self._current = tick  # held from here: heartbeats name it
         self._settle_connections()
         self._wait_for_delivery(tick)
+        if self._digest is not None:
+            self._digest.tick(tick.seq, format_stamp(tick.stamp), received_digests())
         self._wait_for_clock(tick.stamp)
         return tick
 

@@ -30,7 +30,11 @@ LockstepHost::LockstepHost(ros::NodeHandle nh, const Options& options,
       nh_.advertiseService(minibot3d_lockstep::kRegisterService, &LockstepHost::OnRegister, this));
   services_.push_back(nh_.advertiseService(minibot3d_lockstep::kUnregisterService,
                                            &LockstepHost::OnUnregister, this));
-  PublishParticipants();
+  digest_ = minibot3d_lockstep::DigestRecorder::FromEnvironment();
+  if (digest_) {
+    digest_->Instrument();
+    ROS_INFO("minibot3d_sim: lock-step digest in %s", digest_->path().c_str());
+  }
 }
 
 std::string LockstepHost::Join(const std::vector<std::string>& names) {
@@ -71,13 +75,17 @@ void LockstepHost::WaitForOwnConnections() {
   const ros::WallTime start = ros::WallTime::now();
   while (ros::ok()) {
     const auto missing = minibot3d_lockstep::MissingConnections();
-    if (missing.empty()) return;
+    if (missing.empty()) break;
     if ((ros::WallTime::now() - start).toSec() > options_.coordinator.timeout) {
       ROS_WARN("minibot3d_sim: lock-step: starting without connections: %s", Join(missing).c_str());
-      return;
+      break;
     }
     ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.005));
   }
+  // The participant list goes out first now: one list, the same in every run, whatever order
+  // the participants joined in while time waited.
+  started_ = true;
+  PublishParticipants();
 }
 
 void LockstepHost::RecordSent() {
@@ -86,6 +94,7 @@ void LockstepHost::RecordSent() {
 
 void LockstepHost::Round() {
   ros::getGlobalCallbackQueue()->callAvailable();
+  if (digest_) digest_->Instrument();
   DropDead();
   const double t = sim_time_();
   bool clock_sent = false;
@@ -113,6 +122,7 @@ void LockstepHost::Round() {
     // What it sent the simulator is queued before the next participant works: commands from
     // two participants on one topic (cmd_vel) are applied in tick order, not arrival order.
     WaitForDeliveryToSim();
+    if (digest_) digest_->ReceivedBy(tick.seq, tick.stamp);
   }
   apply_commands_();
 }
@@ -206,6 +216,7 @@ void LockstepHost::Drop(const std::string& name, const std::string& why) {
 }
 
 void LockstepHost::PublishParticipants() {
+  if (!started_) return;
   minibot3d_lockstep::Participants p;
   p.stamp = ros::Time(sim_time_());
   p.names = coordinator_->Participants();
