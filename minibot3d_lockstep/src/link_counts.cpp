@@ -304,6 +304,28 @@ long SentByPeer(const std::string& topic, const std::string& node) {
 
 }  // namespace
 
+std::string PeerOf(const std::string& missing) {
+  const auto space = missing.rfind(' ');
+  return space == std::string::npos ? missing : missing.substr(space + 1);
+}
+
+bool NodeAnswers(const std::string& node) {
+  XmlRpc::XmlRpcValue args, result, payload;
+  args[0] = ros::this_node::getName();
+  args[1] = node;
+  if (!ros::master::execute("lookupNode", args, result, payload, false) ||
+      payload.getType() != XmlRpc::XmlRpcValue::TypeString) {
+    return false;
+  }
+  std::string host;
+  uint32_t port = 0;
+  if (!ros::network::splitURI(static_cast<std::string>(payload), host, port)) return false;
+  XmlRpc::XmlRpcClient client(host.c_str(), port, "/");
+  XmlRpc::XmlRpcValue a, pid;
+  a[0] = ros::this_node::getName();
+  return client.execute("getPid", a, pid) && !client.isFault();
+}
+
 std::vector<std::string> MissingConnections() {
   std::vector<std::string> missing;
   XmlRpc::XmlRpcValue args, result, payload;

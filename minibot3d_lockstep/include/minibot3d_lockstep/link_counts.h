@@ -9,6 +9,7 @@
 #ifndef MINIBOT3D_LOCKSTEP_LINK_COUNTS_H
 #define MINIBOT3D_LOCKSTEP_LINK_COUNTS_H
 
+#include <string>
 #include <vector>
 
 #include <ros/callback_queue.h>
@@ -32,10 +33,17 @@ std::vector<ros::SubscriptionPtr> Subscriptions();
 // callback queues (it counts a message just before queueing its callback).
 void SyncWithPollThread();
 // Connections the master says this process should have and does not have yet, one description
-// each: a publisher of a topic it subscribes to, a subscriber of a topic it advertises, or a
-// latching publisher whose message has not arrived. Empty when the graph is settled (or the master
-// cannot be asked: then "master" is the one entry).
+// each, ending with the other node's name: a publisher of a topic it subscribes to, a subscriber
+// of a topic it advertises, or a latching publisher whose message has not arrived. Empty when the
+// graph is settled (or the master cannot be asked: then "master" is the one entry).
 std::vector<std::string> MissingConnections();
+// The node a MissingConnections() description names (its last word).
+std::string PeerOf(const std::string& missing);
+
+// True when `node` is registered with the master and its process answers at the XML-RPC address
+// it registered (getPid); false when it is gone. Blocks while a stopped process (a debugger) does
+// not answer.
+bool NodeAnswers(const std::string& node);
 
 // Returns once roscpp's timer thread has queued the callback of every sim-time timer
 // (ros::Timer, such as actionlib's status timer) that is due at ros::Time::now(), or after

@@ -46,8 +46,9 @@ bool LockstepEnabled();
 struct ParticipantOptions {
   // Topics (resolved against the node handle) whose messages wake the node between its jobs.
   std::vector<std::string> wake_topics;
-  // Wall seconds to wait for a message that was announced but does not arrive before going on
-  // with a warning (a publisher that died mid-send).
+  // Wall seconds after which a connection or an announced message that has not come is looked
+  // into (then every 10 s): one from a node that is running is waited for however long it takes
+  // (a loaded machine); one whose node or connection is gone is given up, with a warning.
   double delivery_timeout = 10.0;
 };
 

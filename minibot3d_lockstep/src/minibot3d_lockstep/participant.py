@@ -239,6 +239,22 @@ def _sent_by_peer(topic, node):
     return None
 
 
+def node_answers(node):
+    """True when `node` is registered with the master and its process answers at the XML-RPC
+    address it registered (getPid); False when it is gone (see the C++ NodeAnswers)."""
+    try:
+        uri = rosgraph.Master(rospy.get_name()).lookupNode(node)
+        xmlrpc.client.ServerProxy(uri).getPid(rospy.get_name())
+        return True
+    except Exception:  # noqa: BLE001 - not registered, or not answering: gone
+        return False
+
+
+def _peer_of(missing):
+    """The node a missing_connections() entry names (its last word)."""
+    return missing.rsplit(' ', 1)[-1]
+
+
 def missing_connections():
     """Connections the master says this process should have and does not have yet (see the C++
     MissingConnections): publishers of topics it subscribes to, subscribers of topics it
@@ -529,18 +545,26 @@ class Participant(object):
         if topics == getattr(self, '_settled', None):
             return
         self._settled = topics
-        start = time.time()
+        start = checked = time.time()
         beat = [start]
         while not rospy.is_shutdown():
             self._beat(beat)
             missing = missing_connections()
             if not missing:
                 return
-            if time.time() - start > self._delivery_timeout:
-                rospy.logwarn('%s: lock-step: going on without connections: %s (a node '
-                              'registered with the master that is not running?)', self.name,
-                              '; '.join(missing))
-                return
+            # Past delivery_timeout, and then every 10 s: a connection to a node that is running
+            # is on its way however loaded the machine; one to a node that is gone never comes.
+            now = time.time()
+            if now - start > self._delivery_timeout and now - checked > 10.0:
+                checked = now
+                alive = [m for m in missing if node_answers(_peer_of(m))]
+                if not alive:
+                    rospy.logwarn('%s: lock-step: going on without connections: %s (their nodes '
+                                  'do not answer: registered with the master, no longer running)',
+                                  self.name, '; '.join(missing))
+                    return
+                rospy.logwarn('%s: lock-step: still waiting for connections to running nodes: '
+                              '%s (%.0f s wall)', self.name, '; '.join(alive), now - start)
             if time.time() - start > 2.0 and not getattr(self, '_noted', False):
                 self._noted = True
                 rospy.loginfo('%s: lock-step: waiting for connections: %s', self.name,
@@ -548,36 +572,53 @@ class Participant(object):
             time.sleep(0.002)
 
     def _wait_for_delivery(self, tick):
-        start = time.time()
+        start = noted = time.time()
         beat = [start]
         while not rospy.is_shutdown():
             self._beat(beat)
             have = handled_counts()
-            missing = ['%s from %s (%d of %d)' % (l.topic, l.peer, have.get((l.topic, l.peer), 0),
-                                                   l.count)
-                       for l in tick.expected if have.get((l.topic, l.peer), 0) < l.count]
-            if not missing:
+            short = [l for l in tick.expected if have.get((l.topic, l.peer), 0) < l.count]
+            if not short:
                 return
-            if time.time() - start > self._delivery_timeout:
-                rospy.logwarn('%s: going on at t=%.3f without messages announced by the '
-                              'simulator\'s tick: %s (publisher gone?)', self.name,
-                              tick.stamp.to_sec(), '; '.join(missing))
-                return
+            # Messages on a connection that is there are on their way, however loaded the
+            # machine: waited for. A connection that is gone (its publisher died mid-send) brings
+            # nothing more.
+            now = time.time()
+            if now - start > self._delivery_timeout and now - noted > 10.0:
+                noted = now
+                missing = ['%s from %s (%d of %d)' % (l.topic, l.peer,
+                                                       have.get((l.topic, l.peer), 0), l.count)
+                           for l in short]
+                if not any((l.topic, l.peer) in have for l in short):
+                    rospy.logwarn('%s: going on at t=%.3f without messages announced by the '
+                                  'simulator\'s tick: %s (their publishers\' connections are '
+                                  'gone)', self.name, tick.stamp.to_sec(), '; '.join(missing))
+                    return
+                rospy.logwarn('%s: lock-step: still waiting at t=%.3f for messages: %s (%.0f s '
+                              'wall)', self.name, tick.stamp.to_sec(), '; '.join(missing),
+                              now - start)
             if time.time() - start > 2.0 and not getattr(self, '_noted_d', False):
                 self._noted_d = True
-                rospy.loginfo('%s: lock-step: waiting for messages: %s', self.name,
-                              '; '.join(missing))
+                rospy.loginfo('%s: lock-step: waiting for messages: %s', self.name, '; '.join(
+                    '%s from %s' % (l.topic, l.peer) for l in short))
             time.sleep(0.0001)
 
     def _wait_for_clock(self, stamp):
         # rospy's /clock subscriber sets the time; /clock for `stamp` precedes the tick and older
         # /clock messages precede it on the same connection.
-        start = time.time()
+        # Waited for while a /clock connection is there, however loaded the machine.
+        start = noted = time.time()
         while not rospy.is_shutdown() and rospy.get_rostime() < stamp:
-            if time.time() - start > self._delivery_timeout:
-                rospy.logwarn('%s: /clock has not reached the tick\'s time %.3f', self.name,
-                              stamp.to_sec())
-                return
+            now = time.time()
+            if now - start > self._delivery_timeout and now - noted > 10.0:
+                noted = now
+                clock = rospy.impl.registration.get_topic_manager().subs.get('/clock')
+                if clock is None or not list(clock.connections):
+                    rospy.logwarn('%s: /clock has not reached the tick\'s time %.3f and its '
+                                  'publisher is gone', self.name, stamp.to_sec())
+                    return
+                rospy.logwarn('%s: lock-step: still waiting for /clock to reach the tick\'s time '
+                              '%.3f (%.0f s wall)', self.name, stamp.to_sec(), now - start)
             time.sleep(0.0001)
 
     def _run_jobs(self, now):

@@ -41,7 +41,7 @@ struct SimNodeOptions {
   bool publish_ground_truth = true;
   // Lock-step time (when /use_lockstep is true).
   double lockstep_quantum = 0.005;
-  double lockstep_timeout = 10.0;
+  double lockstep_timeout = 0.0;  // 0: a participant is dropped only when its process is gone
   double lockstep_start_timeout = 60.0;
   std::vector<std::string> lockstep_participants;
 };
