@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Finds where two lock-step runs part: the first tick, node, topic and peer whose messages differ.
 
-  lockstep_digest.py compare DIR_A DIR_B [--ignore TOPIC ...] [--all-nodes]
-      compares two runs' digests (directories written with MINIBOT3D_LOCKSTEP_DIGEST=DIR);
-      exit status 0 when they agree tick for tick, 1 when they differ.
+  lockstep_digest.py compare DIR_A DIR_B [--ignore TOPIC ...] [--all-nodes] [--until SIM_S]
+      compares two runs' digests (directories written with MINIBOT3D_LOCKSTEP_DIGEST=DIR), up to
+      sim time SIM_S if given; exit status 0 when they agree tick for tick, 1 when they differ.
   lockstep_digest.py run [--out DIR] [--busy N] [--second K=V ...] -- COMMAND [ARG ...]
       runs COMMAND twice, the first time with MINIBOT3D_LOCKSTEP_DIGEST=DIR/a, the second with
       DIR/b, N busy processes beside it (CPU load) and the environment variables K=V added (say
@@ -60,9 +60,9 @@ def run_once(command, directory, extra_env, log_path, busy):
             p.wait()
 
 
-def compare(dir_a, dir_b, ignored, all_nodes):
+def compare(dir_a, dir_b, ignored, all_nodes, until=None):
     try:
-        result = digest.compare(dir_a, dir_b, ignored=ignored, all_nodes=all_nodes)
+        result = digest.compare(dir_a, dir_b, ignored=ignored, all_nodes=all_nodes, until=until)
     except ValueError as e:
         print('lockstep_digest: %s' % e, file=sys.stderr)
         return 2
@@ -81,6 +81,8 @@ def main(argv=None):
     c.add_argument('--ignore', action='append', default=[], help=ignore_help)
     c.add_argument('--all-nodes', action='store_true',
                    help='also compare messages from and to nodes without a digest')
+    c.add_argument('--until', type=float, metavar='SIM_S',
+                   help='compare ticks up to this sim time only (say, where a test stopped)')
     r = sub.add_parser('run', help='run a command twice and compare')
     r.add_argument('--out', default='build/lockstep_digest', help='where the runs go')
     r.add_argument('--busy', type=int, default=0, metavar='N',
@@ -93,7 +95,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     ignored = tuple(digest.DEFAULT_IGNORED) + tuple(args.ignore)
     if args.cmd == 'compare':
-        return compare(args.a, args.b, ignored, args.all_nodes)
+        return compare(args.a, args.b, ignored, args.all_nodes, args.until)
     command = args.command[1:] if args.command[:1] == ['--'] else args.command
     if not command:
         parser.error('run: give the command after --')

@@ -19,7 +19,7 @@ class Stamp(object):
 
 
 def write_run(directory, map_crc=0xaaaaaaaa, extra_tick=False, stop=3.0, status_crc=0x11111111,
-              rsp_crc=0x22222222, run_id='run-1'):
+              rsp_crc=0x22222222, run_id='run-1', to_slam_early=0, to_slam_late=0):
     """A phase with three processes: the simulator, /slam (publishes /map) and /explore (receives
     it, and /tf from robot_state_publisher, a non-participant)."""
     sim = digest.DigestWriter(str(directory), '/minibot3d_sim', run_id, pid=1, wall=100.0)
@@ -35,9 +35,12 @@ def write_run(directory, map_crc=0xaaaaaaaa, extra_tick=False, stop=3.0, status_
     ex.tick(2, '0.101000000', {('/map', '/slam'): (1, 0x12345678),
                                ('/minibot3d_sim/status', '/minibot3d_sim'): (1, status_crc),
                                ('/tf', '/robot_state_publisher'): (1, rsp_crc)})
-    ex.acknowledged([('/cmd_vel', '/minibot3d_sim', 1)], '0.201000000')
+    ex.acknowledged([('/cmd_vel', '/minibot3d_sim', 1), ('/hint', '/slam', to_slam_early)],
+                    '0.201000000')
     ex.tick(4, '0.201000000', {('/map', '/slam'): (2, map_crc)})
-    ex.acknowledged([('/cmd_vel', '/minibot3d_sim', 1)], '0.301000000')
+    # /slam's last tick was at 0.101: it has left the loop.
+    ex.acknowledged([('/cmd_vel', '/minibot3d_sim', 1),
+                     ('/hint', '/slam', to_slam_early + to_slam_late)], '0.301000000')
     if extra_tick:
         ex.tick(5, '0.251000000', {})
         ex.acknowledged([], '0.301000000')
@@ -96,6 +99,26 @@ def test_ticks_after_the_earlier_stop_are_not_compared(tmp_path):
     r = compare(tmp_path, stop=9.0)
     assert r.identical, digest.report(r, 'a', 'b')
     assert 'stopped at' in '\n'.join(digest.report(r, 'a', 'b'))
+
+
+def test_what_is_sent_to_a_node_after_it_left_is_not_compared(tmp_path):
+    # Breakage caught, both ways: a message to a participant that has left (its connection closes
+    # at a wall-clock moment, so one run counts it and the other not) reported as a difference;
+    # and one sent while it still takes part left out.
+    r = compare(tmp_path, to_slam_late=1)
+    assert r.identical, digest.report(r, 'a', 'b')
+    r = compare(tmp_path / 'early', to_slam_early=1)
+    assert not r.identical
+    assert r.differences[0].details[0] == 'sent /hint to /slam: a 0 messages so far, b 1'
+
+
+def test_until_limits_the_comparison_to_a_sim_time(tmp_path):
+    # Breakage caught: --until ignored (the map that differs at 0.201 reported all the same).
+    write_run(tmp_path / 'a')
+    write_run(tmp_path / 'b', map_crc=0xbbbbbbbb)
+    r = digest.compare(str(tmp_path / 'a'), str(tmp_path / 'b'), until=0.2)
+    assert r.identical and r.last_stamp[1] == '0.101000000', digest.report(r, 'a', 'b')
+    assert not digest.compare(str(tmp_path / 'a'), str(tmp_path / 'b'), until=0.201).identical
 
 
 def test_sections_are_matched_by_phase_whatever_the_run_ids(tmp_path):

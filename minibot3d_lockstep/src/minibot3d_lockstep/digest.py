@@ -11,8 +11,10 @@ Two runs are matched up section by section: a section is one process of one node
 written while one ROS master ran (its /run_id) form a phase; phases are ordered by when they
 started, and a node's sections within a phase by the order they were written. Messages from nodes
 that do not take part in the loop (robot_state_publisher, map_server, rviz) and messages to them
-arrive at wall-clock times by design: they are left out unless all_nodes is set. So are the
-topics in DEFAULT_IGNORED, whose count or content depends on the wall clock.
+arrive at wall-clock times by design: they are left out unless all_nodes is set, and so are
+messages queued to a participant after its last tick (it has left the loop: when its connections
+close is a wall-clock moment). So are the topics in DEFAULT_IGNORED, whose count or content
+depends on the wall clock.
 """
 import collections
 import os
@@ -211,9 +213,14 @@ class Comparison(object):
         return not self.differences
 
 
-def _filter(entries, ignored, participants):
+def _filter(entries, ignored, participants, stamp=None):
+    """entries without ignored topics and, unless participants is None, without peers that do
+    not take part ({node: its last tick}); with `stamp`, also without peers that had left the
+    loop by then (what is queued to a node after its last tick is read at a wall-clock moment,
+    if at all, and reaches nothing in the loop)."""
     return {k: v for k, v in entries.items()
-            if k[0] not in ignored and (participants is None or k[1] in participants)}
+            if k[0] not in ignored and (participants is None or (
+                k[1] in participants and (stamp is None or stamp <= participants[k[1]])))}
 
 
 def _describe(key, ta, tb, ignored, participants_a, participants_b):
@@ -233,8 +240,8 @@ def _describe(key, ta, tb, ignored, participants_a, participants_b):
             peers.append(k)
             details.append('received %s from %s: a %s, b %s' % (
                 k[0], k[1], _count_crc(ra.get(k)), _count_crc(rb.get(k))))
-    sa = _filter(ta.sent, ignored, participants_a)
-    sb = _filter(tb.sent, ignored, participants_b)
+    sa = _filter(ta.sent, ignored, participants_a, stamp_key(ta.stamp))
+    sb = _filter(tb.sent, ignored, participants_b, stamp_key(tb.stamp))
     for k in sorted(set(sa) | set(sb)):
         if sa.get(k) != sb.get(k):
             details.append('sent %s to %s: a %s messages so far, b %s' % (
@@ -256,19 +263,28 @@ def _count_crc(v):
     return 'nothing new' if v is None else 'message %d, CRC %s' % v
 
 
-def compare(dir_a, dir_b, ignored=DEFAULT_IGNORED, all_nodes=False):
-    """Compares two digest directories tick by tick; returns a Comparison."""
+def compare(dir_a, dir_b, ignored=DEFAULT_IGNORED, all_nodes=False, until=None):
+    """Compares two digest directories tick by tick; returns a Comparison. until: the last sim
+    time (s) compared (None: up to the earlier end of each phase)."""
     ignored = set(ignored)
     sa, sb = read(dir_a), read(dir_b)
     by_a = {s.key(): s for s in sa}
     by_b = {s.key(): s for s in sb}
 
     def participants(sections):
-        out = collections.defaultdict(set)
+        """{phase: {node: its last tick's (s, ns)}}; a node never ticked is there throughout."""
+        out = collections.defaultdict(dict)
         for s in sections:
-            out[s.phase].add(s.node)
+            last = stamp_key(s.ticks[-1].stamp) if s.ticks else (float('inf'), 0)
+            out[s.phase][s.node] = max(out[s.phase].get(s.node, last), last)
         return out
     pa, pb = participants(sa), participants(sb)
+    # A node's last tick is the earlier of the two runs' (a node that leaves at another time
+    # in one run differs in its own ticks): both runs leave out sends to it after that.
+    for phase in set(pa) & set(pb):
+        for node in set(pa[phase]) & set(pb[phase]):
+            pa[phase][node] = pb[phase][node] = min(pa[phase][node], pb[phase][node])
+    last = (float('inf'), 0) if until is None else stamp_key('%.9f' % until)
 
     def ends(sections):
         out = {}
@@ -296,8 +312,10 @@ def compare(dir_a, dir_b, ignored=DEFAULT_IGNORED, all_nodes=False):
         part_a = None if all_nodes else pa[key[0]]
         part_b = None if all_nodes else pb[key[0]]
         horizon = min(end_a.get(key[0], (0, 0)), end_b.get(key[0], (0, 0)))
-        ticks_a = [t for t in a.ticks if stamp_key(t.stamp) < horizon]
-        ticks_b = [t for t in b.ticks if stamp_key(t.stamp) < horizon]
+        def compared(t):
+            return stamp_key(t.stamp) < horizon and stamp_key(t.stamp) <= last
+        ticks_a = [t for t in a.ticks if compared(t)]
+        ticks_b = [t for t in b.ticks if compared(t)]
         n = min(len(ticks_a), len(ticks_b))
         diff = None
         for i in range(n):
