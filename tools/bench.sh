@@ -38,6 +38,13 @@ for camera in "640 480 15 120" "320 240 15 300" "1920 1080 30 10"; do
     --x -3 --y -1.5
 done
 
+echo "== several robots in the simulator core, kinematic, the default world: N minibots driving arcs"
+echo "   with a bumper (back away turning for 1 s after a contact), each laser 360 beams at 10 Hz"
+echo "   seeing the world and the other robots"
+for n in 1 10 50; do
+  "$bin/fleet_bench" "$urdf" "$world" --robots "$n" --seconds 120
+done
+
 echo "== physics step cost (Google Benchmark, ~40 static shapes)"
 "$bin/physics_bench" --benchmark_min_time=0.2 2>/dev/null | grep -E "^(BM_|Benchmark|-)" || true
 echo "== lidar ray casting (Google Benchmark, default world)"

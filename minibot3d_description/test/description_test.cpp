@@ -172,7 +172,7 @@ TEST_F(DescriptionTest, DrivePluginParameters) {
   EXPECT_EQ(PluginParam(so, "leftRearJoint"), "rear_left_wheel_hinge");
   EXPECT_EQ(PluginParam(so, "rightRearJoint"), "rear_right_wheel_hinge");
   EXPECT_EQ(PluginParam(so, "robotBaseFrame"), "base_footprint");
-  EXPECT_EQ(PluginParam(so, "topicName"), "cmd_vel");
+  EXPECT_EQ(PluginParam(so, "commandTopic"), "cmd_vel");
   EXPECT_EQ(PluginParam(so, "odometryTopic"), "odom");
   EXPECT_EQ(PluginParam(so, "odometryFrame"), "odom");
   EXPECT_EQ(PluginParam(so, "broadcastTF"), "true");
@@ -204,7 +204,7 @@ TEST_F(DescriptionTest, RplidarSensor) {
   auto* plugin = sensor->FirstChildElement("plugin");
   ASSERT_NE(plugin, nullptr);
   EXPECT_STREQ(plugin->Attribute("filename"), "libgazebo_ros_laser.so");
-  EXPECT_STREQ(plugin->FirstChildElement("topicName")->GetText(), "/scan");
+  EXPECT_STREQ(plugin->FirstChildElement("topicName")->GetText(), "scan");
   EXPECT_STREQ(plugin->FirstChildElement("frameName")->GetText(), "laser");
 }
 

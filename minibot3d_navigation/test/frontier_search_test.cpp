@@ -306,6 +306,31 @@ TEST(FrontierSearch, RobotNextToAWallStillFindsItsWay) {
   ASSERT_EQ(r.frontiers.size(), 1u);
 }
 
+// Lasers at a robot's ends do not see under it: its own cell stays unknown in the map. The search
+// starts from the nearest free cell instead (else nothing is reachable and exploration ends at
+// once, as it did with the start cell alone).
+TEST(FrontierSearch, ARobotStandingOnUnknownCellsStartsFromTheNearestFreeOne) {
+  const auto grid = Grid({
+      "##########???",
+      "#.........???",
+      "#.???.....???",
+      "#.???.....???",
+      "#.???.....???",
+      "#.........???",
+      "##########???",
+  });
+  FrontierSearch search(Options());
+  const auto r = search.Find(grid, At(3, 3), {});
+  ASSERT_GE(r.frontiers.size(), 1u);
+  bool open_side = false;
+  for (const Frontier& f : r.frontiers) open_side |= f.centroid.x > 9 * kRes;
+  EXPECT_TRUE(open_side);
+  // Farther than start_search_radius from any free cell: nothing is reachable.
+  ExploreOptions o = Options();
+  o.start_search_radius = 0.05;
+  EXPECT_TRUE(FrontierSearch(o).Find(grid, At(3, 3), {}).frontiers.empty());
+}
+
 TEST(FrontierSearch, BadInputIsRejectedSayingWhy) {
   FrontierSearch search(Options());
   OccupancyGrid g = Grid({"...", "..."});

@@ -3,14 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 
 namespace minibot3d_sim {
 namespace {
-
-double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
 
 Eigen::Vector2d ClosestOnSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
                                  const Eigen::Vector2d& b) {
@@ -36,103 +31,14 @@ Eigen::Vector2d ClosestOnPolygon(const std::vector<Eigen::Vector2d>& poly,
   return best;
 }
 
-// Height range of a world shape (planes: none).
-bool ShapeHeights(const Shape& s, double* lo, double* hi) {
-  const Eigen::Matrix3d& r = s.pose.linear();
-  const double cz = s.pose.translation().z();
-  double half = 0.0;
-  switch (s.type) {
-    case ShapeType::kBox:
-      half = 0.5 * (std::abs(r(2, 0)) * s.size.x() + std::abs(r(2, 1)) * s.size.y() +
-                    std::abs(r(2, 2)) * s.size.z());
-      break;
-    case ShapeType::kCylinder: {
-      const double axis = std::abs(r(2, 2));
-      half = 0.5 * s.size.z() * axis + s.size.x() * std::sqrt(std::max(0.0, 1.0 - axis * axis));
-      break;
-    }
-    case ShapeType::kSphere:
-      half = s.size.x();
-      break;
-    case ShapeType::kMesh: {
-      if (!s.mesh || s.mesh->vertices.empty()) return false;
-      *lo = std::numeric_limits<double>::infinity();
-      *hi = -*lo;
-      for (const auto& v : s.mesh->vertices) {
-        const double z = (s.pose * v.cast<double>()).z();
-        *lo = std::min(*lo, z);
-        *hi = std::max(*hi, z);
-      }
-      return true;
-    }
-    case ShapeType::kPlane:
-      return false;
-  }
-  *lo = cz - half;
-  *hi = cz + half;
-  return true;
-}
-
-// Heights (mm, sorted, unique) at which a part spanning [lo, hi] meets every world shape it can:
-// just inside its ends, every 5 cm between, and just inside each world shape's own ends and a
-// sphere's middle where they fall within the band.
-std::vector<long> PartHeights(double lo, double hi, const World& world) {
-  constexpr double kInside = 0.001, kSpacing = 0.05;
-  std::vector<double> z;
-  if (hi - lo <= 2 * kInside) {
-    z.push_back(0.5 * (lo + hi));
-  } else {
-    z.push_back(lo + kInside);
-    z.push_back(hi - kInside);
-    const int n = static_cast<int>(std::floor((hi - lo) / kSpacing));
-    for (int k = 1; k <= n; ++k) z.push_back(lo + k * (hi - lo) / (n + 1));
-    for (const Shape& s : world.shapes) {
-      double slo, shi;
-      if (!ShapeHeights(s, &slo, &shi)) continue;
-      for (double c : {slo + kInside, shi - kInside}) {
-        if (c > lo && c < hi) z.push_back(c);
-      }
-      const double mid = 0.5 * (slo + shi);
-      if (s.type == ShapeType::kSphere && mid > lo && mid < hi) z.push_back(mid);
-    }
-  }
-  std::vector<long> mm;
-  for (double v : z) mm.push_back(std::lround(v * 1000.0));
-  std::sort(mm.begin(), mm.end());
-  mm.erase(std::unique(mm.begin(), mm.end()), mm.end());
-  return mm;
-}
-
 }  // namespace
 
-KinematicBackend::KinematicBackend(const RobotModel& robot, const World& world) {
+KinematicBackend::KinematicBackend(const RobotModel& robot, const World& world, SliceCache* slices)
+    : own_slices_(slices == nullptr ? std::make_unique<SliceCache>(&world) : nullptr),
+      collider_(robot, world, slices == nullptr ? own_slices_.get() : slices) {
   wheel_velocities_.assign(robot.wheels.size(), 0.0);
   wheel_positions_.assign(robot.wheels.size(), 0.0);
   targets_.wheel_speeds.assign(robot.wheels.size(), 0.0);
-  std::map<long, int> slice_of_height;  // mm -> index into slices_
-  for (const BodyPart& body : BodyParts(robot)) {
-    Part part;
-    part.outline = body.outline;
-    // RobotModel promises counter-clockwise outlines; a hand-made clockwise one is turned around
-    // so that every polygon handed to a slice has the documented orientation.
-    double area2 = 0.0;
-    for (std::size_t i = 0; i < part.outline.size(); ++i) {
-      area2 += Cross(part.outline[i], part.outline[(i + 1) % part.outline.size()]);
-    }
-    if (area2 < 0.0) std::reverse(part.outline.begin(), part.outline.end());
-    for (const auto& v : part.outline) footprint_radius_ = std::max(footprint_radius_, v.norm());
-    for (long mm : PartHeights(body.z_min, body.z_max, world)) {
-      auto it = slice_of_height.find(mm);
-      if (it == slice_of_height.end()) {
-        it = slice_of_height.emplace(mm, static_cast<int>(slices_.size())).first;
-        slice_heights_.push_back(mm / 1000.0);
-        slices_.emplace_back(world, mm / 1000.0);
-      }
-      part.slices.push_back(it->second);
-    }
-    polygon_scratch_.resize(std::max(polygon_scratch_.size(), part.outline.size()));
-    parts_.push_back(std::move(part));
-  }
 }
 
 void KinematicBackend::SetPose(const Pose2& pose) {
@@ -150,28 +56,9 @@ void KinematicBackend::SetTargets(const DriveTargets& targets) { targets_ = targ
 
 bool KinematicBackend::Collides(const Pose2& p, int* shape) {
   ++collision_checks_;
-  for (std::size_t k = 0; k < parts_.size(); ++k) {
-    const Part& part = parts_[k];
-    std::vector<Eigen::Vector2d>& poly = polygon_scratch_;
-    poly.resize(part.outline.size());
-    for (std::size_t i = 0; i < part.outline.size(); ++i) {
-      poly[i] = TransformPoint(p, part.outline[i]);
-    }
-    for (int s : part.slices) {
-      if (slices_[s].PolygonCollides(poly, shape)) {
-        hit_part_ = static_cast<int>(k);
-        hit_slice_ = s;
-        return true;
-      }
-    }
-  }
-  return false;
-}
-
-double KinematicBackend::Clearance(const Eigen::Vector2d& p) const {
-  double d = std::numeric_limits<double>::infinity();
-  for (const WorldSlice& slice : slices_) d = std::min(d, slice.Distance(p));
-  return d;
+  if (!collider_.Collides(p, &hit_)) return false;
+  if (shape != nullptr) *shape = hit_.shape;
+  return true;
 }
 
 void KinematicBackend::Step(double dt, std::vector<Contact>* contacts) {
@@ -193,12 +80,12 @@ void KinematicBackend::Step(double dt, std::vector<Contact>* contacts) {
   bool free = false;
   int shape = -1;
   if (cache_valid_ && travelled_ + moved < clearance_) {
-    // Every footprint vertex is within footprint_radius_ of the root, which has moved at most
-    // travelled_ + moved since nothing was closer than clearance_ + footprint_radius_.
+    // Every part's vertex is within collider_.radius() of the root, which has moved at most
+    // travelled_ + moved since nothing was closer than clearance_ + that radius.
     travelled_ += moved;
     free = true;
   } else {
-    const double clearance = Clearance(Eigen::Vector2d(end.x, end.y)) - footprint_radius_;
+    const double clearance = collider_.Distance(Eigen::Vector2d(end.x, end.y)) - collider_.radius();
     if (clearance > 0.0) {
       cache_valid_ = true;
       clearance_ = clearance;
@@ -236,8 +123,8 @@ void KinematicBackend::Step(double dt, std::vector<Contact>* contacts) {
 }
 
 Contact KinematicBackend::MakeContact(int shape) const {
-  const Part& part = parts_[hit_part_];
-  const WorldSlice& slice = slices_[hit_slice_];
+  const BodyCollider::Part& part = collider_.parts()[hit_.part];
+  const WorldSlice& slice = *hit_.slice;
   std::vector<Eigen::Vector2d> poly(part.outline.size());
   for (std::size_t i = 0; i < part.outline.size(); ++i) {
     poly[i] = TransformPoint(pose_, part.outline[i]);
@@ -283,7 +170,7 @@ Contact KinematicBackend::MakeContact(int shape) const {
 
   Contact contact;
   contact.shape = best_shape;
-  contact.point = Eigen::Vector3d(world_pt.x(), world_pt.y(), slice_heights_[hit_slice_]);
+  contact.point = Eigen::Vector3d(world_pt.x(), world_pt.y(), hit_.height);
   Eigen::Vector2d n = robot_pt - world_pt;
   if (n.norm() < 1e-9) n = Eigen::Vector2d(pose_.x, pose_.y) - world_pt;  // touching: aim inward
   if (n.norm() > 0.0) n.normalize();

@@ -3,13 +3,11 @@
 // Model: the no-slip body twist the drive's targets ask for (DriveTargets::body_twist: the wheel
 // speeds' twist for a wheeled drive, the command for a holonomic one), integrated exactly as a
 // constant twist over each step (a straight line or a circular arc, IntegrateTwist). Walls are
-// handled by refusing steps: every body part (each link's collision shapes, BodyParts) at the
-// step's end pose is tested against the world's horizontal cross-sections (WorldSlice) at the
-// heights the part spans — its band's ends, every 5 cm between, and the heights where a world
-// shape begins or ends within it, so a table top above the robot or a low step under its body
-// count where they are. A step that would overlap is not taken, the robot stands still (twist 0,
-// wheels 0) and a Contact is reported. Since a blocked step is never taken the robot never
-// penetrates anything, and reversing out of a contact is always possible.
+// handled by refusing steps: every body part (each link's collision shapes) at the step's end pose
+// is tested against the world's cross-sections at the heights it spans (BodyCollider). A step that
+// would overlap is not taken, the robot stands still (twist 0, wheels 0) and a Contact is
+// reported. Since a blocked step is never taken the robot never penetrates anything, and reversing
+// out of a contact is always possible.
 //
 // It is meant to be cheap (well under 1 µs per step in the open): the overlap tests run only when
 // the robot may have come within reach of an obstacle — the clearance of the robot's centre in
@@ -19,11 +17,13 @@
 #define MINIBOT3D_SIM_KINEMATIC_BACKEND_H_
 
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "minibot3d_sim/body_collider.h"
 #include "minibot3d_sim/physics_backend.h"
 #include "minibot3d_sim/robot_model.h"
 #include "minibot3d_sim/world.h"
@@ -33,7 +33,8 @@ namespace minibot3d_sim {
 
 class KinematicBackend : public PhysicsBackend {
  public:
-  KinematicBackend(const RobotModel& robot, const World& world);
+  // `slices` (of `world`; null: the backend keeps its own) must outlive the backend.
+  KinematicBackend(const RobotModel& robot, const World& world, SliceCache* slices = nullptr);
 
   std::string name() const override { return "kinematic"; }
   void SetPose(const Pose2& pose) override;
@@ -55,18 +56,10 @@ class KinematicBackend : public PhysicsBackend {
   // The contact of the last overlapping part at pose_ with the nearest world geometry of `shape`
   // in the last overlapping cross-section (any shape when none matches).
   Contact MakeContact(int shape) const;
-  // Distance from p to the nearest geometry of any cross-section.
-  double Clearance(const Eigen::Vector2d& p) const;
 
-  struct Part {
-    std::vector<Eigen::Vector2d> outline;  // root frame, counter-clockwise
-    std::vector<int> slices;               // cross-sections it is tested against
-  };
-  std::vector<Part> parts_;
-  std::vector<WorldSlice> slices_;
-  std::vector<double> slice_heights_;
-  double footprint_radius_ = 0.0;  // max |vertex| of every part about the root frame's origin
-  int hit_part_ = 0, hit_slice_ = 0;
+  std::unique_ptr<SliceCache> own_slices_;
+  BodyCollider collider_;
+  BodyCollider::Hit hit_;
 
   Pose2 pose_;
   Twist2 twist_;
@@ -84,7 +77,6 @@ class KinematicBackend : public PhysicsBackend {
   // The last blocked step's contact, valid while the robot has not moved since.
   bool blocked_contact_valid_ = false;
   Contact blocked_contact_;
-  std::vector<Eigen::Vector2d> polygon_scratch_;
   long collision_checks_ = 0;
 };
 

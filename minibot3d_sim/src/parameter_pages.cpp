@@ -17,7 +17,11 @@ std::vector<ParameterPage> ParameterPages() {
       "[robot_plugins.md](robot_plugins.md)). A key the node does not know is reported once at "
       "start-up; a bad value stops it with every offending parameter named.",
       {Section("Node", "The world, the robot's spawn pose, physics, time and lock-step.",
-               SimNodeOptionTable())}});
+               SimNodeOptionTable()),
+       Section("~NAME/ (each robot of ~robots)",
+               "A robot's own spawn pose and odometry settings; each defaults to the node's "
+               "parameter of the same name.",
+               RobotNodeOptionTable())}});
   const std::string spawned =
       " Plugins without a `<robotNamespace>` get the simulator's `~robot_namespace` (`/`), as "
       "Gazebo's spawn_model gives them the spawner's.";

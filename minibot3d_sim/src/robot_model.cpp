@@ -390,9 +390,10 @@ GazeboBlocks ReadGazeboBlocks(const tinyxml2::XMLElement* robot, const urdf::Mod
   return b;
 }
 
-// Gazebo's spawn_model gives every plugin without one the robot's namespace.
+// Gazebo's spawn_model gives every plugin without one the robot's namespace; with
+// -robot_namespace it replaces every plugin's.
 std::string Namespace(const std::string& given, bool has, const RobotModelOptions& o) {
-  return has ? given : o.spawn_namespace;
+  return has && !o.replace_namespaces ? given : o.spawn_namespace;
 }
 
 urdf::JointConstSharedPtr WheelJoint(const urdf::Model& urdf, const std::string& joint,

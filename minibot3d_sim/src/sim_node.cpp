@@ -19,6 +19,7 @@
 #include "node/lockstep_host.h"
 #include "minibot3d_lockstep/participant.h"
 #include "minibot3d_ros/params.h"
+#include "minibot3d_sim/SimActors.h"
 #include "minibot3d_sim/Collision.h"
 #include "minibot3d_sim/SetPose.h"
 #include "minibot3d_sim/SimStatus.h"
@@ -68,6 +69,43 @@ class SimNode {
  public:
   SimNode() : pnh_("~") {}
 
+  // Reads a robot description from the parameter `param` (its plugins' topics resolved in
+  // `robot_namespace`); false (after a fatal message) if it is missing or bad.
+  bool LoadRobot(const std::string& param, const std::string& robot_namespace, bool named,
+                 std::string* xml, RobotModel* robot) {
+    if (!nh_.getParam(param, *xml)) {
+      ROS_FATAL("minibot3d_sim: parameter %s is not set (load the robot's xacro, e.g. with "
+                "minibot3d_gazebo.launch)", ros::names::resolve(param).c_str());
+      return false;
+    }
+    try {
+      RobotModelOptions model_options;
+      model_options.spawn_namespace = robot_namespace;
+      model_options.replace_namespaces = named;
+      if (xml->find("libgazebo_ros_control.so") != std::string::npos) {
+        model_options.controllers = ReadControllers(robot_namespace);
+      }
+      model_options.resolve_mesh_url = [](const std::string& url) -> std::string {
+        const std::string kPackage = "package://";
+        if (url.compare(0, kPackage.size(), kPackage) != 0) {
+          return url.compare(0, 7, "file://") == 0 ? url.substr(7) : url;
+        }
+        const std::string rest = url.substr(kPackage.size());
+        const std::string pkg = rest.substr(0, rest.find('/'));
+        const std::string dir = ros::package::getPath(pkg);
+        return dir.empty() ? "" : dir + rest.substr(pkg.size());
+      };
+      *robot = ParseRobotModel(*xml, model_options);
+    } catch (const RobotModelError& e) {
+      ROS_FATAL("minibot3d_sim: %s: %s", ros::names::resolve(param).c_str(), e.what());
+      return false;
+    }
+    for (const auto& w : robot->warnings) {
+      ROS_WARN("minibot3d_sim: %s: %s", ros::names::resolve(param).c_str(), w.c_str());
+    }
+    return true;
+  }
+
   // Reads parameters, robot_description and the world; false (after a fatal message) if any is bad.
   bool Init() {
     lockstep_ = minibot3d_lockstep::LockstepEnabled();
@@ -87,39 +125,25 @@ class SimNode {
       ROS_FATAL("minibot3d_sim: %s", e.what());
       return false;
     }
+    // robots may also be one string of names separated by spaces, or a number N: robot1..robotN.
+    names_.clear();
+    std::vector<std::string>& names = names_;
+    for (const auto& item : options_.robots) {
+      std::istringstream in(item);
+      for (std::string n; in >> n;) names.push_back(n);
+    }
+    if (names.size() == 1 && !names[0].empty() &&
+        names[0].find_first_not_of("0123456789") == std::string::npos) {
+      const int count = std::stoi(names[0]);
+      names.clear();
+      for (int k = 1; k <= count; ++k) names.push_back("robot" + std::to_string(k));
+    }
+
+    for (const std::string& name : names) report.Known(name);
     report.WarnUnknown("minibot3d_sim");
     if (options_.world.empty()) {
       options_.world = ros::package::getPath("minibot3d_sim") + "/worlds/default.world";
     }
-
-    if (!nh_.getParam("robot_description", urdf_xml_)) {
-      ROS_FATAL("minibot3d_sim: parameter robot_description is not set (load the robot's xacro, "
-                "e.g. with minibot3d_gazebo.launch)");
-      return false;
-    }
-    RobotModel robot;
-    try {
-      RobotModelOptions model_options;
-      model_options.spawn_namespace = options_.robot_namespace;
-      if (urdf_xml_.find("libgazebo_ros_control.so") != std::string::npos) {
-        model_options.controllers = ReadControllers(options_.robot_namespace);
-      }
-      model_options.resolve_mesh_url = [](const std::string& url) -> std::string {
-        const std::string kPackage = "package://";
-        if (url.compare(0, kPackage.size(), kPackage) != 0) {
-          return url.compare(0, 7, "file://") == 0 ? url.substr(7) : url;
-        }
-        const std::string rest = url.substr(kPackage.size());
-        const std::string pkg = rest.substr(0, rest.find('/'));
-        const std::string dir = ros::package::getPath(pkg);
-        return dir.empty() ? "" : dir + rest.substr(pkg.size());
-      };
-      robot = ParseRobotModel(urdf_xml_, model_options);
-    } catch (const RobotModelError& e) {
-      ROS_FATAL("minibot3d_sim: robot_description: %s", e.what());
-      return false;
-    }
-    for (const auto& w : robot.warnings) ROS_WARN("minibot3d_sim: robot_description: %s", w.c_str());
 
     WorldLoadOptions load;
     load.floorplan_wall_height = options_.floorplan_wall_height;
@@ -133,18 +157,66 @@ class SimNode {
     }
     for (const auto& w : warnings) ROS_WARN("minibot3d_sim: world: %s", w.c_str());
 
+    std::vector<RobotEntry> robots;
+    if (names.empty()) {
+      RobotEntry e;
+      e.options = ToRobotOptions("", RobotDefaults(options_));
+      e.options.name.clear();
+      robot_namespaces_.push_back(options_.robot_namespace);
+      urdf_xmls_.emplace_back();
+      if (!LoadRobot("robot_description", options_.robot_namespace, false, &urdf_xmls_.back(),
+                     &e.model)) {
+        return false;
+      }
+      robots.push_back(std::move(e));
+    } else {
+      for (const std::string& name : names) {
+        const std::string problem = RobotNameProblem(name);
+        if (!problem.empty()) {
+          ROS_FATAL("minibot3d_sim: ~robots: %s", problem.c_str());
+          return false;
+        }
+        RobotEntry e;
+        RobotNodeOptions ro = RobotDefaults(options_);
+        ros::NodeHandle robot_pnh(pnh_, name);
+        minibot3d_ros::ParamReport robot_report =
+            minibot3d_ros::LoadTable(robot_pnh, RobotNodeOptionTable(), &ro);
+        try {
+          robot_report.ThrowIfBad();
+          e.options = ToRobotOptions(name, ro);
+        } catch (const std::invalid_argument& ex) {
+          ROS_FATAL("minibot3d_sim: %s", ex.what());
+          return false;
+        }
+        robot_report.WarnUnknown("minibot3d_sim");
+        const std::string ns = ros::NodeHandle(nh_, name).getNamespace();
+        robot_namespaces_.push_back(ns);
+        urdf_xmls_.emplace_back();
+        if (!LoadRobot(ns + "/robot_description", ns, true, &urdf_xmls_.back(), &e.model)) {
+          return false;
+        }
+        robots.push_back(std::move(e));
+      }
+    }
+
     const SimulatorOptions sim = ToSimulatorOptions(options_);
     try {
-      sim_ = std::make_unique<Simulator>(robot, std::move(world), sim);
+      sim_ = names.empty() ? std::make_unique<Simulator>(robots[0].model, std::move(world), sim)
+                           : std::make_unique<Simulator>(std::move(robots), std::move(world), sim);
     } catch (const std::exception& e) {
       ROS_FATAL("minibot3d_sim: %s", e.what());
       return false;
     }
-    std::string what;
-    if (sim_->PoseCollides(sim.spawn, &what)) {
-      ROS_FATAL("minibot3d_sim: the spawn pose ~x=%g ~y=%g ~yaw=%g overlaps '%s' in %s", sim.spawn.x,
-                sim.spawn.y, sim.spawn.yaw, what.c_str(), options_.world.c_str());
-      return false;
+    for (size_t r = 0; r < sim_->robot_count(); ++r) {
+      const SimRobot& robot = sim_->at(r);
+      std::string what;
+      const Pose2 spawn = robot.options().spawn;
+      if (robot.PoseCollides(spawn, &what)) {
+        ROS_FATAL("minibot3d_sim: %sthe spawn pose x=%g y=%g yaw=%g overlaps '%s' in %s",
+                  robot.name().empty() ? "" : ("robot " + robot.name() + ": ").c_str(), spawn.x,
+                  spawn.y, spawn.yaw, what.c_str(), options_.world.c_str());
+        return false;
+      }
     }
 
     // In lock-step a participant counts on receiving every message the simulator queued to it, so
@@ -153,13 +225,37 @@ class SimNode {
     // Latched: a node that starts while sim time is held (lock-step, or paused) gets the current
     // time at once; roscpp nodes wait for a first /clock (actionlib's clients, for one).
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", q(10), true);
-    RobotInterface::Options ro;
-    ro.lockstep = lockstep_;
-    ro.publish_ground_truth = options_.publish_ground_truth;
-    ro.world_frame = options_.world_frame;
-    robot_ = std::make_unique<RobotInterface>(sim_.get(), urdf_xml_, ro, &cmd_queue_);
-    collision_pub_ = pnh_.advertise<Collision>("collisions", q(50));
+    for (size_t r = 0; r < sim_->robot_count(); ++r) {
+      SimRobot& robot = sim_->at(r);
+      RobotInterface::Options ro;
+      ro.lockstep = lockstep_;
+      ro.publish_ground_truth = options_.publish_ground_truth;
+      ro.world_frame = options_.world_frame;
+      ro.frame_prefix = robot.name().empty() ? "" : robot.name() + "/";
+      Robot x;
+      x.sim = &robot;
+      x.ros = std::make_unique<RobotInterface>(&robot, urdf_xmls_[r], ro, &cmd_queue_);
+      // A named robot's simulator topics and services: NAME/minibot3d_sim/...
+      ros::NodeHandle own = robot.name().empty()
+                                ? pnh_
+                                : ros::NodeHandle(ros::NodeHandle(nh_, robot.name()),
+                                                  ros::this_node::getName().substr(1));
+      x.collision_pub = own.advertise<Collision>("collisions", q(50));
+      if (!robot.name().empty()) {
+        x.status_pub = own.advertise<SimStatus>("status", q(5), true);
+        services_.push_back(own.advertiseService<std_srvs::Empty::Request, std_srvs::Empty::Response>(
+            "reset", [this, r](std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+              return ResetRobot(r);
+            }));
+        services_.push_back(own.advertiseService<SetPose::Request, SetPose::Response>(
+            "set_pose", [this, r](SetPose::Request& req, SetPose::Response& res) {
+              return SetRobotPose(r, req, &res);
+            }));
+      }
+      robots_.push_back(std::move(x));
+    }
     status_pub_ = pnh_.advertise<SimStatus>("status", q(5), true);
+    if (sim_->actor_count() > 0) actors_pub_ = pnh_.advertise<SimActors>("actors", q(5));
     if (lockstep_) {
       LockstepHost::Options lo;
       lo.coordinator.quantum = options_.lockstep_quantum;
@@ -177,12 +273,18 @@ class SimNode {
     services_.push_back(pnh_.advertiseService("set_pose", &SimNode::OnSetPose, this));
     paused_ = options_.paused;
 
-    ROS_INFO("minibot3d_sim: robot '%s' (%s, %zu lasers, %zu IMUs), world %s (%zu shapes), physics "
-             "%s at %g s, real-time factor %g, spawn (%g, %g, %g)%s", robot.name.c_str(),
-             sim_->drive().name().c_str(), robot.lasers.size(), robot.imus.size(),
+    ROS_INFO("minibot3d_sim: world %s (%zu shapes), physics %s at %g s, real-time factor %g%s",
              options_.world.c_str(), sim_->world().shapes.size(), sim.physics.c_str(),
-             sim.physics_step, options_.real_time_factor, sim.spawn.x, sim.spawn.y, sim.spawn.yaw,
-             lockstep_ ? ", lock-step" : "");
+             sim.physics_step, options_.real_time_factor, lockstep_ ? ", lock-step" : "");
+    for (size_t r = 0; r < sim_->robot_count(); ++r) {
+      const SimRobot& robot = sim_->at(r);
+      const Pose2 spawn = robot.options().spawn;
+      ROS_INFO("minibot3d_sim: robot %s'%s' (%s, %zu lasers, %zu IMUs, %zu cameras) at (%g, %g, %g)",
+               robot.name().empty() ? "" : (robot.name() + ": ").c_str(),
+               robot.model().name.c_str(), robot.drive().name().c_str(),
+               robot.model().lasers.size(), robot.model().imus.size(),
+               robot.model().cameras.size(), spawn.x, spawn.y, spawn.yaw);
+    }
     return true;
   }
 
@@ -191,7 +293,7 @@ class SimNode {
       RunLockstep();
     } else {
       PublishClock();
-      robot_->PublishStaticTransforms();
+      for (auto& r : robots_) r.ros->PublishStaticTransforms();
       Publish(true);
       Anchor();
       RunFree();
@@ -199,7 +301,7 @@ class SimNode {
     const double wall = (ros::WallTime::now() - run_wall_start_).toSec();
     ROS_INFO("minibot3d_sim: %.1f s simulated in %.1f s wall (real-time factor %.1f), %lu "
              "collisions", sim_->time(), wall, wall > 0 ? sim_->time() / wall : 0.0,
-             static_cast<unsigned long>(sim_->collision_count()));
+             static_cast<unsigned long>(TotalCollisions()));
   }
 
  private:
@@ -240,7 +342,7 @@ class SimNode {
     lockstep_host_->WaitForOwnConnections();
     // The first sensor messages go out before the first round: robot_state_publisher answers
     // the first joint states with the latched tf_static that participants wait for.
-    robot_->PublishStaticTransforms();
+    for (auto& r : robots_) r.ros->PublishStaticTransforms();
     Publish(true);
     lockstep_host_->RecordSent();
     lockstep_host_->Round();
@@ -270,26 +372,35 @@ class SimNode {
   void Publish(bool all) {
     const double t = sim_->time();
     const ros::Time stamp(t);
-    robot_->Publish(all);
-    for (const auto& e : sim_->TakeCollisionEvents()) {
-      Collision c;
-      c.header.stamp = ros::Time(e.time);
-      c.header.frame_id = options_.world_frame;
-      c.position.x = e.contact.point.x();
-      c.position.y = e.contact.point.y();
-      c.position.z = e.contact.point.z();
-      c.normal.x = e.contact.normal.x();
-      c.normal.y = e.contact.normal.y();
-      c.normal.z = e.contact.normal.z();
-      c.depth = e.contact.depth;
-      c.object = e.shape_name;
-      c.count = ++published_collisions_;
-      collision_pub_.publish(c);
-      ROS_WARN_THROTTLE(1.0, "minibot3d_sim: collision #%lu with '%s' at (%.2f, %.2f), t=%.2f s",
-                        static_cast<unsigned long>(c.count), c.object.c_str(), c.position.x,
-                        c.position.y, e.time);
-      PublishStatus(stamp);
+    if (actors_pub_ && (all || t + 1e-9 >= actors_published_ / options_.actors_rate)) {
+      PublishActors(stamp);
+      actors_published_ = std::floor(t * options_.actors_rate + 1e-6) + 1.0;
     }
+    bool collided = false;
+    for (Robot& r : robots_) {
+      r.ros->Publish(all);
+      for (const auto& e : r.sim->TakeCollisionEvents()) {
+        Collision c;
+        c.header.stamp = ros::Time(e.time);
+        c.header.frame_id = options_.world_frame;
+        c.position.x = e.contact.point.x();
+        c.position.y = e.contact.point.y();
+        c.position.z = e.contact.point.z();
+        c.normal.x = e.contact.normal.x();
+        c.normal.y = e.contact.normal.y();
+        c.normal.z = e.contact.normal.z();
+        c.depth = e.contact.depth;
+        c.object = e.shape_name;
+        c.count = ++r.published_collisions;
+        r.collision_pub.publish(c);
+        ROS_WARN_THROTTLE(1.0, "minibot3d_sim: %scollision #%lu with '%s' at (%.2f, %.2f), t=%.2f s",
+                          r.sim->name().empty() ? "" : (r.sim->name() + ": ").c_str(),
+                          static_cast<unsigned long>(c.count), c.object.c_str(), c.position.x,
+                          c.position.y, e.time);
+        collided = true;
+      }
+    }
+    if (collided) PublishStatus(stamp);
     if (all || t + 1e-9 >= next_status_) {
       next_status_ = std::floor(t + 1e-6) + 1.0;
       PublishStatus(stamp);
@@ -316,6 +427,30 @@ class SimNode {
     }
   }
 
+  // The actors where they are (for evaluation; a robot's stack does not read it).
+  void PublishActors(const ros::Time& stamp) {
+    SimActors m;
+    m.header.stamp = stamp;
+    m.header.frame_id = options_.world_frame;
+    for (size_t k = 0; k < sim_->actor_count(); ++k) {
+      const ActorState& a = sim_->actor_state(k);
+      SimActor out;
+      out.name = sim_->world().actors[k].name;
+      out.pose.position.x = a.x;
+      out.pose.position.y = a.y;
+      out.pose.orientation.z = std::sin(0.5 * a.yaw);
+      out.pose.orientation.w = std::cos(0.5 * a.yaw);
+      out.twist.linear.x = a.vx;
+      out.twist.linear.y = a.vy;
+      out.twist.angular.z = a.wz;
+      out.radius = options_.actor_radius;
+      out.height = options_.actor_height;
+      m.actors.push_back(out);
+    }
+    actors_pub_.publish(m);
+  }
+
+  // The simulation's status (collisions and contact: all robots'), and each named robot's.
   void PublishStatus(const ros::Time& stamp) {
     const ros::WallTime now = ros::WallTime::now();
     SimStatus s;
@@ -328,11 +463,25 @@ class SimNode {
     const double wall = (now - status_wall_).toSec();
     s.real_time_factor = wall > 0 ? (s.sim_time - status_sim_) / wall : 0.0;
     s.paused = paused_;
-    s.collisions = sim_->collision_count();
-    s.in_contact = sim_->in_contact();
+    s.collisions = TotalCollisions();
+    s.in_contact = false;
+    for (const Robot& r : robots_) s.in_contact = s.in_contact || r.sim->in_contact();
     status_pub_.publish(s);
+    for (const Robot& r : robots_) {
+      if (!r.status_pub) continue;
+      SimStatus own = s;
+      own.collisions = r.sim->collision_count();
+      own.in_contact = r.sim->in_contact();
+      r.status_pub.publish(own);
+    }
     status_wall_ = now;
     status_sim_ = s.sim_time;
+  }
+
+  std::uint64_t TotalCollisions() const {
+    std::uint64_t n = 0;
+    for (const Robot& r : robots_) n += r.sim->collision_count();
+    return n;
   }
 
   // Restarts real-time pacing from the current instant (after start, pause or a rate change).
@@ -357,9 +506,16 @@ class SimNode {
     }
   }
 
+  // Every robot back to its spawn pose.
   bool OnReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
-    sim_->Reset();
-    ROS_INFO("minibot3d_sim: reset to the spawn pose");
+    for (size_t r = 0; r < sim_->robot_count(); ++r) sim_->at(r).Reset();
+    ROS_INFO("minibot3d_sim: reset to the spawn pose%s", sim_->robot_count() > 1 ? "s" : "");
+    Publish(true);
+    return true;
+  }
+  bool ResetRobot(size_t r) {
+    sim_->at(r).Reset();
+    ROS_INFO("minibot3d_sim: %s reset to its spawn pose", sim_->at(r).name().c_str());
     Publish(true);
     return true;
   }
@@ -380,23 +536,32 @@ class SimNode {
     return true;
   }
   bool OnSetPose(SetPose::Request& req, SetPose::Response& res) {
-    if (!std::isfinite(req.x) || !std::isfinite(req.y) || !std::isfinite(req.yaw)) {
+    if (sim_->robot_count() > 1) {
       res.success = false;
-      res.message = "x, y and yaw must be finite";
+      res.message = "several robots: call NAME/" + ros::this_node::getName().substr(1) +
+                    "/set_pose for robot NAME";
+      return true;
+    }
+    return SetRobotPose(0, req, &res);
+  }
+  bool SetRobotPose(size_t r, SetPose::Request& req, SetPose::Response* res) {
+    if (!std::isfinite(req.x) || !std::isfinite(req.y) || !std::isfinite(req.yaw)) {
+      res->success = false;
+      res->message = "x, y and yaw must be finite";
       return true;
     }
     std::string what;
     const Pose2 pose{req.x, req.y, req.yaw};
-    if (sim_->PoseCollides(pose, &what)) {
-      res.success = false;
+    if (sim_->at(r).PoseCollides(pose, &what)) {
+      res->success = false;
       std::ostringstream msg;
       msg << "pose (" << req.x << ", " << req.y << ", " << req.yaw << ") overlaps '" << what << "'";
-      res.message = msg.str();
+      res->message = msg.str();
       return true;
     }
-    sim_->SetPose(pose);
-    res.success = true;
-    res.message = "teleported";
+    sim_->at(r).SetPose(pose);
+    res->success = true;
+    res->message = "teleported";
     Publish(true);
     return true;
   }
@@ -404,18 +569,25 @@ class SimNode {
   ros::NodeHandle nh_, pnh_;
   SimNodeOptions options_;
   bool lockstep_ = false;
-  std::string urdf_xml_;
+  // One per robot: its core, its ROS side, its collisions (and status and services, if named).
+  struct Robot {
+    SimRobot* sim = nullptr;
+    std::unique_ptr<RobotInterface> ros;
+    ros::Publisher collision_pub, status_pub;
+    std::uint64_t published_collisions = 0;
+  };
+  std::vector<std::string> names_, robot_namespaces_, urdf_xmls_;
   std::unique_ptr<Simulator> sim_;
-  std::unique_ptr<RobotInterface> robot_;
+  std::vector<Robot> robots_;
   std::unique_ptr<LockstepHost> lockstep_host_;
   ros::CallbackQueue cmd_queue_;
-  ros::Publisher clock_pub_, collision_pub_, status_pub_;
+  ros::Publisher clock_pub_, status_pub_, actors_pub_;
+  double actors_published_ = 0.0;  // ~actors messages sent (the next is due at this / rate)
   ros::Time last_clock_;
   bool clock_published_ = false;
   ros::WallTime last_clock_wall_;
   std::vector<ros::ServiceServer> services_;
   double next_status_ = 0.0;
-  std::uint64_t published_collisions_ = 0;
   bool paused_ = false;
   ros::WallTime anchor_wall_, run_wall_start_, status_wall_;
   double anchor_sim_ = 0.0, status_sim_ = 0.0;

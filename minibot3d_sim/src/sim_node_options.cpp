@@ -1,5 +1,6 @@
 #include "minibot3d_sim/sim_node_options.h"
 
+#include <cctype>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -26,6 +27,12 @@ const OptionTable<SimNodeOptions>& SimNodeOptionTable() {
        Field("robot_namespace", &O::robot_namespace,
              "Namespace given to every plugin of robot_description without a <robotNamespace>, "
              "as Gazebo's spawn_model does."),
+       Field("robots", &O::robots,
+             "Several robots: their names (a list, names separated by spaces, or a number N for "
+             "robot1 .. robotN). Robot NAME's "
+             "description is NAME/robot_description, its plugins' topics and services are under "
+             "NAME/, its frames prefixed NAME/, its spawn pose and odometry settings in ~NAME/ "
+             "(below). Empty: one robot, robot_description, no prefix."),
        Field("physics", &O::physics,
              "bullet: planar rigid body with wheel slip, torque and friction limits and wall "
              "contacts; kinematic: the commanded motion exactly, steps into obstacles refused."),
@@ -71,6 +78,11 @@ const OptionTable<SimNodeOptions>& SimNodeOptionTable() {
              "Frame of the ground truth and the collision reports."),
        Field("publish_ground_truth", &O::publish_ground_truth,
              "Publish the root link's true pose and twist on ground_truth/odom (in world_frame)."),
+       Field("actor_radius", &O::actor_radius,
+             "Radius of the upright cylinder that stands for each of the world's <actor>s (m)."),
+       Field("actor_height", &O::actor_height, "Height of each actor's cylinder (m)."),
+       Field("actors_rate", &O::actors_rate,
+             "Rate of ~actors, the actors' poses and velocities (Hz of sim time)."),
        Field("lockstep_quantum", &O::lockstep_quantum,
              "Lock-step: sim time between rounds (s), a whole number of physics steps."),
        Field("lockstep_timeout", &O::lockstep_timeout,
@@ -110,6 +122,9 @@ void ValidateSimNodeOptions(const SimNodeOptions& o, bool lockstep) {
   p.Positive("pub_clock_frequency", o.pub_clock_frequency);
   p.Positive("floorplan_wall_height", o.floorplan_wall_height);
   p.Require(!o.world_frame.empty(), "world_frame must not be empty");
+  p.Positive("actor_radius", o.actor_radius);
+  p.Positive("actor_height", o.actor_height);
+  p.Positive("actors_rate", o.actors_rate);
   p.Positive("lockstep_quantum", o.lockstep_quantum);
   p.Check(std::isfinite(o.lockstep_timeout) && o.lockstep_timeout >= 0.0, "lockstep_timeout",
           o.lockstep_timeout, ">= 0 wall s (0: never drop a participant that is alive)");
@@ -121,6 +136,87 @@ void ValidateSimNodeOptions(const SimNodeOptions& o, bool lockstep) {
                   " must be a whole number of physics_step=" + Num(o.physics_step));
   }
   p.ThrowIfAny();
+}
+
+const OptionTable<RobotNodeOptions>& RobotNodeOptionTable() {
+  using R = RobotNodeOptions;
+  static const OptionTable<R> t(
+      "minibot3d_sim",
+      {Field("x", &R::x, "Spawn position x of the robot's root link (m, world frame)."),
+       Field("y", &R::y, "Spawn position y (m)."),
+       Field("yaw", &R::yaw, "Spawn heading (rad)."),
+       Field("odom_wheel_separation_multiplier", &R::odom_wheel_separation_multiplier,
+             "Skid-steer plugin: the odometry's track as a multiple of wheelSeparation."),
+       Field("cmd_wheel_separation_multiplier", &R::cmd_wheel_separation_multiplier,
+             "Skid-steer plugin: the same on the command side."),
+       Field("odom_error_scale", &R::odom_error_scale, "Odometry error: distance scale."),
+       Field("odom_error_turn_scale", &R::odom_error_turn_scale, "Odometry error: rotation scale."),
+       Field("odom_error_heading_drift", &R::odom_error_heading_drift,
+             "Odometry error: heading bias per metre (rad/m)."),
+       Field("odom_error_distance_noise", &R::odom_error_distance_noise,
+             "Odometry error: distance noise after 1 m (m/sqrt(m))."),
+       Field("odom_error_turn_noise", &R::odom_error_turn_noise,
+             "Odometry error: rotation noise after 1 rad (rad/sqrt(rad))."),
+       Field("odom_error_heading_noise", &R::odom_error_heading_noise,
+             "Odometry error: heading noise after 1 m (rad/sqrt(m)).")});
+  return t;
+}
+
+RobotNodeOptions RobotDefaults(const SimNodeOptions& o) {
+  RobotNodeOptions r;
+  r.x = o.x;
+  r.y = o.y;
+  r.yaw = o.yaw;
+  r.odom_wheel_separation_multiplier = o.odom_wheel_separation_multiplier;
+  r.cmd_wheel_separation_multiplier = o.cmd_wheel_separation_multiplier;
+  r.odom_error_scale = o.odom_error_scale;
+  r.odom_error_turn_scale = o.odom_error_turn_scale;
+  r.odom_error_heading_drift = o.odom_error_heading_drift;
+  r.odom_error_distance_noise = o.odom_error_distance_noise;
+  r.odom_error_turn_noise = o.odom_error_turn_noise;
+  r.odom_error_heading_noise = o.odom_error_heading_noise;
+  return r;
+}
+
+RobotOptions ToRobotOptions(const std::string& name, const RobotNodeOptions& r) {
+  Problems p("minibot3d_sim: robot " + name);
+  p.Finite("x", r.x);
+  p.Finite("y", r.y);
+  p.Finite("yaw", r.yaw);
+  p.Positive("odom_wheel_separation_multiplier", r.odom_wheel_separation_multiplier);
+  p.Positive("cmd_wheel_separation_multiplier", r.cmd_wheel_separation_multiplier);
+  RobotOptions o;
+  o.name = name;
+  o.spawn = Pose2{r.x, r.y, r.yaw};
+  o.odom_wheel_separation_multiplier = r.odom_wheel_separation_multiplier;
+  o.cmd_wheel_separation_multiplier = r.cmd_wheel_separation_multiplier;
+  o.odom_error.scale = r.odom_error_scale;
+  o.odom_error.turn_scale = r.odom_error_turn_scale;
+  o.odom_error.heading_drift = r.odom_error_heading_drift;
+  o.odom_error.distance_noise = r.odom_error_distance_noise;
+  o.odom_error.turn_noise = r.odom_error_turn_noise;
+  o.odom_error.heading_noise = r.odom_error_heading_noise;
+  try {
+    ValidateOdometryError(o.odom_error);
+  } catch (const std::invalid_argument& e) {
+    p.Require(false, e.what());
+  }
+  p.ThrowIfAny();
+  return o;
+}
+
+std::string RobotNameProblem(const std::string& name) {
+  if (name.empty()) return "a robot's name must not be empty";
+  const bool first_ok = std::isalpha(static_cast<unsigned char>(name[0]));
+  bool rest_ok = true;
+  for (char c : name) {
+    rest_ok &= std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+  }
+  if (!first_ok || !rest_ok) {
+    return "robot name '" + name + "' is not a ROS name of one level (a letter, then letters, "
+           "digits or '_')";
+  }
+  return "";
 }
 
 OdometryErrorOptions ToOdometryErrorOptions(const SimNodeOptions& o) {
@@ -144,6 +240,8 @@ SimulatorOptions ToSimulatorOptions(const SimNodeOptions& o) {
   s.odom_wheel_separation_multiplier = o.odom_wheel_separation_multiplier;
   s.cmd_wheel_separation_multiplier = o.cmd_wheel_separation_multiplier;
   s.odom_error = ToOdometryErrorOptions(o);
+  s.actor_radius = o.actor_radius;
+  s.actor_height = o.actor_height;
   return s;
 }
 

@@ -628,6 +628,102 @@ void ParseModel(LoadContext* ctx, const std::string& file, const XMLElement* mod
 
 }  // namespace
 
+// Reads a number from an element's text; `what` names it in the error.
+double ElementNumber(const std::string& file, const XMLElement* e, const std::string& what) {
+  std::vector<double> v;
+  if (!ParseNumbers(e->GetText() == nullptr ? "" : e->GetText(), &v) || v.size() != 1) {
+    Fail(file, e, what + " must be one number");
+  }
+  return v[0];
+}
+
+// An SDF <actor>: its <script> (loop, delay_start, auto_start, trajectories of waypoints) or, with
+// none, its <pose>. Skin, animations and plugins are not simulated (a warning names the plugins).
+Actor ParseActor(const LoadContext& ctx, const std::string& file, const XMLElement* e) {
+  Actor a;
+  const char* name = e->Attribute("name");
+  a.name = name == nullptr ? "actor" : name;
+  const std::string what = "<actor name=\"" + a.name + "\">";
+  const Eigen::Isometry3d pose = ParsePose(file, e, ctx);
+  a.x = pose.translation().x();
+  a.y = pose.translation().y();
+  a.yaw = std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
+  for (const XMLElement* p = e->FirstChildElement("plugin"); p != nullptr;
+       p = p->NextSiblingElement("plugin")) {
+    const char* f = p->Attribute("filename");
+    ctx.Warn(Where(file, p) + ": " + what + ": plugin '" + (f == nullptr ? "" : f) +
+             "' is not simulated; the actor follows its <script> (or stands at its <pose>)");
+  }
+  const XMLElement* script = e->FirstChildElement("script");
+  if (script == nullptr) return a;
+  for (const XMLElement* c = script->FirstChildElement(); c != nullptr;
+       c = c->NextSiblingElement()) {
+    const std::string tag = c->Name();
+    if (tag == "loop") {
+      a.loop = ParseBool(file, c);
+    } else if (tag == "auto_start") {
+      a.auto_start = ParseBool(file, c);
+      if (!a.auto_start) {
+        ctx.Warn(Where(file, c) + ": " + what + ": <auto_start>false waits for a trigger, which "
+                 "the simulator never sends: the actor stands at its first waypoint");
+      }
+    } else if (tag == "delay_start") {
+      a.delay_start = ElementNumber(file, c, what + " <delay_start>");
+      if (!(a.delay_start >= 0.0)) Fail(file, c, what + ": <delay_start> must be >= 0");
+    } else if (tag == "trajectory") {
+      ActorTrajectory tr;
+      const char* id = c->Attribute("id");
+      tr.id = id == nullptr ? 0 : std::atoi(id);
+      const char* type = c->Attribute("type");
+      tr.type = type == nullptr ? "" : type;
+      const char* tension = c->Attribute("tension");
+      if (tension != nullptr) {
+        std::vector<double> v;
+        if (!ParseNumbers(tension, &v) || v.size() != 1 || !(v[0] >= 0.0 && v[0] <= 1.0)) {
+          Fail(file, c, what + ": <trajectory tension> must be a number in [0, 1]");
+        }
+        tr.tension = v[0];
+      }
+      const std::string where_tr = what + " <trajectory id=\"" + std::to_string(tr.id) + "\">";
+      for (const XMLElement* w = c->FirstChildElement(); w != nullptr;
+           w = w->NextSiblingElement()) {
+        if (std::string(w->Name()) != "waypoint") {
+          ctx.Warn(Where(file, w) + ": " + where_tr + ": ignoring <" + w->Name() + ">");
+          continue;
+        }
+        const XMLElement* time = w->FirstChildElement("time");
+        if (time == nullptr) Fail(file, w, where_tr + ": a <waypoint> has no <time>");
+        if (w->FirstChildElement("pose") == nullptr) {
+          Fail(file, w, where_tr + ": a <waypoint> has no <pose>");
+        }
+        ActorWaypoint wp;
+        wp.time = ElementNumber(file, time, where_tr + " <waypoint><time>");
+        if (!(wp.time >= 0.0)) Fail(file, time, where_tr + ": a waypoint's <time> must be >= 0");
+        if (!tr.waypoints.empty() && !(wp.time > tr.waypoints.back().time)) {
+          Fail(file, time, where_tr + ": waypoint times must increase (" +
+                               std::to_string(wp.time) + " s after " +
+                               std::to_string(tr.waypoints.back().time) + " s)");
+        }
+        const Eigen::Isometry3d wpose = ParsePose(file, w, ctx);
+        wp.x = wpose.translation().x();
+        wp.y = wpose.translation().y();
+        wp.z = wpose.translation().z();
+        wp.yaw = std::atan2(wpose.linear()(1, 0), wpose.linear()(0, 0));
+        tr.waypoints.push_back(wp);
+      }
+      if (tr.waypoints.empty()) Fail(file, c, where_tr + " has no <waypoint>");
+      a.trajectories.push_back(std::move(tr));
+    } else {
+      ctx.Warn(Where(file, c) + ": " + what + ": ignoring unknown <script> element <" + tag + ">");
+    }
+  }
+  if (a.trajectories.empty()) {
+    ctx.Warn(Where(file, script) + ": " + what + ": a <script> without <trajectory>: the actor "
+             "stands at its <pose>");
+  }
+  return a;
+}
+
 World LoadSdfWorld(const std::string& path, const WorldLoadOptions& options,
                    std::vector<std::string>* warnings) {
   tinyxml2::XMLDocument doc;
@@ -658,6 +754,13 @@ World LoadSdfWorld(const std::string& path, const WorldLoadOptions& options,
       ParseModel(&ctx, path, c, identity, "", false, nullptr, nullptr, nullptr);
     } else if (tag == "include") {
       ParseInclude(&ctx, path, c, identity, "", false);
+    } else if (tag == "actor") {
+      world.actors.push_back(ParseActor(ctx, path, c));
+      for (size_t k = 0; k + 1 < world.actors.size(); ++k) {
+        if (world.actors[k].name == world.actors.back().name) {
+          Fail(path, c, "two actors named '" + world.actors.back().name + "'");
+        }
+      }
     } else if (std::find(std::begin(kQuiet), std::end(kQuiet), tag) == std::end(kQuiet) &&
                std::find(unknown.begin(), unknown.end(), "<" + tag + ">") == unknown.end()) {
       unknown.push_back("<" + tag + ">");

@@ -112,7 +112,9 @@ TEST(BodyPartsTest, EveryCollisionShapeIsAPartAboveTheFloorClearance) {
       EXPECT_NEAR(p.z_min, 0.01, 1e-9);
       EXPECT_NEAR(p.z_max, 0.11, 1e-9);
     }
-    if (p.link == "arm") EXPECT_NEAR(p.z_min, 0.35, 1e-9);
+    if (p.link == "arm") {
+      EXPECT_NEAR(p.z_min, 0.35, 1e-9);
+    }
   }
   // A wheel's band starts at a quarter of its radius (the diff-drive fixture's 0.033 m wheels).
   const RobotModel diff = ParseRobotModel(testing::DiffDriveUrdf());

@@ -133,7 +133,7 @@ TEST(RobotModelTest, ShippedRobot) {
   ASSERT_EQ(m.lasers.size(), 1u);
   const LaserSpec& l = m.lasers[0];
   EXPECT_EQ(l.frame_id, "laser");
-  EXPECT_EQ(l.topic, "/scan");
+  EXPECT_EQ(l.topic, "scan");
   EXPECT_EQ(l.samples, 360);
   EXPECT_DOUBLE_EQ(l.min_range, 0.15);
   EXPECT_DOUBLE_EQ(l.max_range, 12.0);

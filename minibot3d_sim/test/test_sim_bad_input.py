@@ -1,9 +1,11 @@
 """The simulator node refuses bad input with a message naming what is wrong, and does not crash:
-missing or broken robot_description, a URDF without the drive plugin or the ray sensor, a world
+missing or broken robot_description, a URDF without the drive plugin or with a laser it cannot
+simulate, a world
 that does not exist or does not parse, a mesh that cannot be found, bad parameters.
 
 Each case runs the real node against a ROS master of the test's own."""
 import os
+import re
 import subprocess
 import tempfile
 
@@ -62,9 +64,10 @@ def test_no_drive_plugin(master, urdf):
     expect_refusal(master, broken, 'libgazebo_ros_skid_steer_drive.so', '_world:=' + ARENA)
 
 
-def test_no_ray_sensor(master, urdf):
-    broken = urdf.replace('type="ray"', 'type="camera"')
-    expect_refusal(master, broken, 'type="ray"', '_world:=' + ARENA)
+def test_laser_without_beams(master, urdf):
+    broken = re.sub(r'<samples>\s*360\s*</samples>', '<samples>0</samples>', urdf)
+    assert broken != urdf
+    expect_refusal(master, broken, '<samples> must be a whole number', '_world:=' + ARENA)
 
 
 def test_world_missing(master, urdf):
@@ -96,3 +99,26 @@ def test_bad_parameters(master, urdf):
 
 def test_spawn_inside_a_wall(master, urdf):
     expect_refusal(master, urdf, 'overlaps', '_world:=' + ARENA, '_x:=3.05', '_y:=0')
+
+
+def set_descriptions(env, urdf, names):
+    with tempfile.NamedTemporaryFile('w', suffix='.urdf', delete=False) as f:
+        f.write(urdf)
+    for name in names:
+        subprocess.run(['rosparam', 'set', '/%s/robot_description' % name, '-t', f.name],
+                       env=env, check=True, capture_output=True)
+    os.unlink(f.name)
+
+
+def test_several_robots_bad_names_and_spawns(master, urdf):
+    set_descriptions(master, urdf, ['r1', 'r2'])
+    expect_refusal(master, urdf, "'r1'", '_world:=' + ARENA, '_robots:=r1 r1',
+                   '_r1/x:=0', '_r1/y:=0')
+    expect_refusal(master, urdf, '2r', '_world:=' + ARENA, '_robots:=r1 2r', '_r1/x:=0',
+                   '_r1/y:=0')
+    # r2 0.1 m from r1: the bodies overlap.
+    expect_refusal(master, urdf, 'overlap', '_world:=' + ARENA, '_robots:=r1 r2', '_r1/x:=0',
+                   '_r1/y:=0', '_r2/x:=0.1', '_r2/y:=0')
+    # r2 inside the arena's wall: the message names the robot.
+    expect_refusal(master, urdf, 'robot r2', '_world:=' + ARENA, '_robots:=r1 r2', '_r1/x:=0',
+                   '_r1/y:=0', '_r2/x:=3.05', '_r2/y:=0')

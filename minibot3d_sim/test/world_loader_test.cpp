@@ -320,13 +320,13 @@ TEST(WorldLoaderTest, UnsupportedGeometryIsNamedInAWarning) {
   TempDir dir;
   WriteFile(dir / "w.world",
             Sdf(Model("m", "<polyline><point>0 0</point><height>1</height></polyline>") +
-                "<actor name=\"walker\"/>"));
+                "<population name=\"crowd\"/>"));
   std::vector<std::string> warnings;
   const World w = LoadWorld(dir / "w.world", NoEnv(), &warnings);
   EXPECT_TRUE(w.shapes.empty());
   ASSERT_EQ(warnings.size(), 2u);
   EXPECT_NE(warnings[0].find("<polyline>"), std::string::npos) << warnings[0];
-  EXPECT_NE(warnings[1].find("<actor>"), std::string::npos) << warnings[1];
+  EXPECT_NE(warnings[1].find("<population>"), std::string::npos) << warnings[1];
 }
 
 TEST(WorldLoaderTest, ErrorsNameTheFile) {

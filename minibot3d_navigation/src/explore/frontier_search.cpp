@@ -28,6 +28,47 @@ int8_t Kind(int value, int free_threshold) {
   return value < 0 ? 1 : (value <= free_threshold ? 0 : 2);
 }
 
+// Where the search starts: the robot's cell if it is known free; else the nearest known-free
+// cells within `radius`, found by a breadth-first walk through cells that are not occupied (the
+// blind patch under a robot whose lasers sit at its ends), each with its walked distance.
+std::vector<std::pair<int, double>> StartCells(const std::vector<uint8_t>& kind, int w, int h,
+                                               int start, double res, double radius) {
+  if (kind[start] == 0) return {{start, 0.0}};
+  const int dxs[8] = {1, -1, 0, 0, 1, 1, -1, -1};
+  const int dys[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+  std::vector<double> dist(kind.size(), std::numeric_limits<double>::infinity());
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+  dist[start] = 0.0;
+  open.push({0.0, start});
+  std::vector<std::pair<int, double>> found;
+  double nearest = std::numeric_limits<double>::infinity();
+  while (!open.empty()) {
+    const auto [d, i] = open.top();
+    open.pop();
+    if (d > dist[i] || d > nearest + 1e-9) continue;
+    if (kind[i] == 0) {
+      nearest = d;
+      found.emplace_back(i, d);
+      continue;
+    }
+    const int x = i % w, y = i / w;
+    for (int k = 0; k < 8; ++k) {
+      const int xx = x + dxs[k], yy = y + dys[k];
+      if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+      const int j = yy * w + xx;
+      if (kind[j] == 2) continue;
+      const double nd = d + (k < 4 ? res : res * std::sqrt(2.0));
+      if (nd <= radius + 1e-9 && nd < dist[j]) {
+        dist[j] = nd;
+        open.push({nd, j});
+      }
+    }
+  }
+  if (found.empty()) found.emplace_back(start, 0.0);  // nothing free near: as before
+  return found;
+}
+
 void CheckGrid(const OccupancyGrid& grid) {
   const int w = grid.width, h = grid.height;
   if (w <= 0 || h <= 0 || !(grid.resolution > 0.0) ||
@@ -145,6 +186,8 @@ void ValidateExploreOptions(const ExploreOptions& o) {
             "retry_window=" + Num(o.retry_window) + " must be in (0, 10] m");
   p.Require(std::isfinite(o.retry_map_change) && o.retry_map_change > 0.0,
             "retry_map_change=" + Num(o.retry_map_change) + " must be > 0");
+  p.Require(std::isfinite(o.start_search_radius) && o.start_search_radius >= 0.0,
+            "start_search_radius=" + Num(o.start_search_radius) + " must be >= 0");
   p.Require(o.max_goal_attempts >= 1,
             "max_goal_attempts=" + std::to_string(o.max_goal_attempts) + " must be >= 1");
   p.ThrowIfAny();
@@ -178,7 +221,11 @@ const options::OptionTable<ExploreOptions>& ExploreOptionTable() {
              "Area (m^2) of that square that must change (free, occupied, unknown) before the "
              "goal may be tried again."),
        Field("max_goal_attempts", &O::max_goal_attempts,
-             "Goals sent near one place before it is given up for good.")});
+             "Goals sent near one place before it is given up for good."),
+       Field("start_search_radius", &O::start_search_radius,
+             "When the robot's own cell is not known free (lasers at its ends do not see under "
+             "it), the search starts from the nearest known-free cell within this distance (m), "
+             "reached through cells that are not occupied.")});
   return table;
 }
 
@@ -227,9 +274,11 @@ FrontierSearchResult FrontierSearch::Find(const OccupancyGrid& grid, const Pose2
   std::vector<double> dist(n, kInf);
   using Item = std::pair<double, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
-  const int start = ry * w + rx;
-  dist[start] = 0.0;
-  open.push({0.0, start});
+  for (const auto& [cell, d0] : StartCells(kind, w, h, ry * w + rx, res,
+                                           options_.start_search_radius)) {
+    dist[cell] = d0;
+    open.push({d0, cell});
+  }
   const int dxs[8] = {1, -1, 0, 0, 1, 1, -1, -1};
   const int dys[8] = {0, 0, 1, -1, 1, -1, 1, -1};
   while (!open.empty()) {

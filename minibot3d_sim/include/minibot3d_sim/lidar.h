@@ -4,7 +4,8 @@
 // the sensor's height (WorldSlice::CastFan: one pass over the nearby primitives per scan), beam i at min_angle + i·(max_angle − min_angle)/(samples − 1) in
 // the sensor frame. Each true range gets additive Gaussian noise N(mean, stddev²), is quantised to
 // the range resolution, and is reported per REP 117: +inf when nothing is within max_range, −inf
-// when the return is closer than min_range.
+// when the return is closer than min_range. Moving bodies (other robots) are convex polygons cast
+// after the slice, each only against the beams its angular extent covers.
 #ifndef MINIBOT3D_SIM_LIDAR_H_
 #define MINIBOT3D_SIM_LIDAR_H_
 
@@ -24,8 +25,11 @@ class Lidar {
   // `slice` must be cut at the sensor's height and outlive the Lidar.
   Lidar(const LaserSpec& spec, const WorldSlice* slice, unsigned seed);
 
-  // Ranges of one scan with the robot's root frame at `root_pose` (world frame).
-  void Scan(const Pose2& root_pose, std::vector<float>* ranges);
+  // Ranges of one scan with the robot's root frame at `root_pose` (world frame). `bodies`, when
+  // given, are convex polygons (world frame, vertices in order) at the sensor's height that the
+  // beams also hit: other robots.
+  void Scan(const Pose2& root_pose, std::vector<float>* ranges,
+            const std::vector<std::vector<Eigen::Vector2d>>* bodies = nullptr);
 
   double angle_increment() const { return increment_; }
   const LaserSpec& spec() const { return spec_; }

@@ -58,9 +58,13 @@ class PhysicsBackend {
   virtual const std::vector<double>& wheel_positions() const = 0;   // joint angles (rad), unwrapped
 };
 
+class SliceCache;
+
 // Factory: "bullet" or "kinematic". Throws std::invalid_argument naming an unknown backend.
+// `slices` (of `world`), when given, is shared with a kinematic backend and must outlive it.
 std::unique_ptr<PhysicsBackend> MakePhysicsBackend(const std::string& name,
-                                                   const RobotModel& robot, const World& world);
+                                                   const RobotModel& robot, const World& world,
+                                                   SliceCache* slices = nullptr);
 
 }  // namespace minibot3d_sim
 

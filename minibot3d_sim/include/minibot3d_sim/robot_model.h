@@ -133,8 +133,10 @@ using ControllerParams = std::map<std::string, std::map<std::string, std::string
 ControllerParams LoadControllerParams(const std::string& yaml_path);
 
 struct RobotModelOptions {
-  // The namespace given to every plugin without a <robotNamespace>, as Gazebo's spawn_model does.
+  // The namespace given to every plugin without a <robotNamespace>, as Gazebo's spawn_model does;
+  // to every plugin when replace_namespaces (spawn_model -robot_namespace: one robot of several).
   std::string spawn_namespace = "/";
+  bool replace_namespaces = false;
   // Controllers on the parameter server (gazebo_ros_control only).
   ControllerParams controllers;
   // Turns a collision mesh's URL into a file path; empty: package:// through ROS_PACKAGE_PATH,

@@ -1,5 +1,6 @@
-// The static world the simulator drives in: a flat list of collision shapes in the `world` frame,
-// loaded from a Gazebo SDF world or from a map_server floor plan (see world_loader.h).
+// The world the simulator drives in: a flat list of static collision shapes in the `world` frame
+// and the actors that move on their scripts, loaded from a Gazebo SDF world or from a map_server
+// floor plan (see world_loader.h).
 #ifndef MINIBOT3D_SIM_WORLD_H_
 #define MINIBOT3D_SIM_WORLD_H_
 
@@ -11,6 +12,8 @@
 #include <vector>
 
 #include <Eigen/Geometry>
+
+#include "minibot3d_sim/actor.h"
 
 namespace minibot3d_sim {
 
@@ -53,6 +56,7 @@ struct Shape {
 struct World {
   std::string source;  // the file it was loaded from
   std::vector<Shape> shapes;
+  std::vector<Actor> actors;  // things that move on a script (see actor.h)
 };
 
 }  // namespace minibot3d_sim

@@ -7,7 +7,8 @@
 //    resolved through GAZEBO_MODEL_PATH and a models/ folder next to the world. ground_plane and sun
 //    are known built-ins. Non-static models are loaded as static, with a warning. A shape's colour
 //    is the <material> of a <visual> in its link (<diffuse>, <ambient>, or the name of a material
-//    Gazebo ships, e.g. Gazebo/Red, Gazebo/Wood), for the cameras' flat-shaded images.
+//    Gazebo ships, e.g. Gazebo/Red, Gazebo/Wood), for the cameras' flat-shaded images. <actor>s
+//    with their <script> trajectories go to World::actors (actor.h).
 //  * A map_server floor plan (.yaml + image): occupied pixels are extruded into walls of
 //    `floorplan_wall_height`.
 #ifndef MINIBOT3D_SIM_WORLD_LOADER_H_

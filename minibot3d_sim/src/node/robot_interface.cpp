@@ -32,7 +32,7 @@ nav_msgs::Odometry MakeOdometry(const ros::Time& stamp, const std::string& frame
 }
 
 // tf frame names have no leading slash.
-std::string Frame(const std::string& name) {
+std::string Bare(const std::string& name) {
   return !name.empty() && name[0] == '/' ? name.substr(1) : name;
 }
 
@@ -47,6 +47,12 @@ geometry_msgs::Quaternion ToMsg(const Eigen::Quaterniond& q) {
 
 }  // namespace
 
+std::string RobotInterface::Frame(const std::string& name) const {
+  const std::string bare = Bare(name);
+  if (options_.frame_prefix.empty() || bare.empty() || bare == options_.world_frame) return bare;
+  return options_.frame_prefix + bare;
+}
+
 std::string RobotInterface::Resolve(const std::string& ns, const std::string& topic) {
   if (!topic.empty() && topic[0] == '/') return topic;
   std::string prefix = ns.empty() ? "/" : ns;
@@ -55,11 +61,11 @@ std::string RobotInterface::Resolve(const std::string& ns, const std::string& to
   return prefix + topic;
 }
 
-RobotInterface::RobotInterface(Simulator* sim, const std::string& urdf_xml, const Options& options,
-                               ros::CallbackQueue* cmd_queue)
-    : sim_(sim), options_(options) {
-  const RobotModel& robot = sim_->robot();
-  const DriveInterface& d = sim_->drive().interface();
+RobotInterface::RobotInterface(SimRobot* sim_robot, const std::string& urdf_xml,
+                               const Options& options, ros::CallbackQueue* cmd_queue)
+    : robot_(sim_robot), options_(options) {
+  const RobotModel& robot = robot_->model();
+  const DriveInterface& d = robot_->drive().interface();
   // Joint states: the driven wheels first (their positions and speeds), then every other movable
   // joint robot_state_publisher needs (casters, ...) at 0.
   for (const auto& w : robot.wheels) joint_state_.name.push_back(w.joint);
@@ -78,8 +84,8 @@ RobotInterface::RobotInterface(Simulator* sim, const std::string& urdf_xml, cons
     if (j.second->type != urdf::Joint::FIXED) continue;
     const urdf::Pose& o = j.second->parent_to_joint_origin_transform;
     geometry_msgs::TransformStamped t;
-    t.header.frame_id = j.second->parent_link_name;
-    t.child_frame_id = j.second->child_link_name;
+    t.header.frame_id = Frame(j.second->parent_link_name);
+    t.child_frame_id = Frame(j.second->child_link_name);
     t.transform.translation.x = o.position.x;
     t.transform.translation.y = o.position.y;
     t.transform.translation.z = o.position.z;
@@ -90,7 +96,7 @@ RobotInterface::RobotInterface(Simulator* sim, const std::string& urdf_xml, cons
     static_tf_.transforms.push_back(t);
   }
 
-  odom_period_ = d.odometry_rate > 0 ? 1.0 / d.odometry_rate : sim_->physics_step();
+  odom_period_ = d.odometry_rate > 0 ? 1.0 / d.odometry_rate : robot_->physics_step();
   // Joint states go out with the odometry unless the drive publishes them at a rate of its own.
   joints_with_odometry_ = d.joint_state_topic.empty();
   joint_period_ = d.joint_state_rate > 0 ? 1.0 / d.joint_state_rate : odom_period_;
@@ -115,9 +121,9 @@ RobotInterface::RobotInterface(Simulator* sim, const std::string& urdf_xml, cons
     scan.header.frame_id = Frame(l.frame_id);
     scan.angle_min = l.min_angle;
     scan.angle_max = l.max_angle;
-    scan.angle_increment = sim_->lidar(i).angle_increment();
+    scan.angle_increment = robot_->lidar(i).angle_increment();
     scan.time_increment = 0.0;  // every beam of a simulated scan is taken at the same instant
-    scan.scan_time = l.update_rate > 0 ? 1.0 / l.update_rate : sim_->physics_step();
+    scan.scan_time = l.update_rate > 0 ? 1.0 / l.update_rate : robot_->physics_step();
     scan.range_min = l.min_range;
     scan.range_max = l.max_range;
     scans_.push_back(scan);
@@ -148,11 +154,11 @@ void RobotInterface::OnCommand(const ros::MessageEvent<const geometry_msgs::Twis
                       event.getPublisherName().c_str());
     return;
   }
-  sim_->Command(Twist2{vx, vy, w});
+  robot_->Command(Twist2{vx, vy, w});
 }
 
 void RobotInterface::Publish(bool all) {
-  const double t = sim_->time();
+  const double t = robot_->time();
   const ros::Time stamp(t);
   if (all || t + 1e-9 >= next_odom_) {
     next_odom_ = (std::floor(t / odom_period_ + 1e-6) + 1.0) * odom_period_;
@@ -163,18 +169,18 @@ void RobotInterface::Publish(bool all) {
     PublishJointStates(stamp);
   }
   for (size_t i = 0; i < scan_pubs_.size(); ++i) {
-    if (!sim_->ScanDue(i)) continue;
-    sim_->TakeScan(i, &ranges_);
+    if (!robot_->ScanDue(i)) continue;
+    robot_->TakeScan(i, &ranges_);
     scans_[i].header.stamp = stamp;
     scans_[i].ranges = ranges_;
     scan_pubs_[i].publish(scans_[i]);
   }
   for (size_t i = 0; i < imu_pubs_.size(); ++i) {
-    if (!sim_->ImuDue(i)) continue;
-    const ImuReading r = sim_->TakeImu(i);
+    if (!robot_->ImuDue(i)) continue;
+    const ImuReading r = robot_->TakeImu(i);
     sensor_msgs::Imu m;
     m.header.stamp = stamp;
-    m.header.frame_id = sim_->robot().imus[i].frame_id;
+    m.header.frame_id = Frame(robot_->model().imus[i].frame_id);
     m.orientation = ToMsg(r.orientation);
     m.angular_velocity.x = r.angular_velocity.x();
     m.angular_velocity.y = r.angular_velocity.y();
@@ -190,16 +196,16 @@ void RobotInterface::Publish(bool all) {
     imu_pubs_[i].publish(m);
   }
   for (size_t i = 0; i < cameras_.size(); ++i) {
-    if (sim_->CameraDue(i)) PublishCamera(i, stamp);
+    if (robot_->CameraDue(i)) PublishCamera(i, stamp);
   }
   for (size_t i = 0; i < gt_pubs_.size(); ++i) {
-    if (!sim_->GroundTruthDue(i)) continue;
-    const GroundTruthReading r = sim_->TakeGroundTruth(i);
-    const GroundTruthSpec& g = sim_->robot().ground_truths[i];
+    if (!robot_->GroundTruthDue(i)) continue;
+    const GroundTruthReading r = robot_->TakeGroundTruth(i);
+    const GroundTruthSpec& g = robot_->model().ground_truths[i];
     nav_msgs::Odometry m;
     m.header.stamp = stamp;
     m.header.frame_id = Frame(g.options.frame_name);
-    m.child_frame_id = g.options.body_name;
+    m.child_frame_id = Frame(g.options.body_name);
     m.pose.pose.position.x = r.pose.translation().x();
     m.pose.pose.position.y = r.pose.translation().y();
     m.pose.pose.position.z = r.pose.translation().z();
@@ -220,7 +226,7 @@ void RobotInterface::Publish(bool all) {
 
 // Topics below <robotNamespace>/<cameraName>/, CameraInfo as gazebo_ros_camera_utils fills it.
 void RobotInterface::SetUpCamera(size_t i) {
-  const CameraSpec& c = sim_->robot().cameras[i];
+  const CameraSpec& c = robot_->model().cameras[i];
   CameraPublishers& p = cameras_[i];
   const auto q = [this](int free_running) { return options_.lockstep ? 100000 : free_running; };
   const std::string ns = Resolve(c.robot_namespace, c.ros.camera_name);
@@ -232,12 +238,12 @@ void RobotInterface::SetUpCamera(size_t i) {
         Resolve(ns, c.ros.depth_image_camera_info_topic_name), q(2));
     p.points = nh_.advertise<sensor_msgs::PointCloud2>(Resolve(ns, c.ros.point_cloud_topic_name), q(2));
   }
-  const CameraIntrinsics k = sim_->camera(i).Intrinsics();
+  const CameraIntrinsics k = robot_->camera(i).Intrinsics();
   const double f = c.ros.focal_length > 0 ? c.ros.focal_length : k.fx;
   const double cx = c.ros.cx > 0 ? c.ros.cx : k.cx, cy = c.ros.cy > 0 ? c.ros.cy : k.cy;
-  p.focal_length = sim_->camera(i).focal_length();
+  p.focal_length = robot_->camera(i).focal_length();
   sensor_msgs::CameraInfo& info = p.camera_info;
-  info.header.frame_id = c.ros.frame_name;
+  info.header.frame_id = Frame(c.ros.frame_name);
   info.width = c.sensor.width;
   info.height = c.sensor.height;
   info.distortion_model = "plumb_bob";
@@ -251,7 +257,7 @@ void RobotInterface::SetUpCamera(size_t i) {
 // Renders only when someone listens, as Gazebo's camera plugins do.
 void RobotInterface::PublishCamera(size_t i, const ros::Time& stamp) {
   CameraPublishers& p = cameras_[i];
-  const CameraSpec& c = sim_->robot().cameras[i];
+  const CameraSpec& c = robot_->model().cameras[i];
   const bool image = p.image.getNumSubscribers() > 0;
   const bool depth = p.depth && p.depth.getNumSubscribers() > 0;
   const bool points = p.points && p.points.getNumSubscribers() > 0;
@@ -259,16 +265,16 @@ void RobotInterface::PublishCamera(size_t i, const ros::Time& stamp) {
   if (p.info.getNumSubscribers() > 0) p.info.publish(p.camera_info);
   if (p.depth_info && p.depth_info.getNumSubscribers() > 0) p.depth_info.publish(p.camera_info);
   if (!image && !depth && !points) {
-    sim_->SkipFrame(i);
+    robot_->SkipFrame(i);
     return;
   }
-  sim_->TakeFrame(i, &p.frame);
+  robot_->TakeFrame(i, &p.frame);
   const DepthFrame& f = p.frame;
   const int w = f.width, h = f.height;
   if (image) {
     sensor_msgs::Image m;
     m.header.stamp = stamp;
-    m.header.frame_id = c.ros.frame_name;
+    m.header.frame_id = Frame(c.ros.frame_name);
     m.width = w;
     m.height = h;
     m.encoding = c.sensor.format == "L8" ? "mono8" : c.sensor.format == "B8G8R8" ? "bgr8" : "rgb8";
@@ -282,7 +288,7 @@ void RobotInterface::PublishCamera(size_t i, const ros::Time& stamp) {
   if (depth) {
     sensor_msgs::Image m;
     m.header.stamp = stamp;
-    m.header.frame_id = c.ros.frame_name;
+    m.header.frame_id = Frame(c.ros.frame_name);
     m.width = w;
     m.height = h;
     m.encoding = "32FC1";
@@ -300,7 +306,7 @@ void RobotInterface::PublishCamera(size_t i, const ros::Time& stamp) {
     PointsFromDepth(f, p.focal_length, lo, hi, &p.xyz);
     sensor_msgs::PointCloud2 cloud;
     cloud.header.stamp = stamp;
-    cloud.header.frame_id = c.ros.frame_name;
+    cloud.header.frame_id = Frame(c.ros.frame_name);
     cloud.height = h;
     cloud.width = w;
     sensor_msgs::PointCloud2Modifier mod(cloud);
@@ -332,11 +338,11 @@ void RobotInterface::PublishCamera(size_t i, const ros::Time& stamp) {
 }
 
 void RobotInterface::PublishOdometry(const ros::Time& stamp) {
-  const DriveInterface& d = sim_->drive().interface();
-  const Pose2 o = sim_->odom_pose();
+  const DriveInterface& d = robot_->drive().interface();
+  const Pose2 o = robot_->odom_pose();
   if (odom_pub_) {
     nav_msgs::Odometry odom = MakeOdometry(stamp, Frame(d.odometry_frame), Frame(d.base_frame), o,
-                                           sim_->odom_twist());
+                                           robot_->odom_twist());
     std::copy(d.pose_covariance.begin(), d.pose_covariance.end(), odom.pose.covariance.begin());
     std::copy(d.twist_covariance.begin(), d.twist_covariance.end(), odom.twist.covariance.begin());
     odom_pub_.publish(odom);
@@ -354,14 +360,14 @@ void RobotInterface::PublishOdometry(const ros::Time& stamp) {
   }
   if (joints_with_odometry_) PublishJointStates(stamp);
   if (options_.publish_ground_truth) {
-    truth_pub_.publish(MakeOdometry(stamp, options_.world_frame, Frame(d.base_frame),
-                                    sim_->true_pose(), sim_->true_twist()));
+    truth_pub_.publish(MakeOdometry(stamp, Bare(options_.world_frame), Frame(d.base_frame),
+                                    robot_->true_pose(), robot_->true_twist()));
   }
 }
 
 void RobotInterface::PublishJointStates(const ros::Time& stamp) {
-  const auto& q = sim_->wheel_positions();
-  const auto& w = sim_->wheel_velocities();
+  const auto& q = robot_->wheel_positions();
+  const auto& w = robot_->wheel_velocities();
   joint_state_.header.stamp = stamp;
   for (size_t i = 0; i < q.size(); ++i) {
     joint_state_.position[i] = q[i];
@@ -374,7 +380,7 @@ void RobotInterface::PublishJointStates(const ros::Time& stamp) {
 // has fired: under lock-step that is after participants need them (base_link -> laser for the
 // first scan). Identical static transforms from two publishers are harmless to tf2.
 void RobotInterface::PublishStaticTransforms() {
-  for (auto& t : static_tf_.transforms) t.header.stamp = ros::Time(sim_->time());
+  for (auto& t : static_tf_.transforms) t.header.stamp = ros::Time(robot_->time());
   tf_static_pub_.publish(static_tf_);
 }
 

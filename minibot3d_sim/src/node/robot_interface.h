@@ -27,9 +27,12 @@ class RobotInterface {
     bool lockstep = false;              // outgoing queues never drop in lock-step
     bool publish_ground_truth = true;   // ~ground_truth/odom in world_frame
     std::string world_frame = "world";
+    // Put before each of the robot's frames (odometry, links, sensors), as gazebo_ros resolves
+    // its plugins' frames with a tf_prefix: "NAME/" for robot NAME of several, "" for one.
+    std::string frame_prefix;
   };
   // `urdf_xml` gives the fixed joints for /tf_static; commands go to `cmd_queue`.
-  RobotInterface(Simulator* sim, const std::string& urdf_xml, const Options& options,
+  RobotInterface(SimRobot* robot, const std::string& urdf_xml, const Options& options,
                  ros::CallbackQueue* cmd_queue);
 
   // Publishes whatever is due at the current sim time (everything when `all`).
@@ -53,8 +56,10 @@ class RobotInterface {
   void PublishOdometry(const ros::Time& stamp);
   void PublishJointStates(const ros::Time& stamp);
   void OnCommand(const ros::MessageEvent<const geometry_msgs::Twist>& event);
+  // A frame of the robot with the prefix (the world frame as it is), without a leading slash.
+  std::string Frame(const std::string& name) const;
 
-  Simulator* sim_;
+  SimRobot* robot_;
   Options options_;
   ros::NodeHandle nh_;
   ros::Publisher odom_pub_, tf_pub_, tf_static_pub_, joint_pub_, truth_pub_;

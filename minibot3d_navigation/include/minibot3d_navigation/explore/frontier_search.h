@@ -14,7 +14,10 @@
 // anything `clearance` wide, such as a 0.40 m door).  Paths are a
 // Dijkstra flood (8-connected) over traversable cells: known free and farther
 // than `clearance` from any occupied cell; a robot that starts closer than that
-// to a wall may leave through free cells first (as the A* planner does).
+// to a wall may leave through free cells first (as the A* planner does). A robot
+// whose own cell is not known free (lasers at its ends do not see under it)
+// starts from the nearest known-free cell within start_search_radius, reached
+// through cells that are not occupied (explore_lite's nearest free cell).
 // Frontiers whose goal cannot be reached — behind walls, outside the building —
 // are dropped, so "no frontier left" means the reachable space is mapped.
 //
@@ -55,6 +58,8 @@ struct ExploreOptions {
   double retry_window = 1.0;       // m, half-size of the square watched round an unreachable goal
   double retry_map_change = 0.25;  // m^2 of it that must change before the goal is retried
   int max_goal_attempts = 3;       // goals sent near one place before it is given up for good
+  double start_search_radius = 1.0;  // m: the nearest free cell within this starts the search
+                                     // when the robot's own cell is not known free
 };
 
 // Throws std::invalid_argument listing every offending value.
