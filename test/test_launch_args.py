@@ -23,6 +23,8 @@ ENTRY_POINTS = sorted(glob.glob(os.path.join(ROOT, 'launch', '*.launch')))
 NOT_FORWARDED = {
     ('minibot3d_gazebo.launch', 'rviz'): 'the stacks start their own rviz with their own config',
     ('amcl.launch', 'use_map_topic'): 'map_server offers the static_map service',
+    ('minibot3d_gazebo.launch', 'robots'): 'a single-robot stack runs the one unnamed robot '
+                                           '(fleet_navigation.launch starts several)',
 }
 
 _rospack = rospkg.RosPack()
@@ -153,7 +155,7 @@ ROBOT_REMAPS = {
     'amcl': {('scan', 'front_laser/scan')},
     'move_base': {('scan', 'front_laser/scan'), ('cmd_vel', 'mobile_base_controller/cmd_vel'),
                   ('odom', 'mobile_base_controller/odom')},
-    'rviz': {('scan', 'front_laser/scan')},
+    'rviz': {('/scan', 'front_laser/scan')},
     'diff_wheeled_robot_key': {('turtlebot_teleop_keyboard/cmd_vel',
                                 'mobile_base_controller/cmd_vel')},
 }
@@ -212,3 +214,114 @@ def test_minibot3d_is_the_default_robot():
     p = load_params(os.path.join(ROOT, 'launch', 'exploration.launch'))
     assert '<robot name="minibot3d"' in p['/robot_description']
     assert not any(k.startswith('/mobile_base_controller') for k in p)
+
+
+# ---- a robot among several: robot:=NAME ----------------------------------------------------
+
+# Each call, and the frames its robot shares with others (a robot mapping on its own shares none).
+ROBOT_NAME_CALLS = [
+    ('launch/navigation.launch', [], {'map'}),
+    ('launch/exploration.launch', [], set()),
+    ('launch/demo.launch', [], set()),
+    ('launch/demo.launch', ['phase:=navigate', 'map_file:=' + os.path.join(
+        ROOT, 'maps', 'default_world.yaml')], {'map'}),
+    ('minibot3d_navigation/launch/mapless_navigation.launch', [], {'map'}),
+    ('launch/mapping_teleop.launch', [], set()),
+]
+# Nodes of the whole world rather than of one robot.
+WORLD_NODES = {'minibot3d_sim', 'robot_state_publisher', 'map_server', 'rosservice'}
+
+
+def robot_nodes(config):
+    return {n.type: n for n in config.nodes if n.type not in WORLD_NODES}
+
+
+@pytest.mark.parametrize('path,args,shared', ROBOT_NAME_CALLS,
+                         ids=['%s %s' % (c[0], ' '.join(c[1])[:14]) for c in ROBOT_NAME_CALLS])
+def test_a_named_robots_nodes_run_in_its_namespace_on_its_frames(path, args, shared):
+    """robot:=robot7 moves every node of the robot into /robot7 and prefixes the frames it reads
+    (found and resolved as the nodes do); without it nothing moves and every frame stays as the
+    config set gives it. Catches a node left at the root, a frame_prefix that misses a node, a
+    map prefixed under amcl (or shared by robots that map on their own), and a stack whose
+    lock-step participants keep their root names."""
+    from launch_frames import resolved_frames
+    path = os.path.join(ROOT, path)
+    plain = roslaunch.config.load_config_default([(path, args + ['rviz:=false'])], None,
+                                                 verbose=False)
+    named = roslaunch.config.load_config_default(
+        [(path, args + ['rviz:=false', 'robot:=robot7'])], None, verbose=False)
+    plain_nodes, named_nodes = robot_nodes(plain), robot_nodes(named)
+    assert set(plain_nodes) == set(named_nodes) and plain_nodes
+    assert not any(k.endswith('/frame_prefix') or k.endswith('/shared_frames')
+                   for k in plain.params), 'a robot without a name has no frame parameters'
+    for node_type, node in named_nodes.items():
+        assert plain_nodes[node_type].namespace == '/', node_type
+        assert node.namespace == '/robot7/', (node_type, node.namespace)
+        before = resolved_frames(plain, plain_nodes[node_type])
+        after = resolved_frames(named, node)
+        assert after == {k: v if v in shared else 'robot7/' + v for k, v in before.items()}, \
+            (node_type, before, after)
+    if any(t in named_nodes for t in ('amcl', 'move_base', 'slam_gmapping')):
+        assert named.params['/robot7/frame_prefix'].value == 'robot7'
+    p = {k: v.value for k, v in named.params.items()}
+    if p.get('/minibot3d_sim/lockstep_participants'):
+        stack = p['/minibot3d_sim/lockstep_participants'].split()
+        assert stack and all(n.startswith('/robot7/') for n in stack), stack
+    for node in named.nodes:
+        if node.type == 'rosservice':
+            assert node.args == 'call --wait /robot7/global_localization', node.args
+
+
+def test_a_named_robots_lockstep_clients_keep_full_names_and_take_relative_ones():
+    path = os.path.join(ROOT, 'launch', 'navigation.launch')
+    p = load_params(path, 'robot:=r2', 'lockstep_clients:=/goal_client my_client')
+    assert p['/minibot3d_sim/lockstep_participants'] == \
+        '/r2/amcl /r2/move_base /goal_client /r2/my_client'
+    assert load_params(path, 'lockstep_clients:=/goal_client my_client')[
+        '/minibot3d_sim/lockstep_participants'] == '/amcl /move_base /goal_client /my_client'
+
+
+# ---- the simulator's odometry error --------------------------------------------------------
+
+TYPICAL_ODOM_ERROR = os.path.join(ROOT, 'minibot3d_sim', 'config', 'typical_odometry_error.yaml')
+ODOM_ERROR_CALLS = [('launch/mapping_teleop.launch', []), ('launch/exploration.launch', []),
+                    ('launch/navigation.launch', []),
+                    ('minibot3d_navigation/launch/mapless_navigation.launch', []),
+                    ('launch/demo.launch', ['odom_error_params:=none']),
+                    ('launch/demo.launch', ['phase:=navigate', 'odom_error_params:=none',
+                                            'map_file:=' + os.path.join(
+                                                ROOT, 'maps', 'default_world.yaml')])]
+
+
+def odom_error_of(params):
+    return {k.rsplit('/', 1)[1]: v for k, v in params.items()
+            if k.startswith('/minibot3d_sim/odom_error_')}
+
+
+@pytest.mark.parametrize('path,args', ODOM_ERROR_CALLS,
+                         ids=['%s %s' % (c[0], ' '.join(c[1])[:14]) for c in ODOM_ERROR_CALLS])
+def test_odometry_error_reaches_the_simulator(path, args):
+    import yaml
+    path = os.path.join(ROOT, path)
+    # Off unless asked: the drive's odometry exactly.
+    assert set(odom_error_of(load_params(path, *args)).values()) == {0}
+    one = odom_error_of(load_params(path, *args, 'odom_error_heading_drift:=0.03',
+                                    'odom_error_turn_noise:=0.01'))
+    assert (one['odom_error_heading_drift'], one['odom_error_turn_noise'],
+            one['odom_error_scale']) == (0.03, 0.01, 0)
+    # The typical robot's file sets all six, over the args.
+    with open(TYPICAL_ODOM_ERROR) as f:
+        typical = yaml.safe_load(f)
+    assert len(typical) == 6 and all(v != 0 for v in typical.values()), typical
+    args = [a for a in args if not a.startswith('odom_error_params')]
+    assert odom_error_of(load_params(path, *args, 'odom_error_scale:=0.5',
+                                     'odom_error_params:=' + TYPICAL_ODOM_ERROR)) == typical
+
+
+def test_demo_launch_runs_with_the_typical_odometry_error_as_make_demo():
+    import yaml
+    with open(TYPICAL_ODOM_ERROR) as f:
+        typical = yaml.safe_load(f)
+    for args in ([], ['phase:=navigate']):
+        assert odom_error_of(load_params(os.path.join(ROOT, 'launch', 'demo.launch'), *args)) \
+            == typical

@@ -72,6 +72,8 @@ ENTRY_POINTS = [
     ('demo.launch', ['phase:=navigate', 'map_file:=' + os.path.join(ROOT, 'maps',
                                                                     'default_world.yaml')],
      {'minibot3d_sim', 'map_server', 'amcl', 'move_base', 'rosservice'}),
+    ('fleet.launch', [], {'minibot3d_sim', 'map_server', 'amcl', 'move_base',
+                          'robot_state_publisher'}),
 ]
 
 

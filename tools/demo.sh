@@ -17,7 +17,10 @@
 # free-running loop), DEMO_OUT (where the maps, logs and picture go; default out/),
 # DEMO_EXPLORE_TIMEOUT (the exploration's sim-time budget, s; default 2.5 s per m^2 of reachable
 # free area, at least 2,400), DEMO_LOG_FILTER (which exploration log lines to show; a grep -E
-# pattern), DEMO_ROBOT, DEMO_CONFIG, DEMO_MODEL (as --robot, --config, --model).
+# pattern), DEMO_ROBOT, DEMO_CONFIG, DEMO_MODEL (as --robot, --config, --model), DEMO_ODOM_ERROR
+# (the simulator's odometry error in both phases, a YAML of odom_error_* values; default
+# minibot3d_sim/config/typical_odometry_error.yaml, a typical small indoor robot's; none: the
+# drive's odometry exactly).
 # For the default world all have defaults; for another world the spawn defaults to its origin and
 # the goals are sampled from the saved map.
 set -euo pipefail
@@ -38,6 +41,8 @@ done
 [ -z "$config" ] || config="$(realpath -m "$config")"
 [ -z "$model" ] || model="$(realpath -m "$model")"
 world_arg="${1:+$(realpath -m "$1")}"
+odom_error="${DEMO_ODOM_ERROR:-}"
+[ -z "$odom_error" ] || [ "$odom_error" = none ] || odom_error="$(realpath -m "$odom_error")"
 out="$(realpath -m "${DEMO_OUT:-$(dirname "${BASH_SOURCE[0]}")/../out}")"
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 if [ -n "$robot" ] && [ -n "$config" ]; then
@@ -87,6 +92,11 @@ else
   nyaw="${DEMO_NAV_YAW:-$(/usr/bin/python3 -c "import math; print(math.remainder($yaw + math.pi, 2 * math.pi))")}"
   goals="${DEMO_GOALS:-}"
 fi
+odom_error="${odom_error:-$(pwd)/minibot3d_sim/config/typical_odometry_error.yaml}"
+if [ "$odom_error" != none ] && [ ! -f "$odom_error" ]; then
+  echo "demo: DEMO_ODOM_ERROR=$odom_error: no such file (a YAML of odom_error_* values, or none)" >&2
+  exit 2
+fi
 lockstep="${DEMO_LOCKSTEP:-1}"
 if [ "$lockstep" = 1 ]; then ls_arg=true; else ls_arg=false; fi
 rtf="${DEMO_REAL_TIME_FACTOR:-$([ "$lockstep" = 1 ] && echo 0 || echo 5)}"
@@ -114,13 +124,14 @@ start=$SECONDS
 budget="${DEMO_EXPLORE_TIMEOUT:-$(/usr/bin/python3 tools/demo_report.py --reachable-area --out "$out" \
   --truth-map "$truth" --spawn="$x,$y,$yaw" --config-dir "$config" \
   | awk '{b = 2.5 * $1; print (b > 2400 ? int(b) : 2400)}')}"
-echo "demo: robot $(robot_arg model) with the config set $config"
+echo "demo: robot $(robot_arg model) with the config set $config, odometry error $odom_error"
 echo "demo: 1/4 exploring $world from ($x, $y, $yaw) with SLAM at real-time factor $rtf," \
   "lock-step $ls_arg, for at most $budget s of sim time (log: $out/demo_explore.log)"
 ros_start_core
 setsid roslaunch minibot3d_navigation explore.launch explore:=false world:="$world" \
   x:="$x" y:="$y" yaw:="$yaw" real_time_factor:="$rtf" lockstep:="$ls_arg" \
-  lockstep_clients:=/demo_explore "${robot_args[@]}" > "$out/demo_explore.log" 2>&1 &
+  lockstep_clients:=/demo_explore odom_error_params:="$odom_error" "${robot_args[@]}" \
+  > "$out/demo_explore.log" 2>&1 &
 launch_pid=$!
 ros_wait_launch 60
 status=0
@@ -137,7 +148,8 @@ ros_start_core
 setsid roslaunch minibot3d_navigation amcl_navigation.launch world:="$world" \
   map_file:="$out/demo_map.yaml" x:="$nx" y:="$ny" yaw:="$nyaw" initial_pose_x:=0 \
   initial_pose_y:=0 initial_pose_a:=0 real_time_factor:="$rtf" lockstep:="$ls_arg" \
-  lockstep_participants:="/amcl /move_base /demo_navigate" "${robot_args[@]}" \
+  lockstep_participants:="/amcl /move_base /demo_navigate" odom_error_params:="$odom_error" \
+  "${robot_args[@]}" \
   > "$out/demo_nav.log" 2>&1 &
 launch_pid=$!
 ros_wait_launch 60

@@ -286,13 +286,15 @@ def navigate(args, lockstep, rec, cmd_pub):
         amcl_err = math.hypot(rec.amcl[0] - tm[0], rec.amcl[1] - tm[1]) if rec.amcl else None
         results.append(dict(goal=g, ok=out.returncode == 0, sim_s=float(m.group(1)) if m else None,
                             wall_s=time.time() - t0, error=math.hypot(truth[0] - g[0], truth[1] - g[1]),
+                            heading_error=abs(math.remainder(truth[2] - g[2], 2.0 * math.pi)),
                             amcl_error=amcl_err, path=rec.take_path()))
         if out.returncode != 0:
             print('demo: simple_navi_goals.py said:\n  ' +
                   '\n  '.join(out.stdout.strip().splitlines()[-6:]), flush=True)
-        print('demo: goal (%.2f, %.2f): %s in %s s sim, %.2f m from it, localization error %s m'
+        print('demo: goal (%.2f, %.2f): %s in %s s sim, truly %.2f m and %.2f rad from it, '
+              'localization error %s m'
               % (g[0], g[1], 'reached' if out.returncode == 0 else 'FAILED',
-                 m.group(1) if m else '?', results[-1]['error'],
+                 m.group(1) if m else '?', results[-1]['error'], results[-1]['heading_error'],
                  '%.3f' % amcl_err if amcl_err is not None else '?'), flush=True)
     write_json(os.path.join(args.out, 'demo_nav.json'), dict(
         localization_error=loc_error, goals=results, collisions=rec.collisions))

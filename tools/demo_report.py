@@ -228,6 +228,8 @@ def main():
                  ('localization error at the goals', 'mean %.3f m, max %.3f m' % (
                      np.mean(loc), np.max(loc)) if loc else 'n/a'),
                  ('goals reached', '%d of %d' % (len(reached), len(goals))),
+                 ('true pose at the goals', ', '.join(
+                     '%.2f m %.2f rad' % (g['error'], g['heading_error']) for g in goals)),
                  ('time per goal', ', '.join('%.1f s' % g['sim_s'] if g['sim_s'] else '?'
                                              for g in goals) + ' (sim)'),
                  ('time / (path / max_vel_x)',

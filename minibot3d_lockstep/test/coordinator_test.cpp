@@ -1,6 +1,9 @@
 #include "minibot3d_lockstep/coordinator.h"
 
+#include <cstdint>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -168,6 +171,58 @@ TEST(CoordinatorTest, ARestartedParticipantStartsAfresh) {
   c.Register("/a", {});  // same name again: its old connections are gone
   EXPECT_TRUE(c.Expected("/b").empty());
   EXPECT_EQ(c.Due(0.0), Names({"/a", "/b"}));
+}
+
+// Several robots, each with its own stack in a namespace: participants /robot1/amcl,
+// /robot1/move_base, /robot10/amcl, ... on one clock. Mail follows the full topic name (robot1's
+// scan wakes robot1's amcl only; a match on the last name segment would wake both amcls), and a
+// stalled node is dropped by its exact name (a match on a name prefix would drop /robot10's
+// nodes, or their counts, with /robot1's).
+TEST(CoordinatorTest, NamespacedRobotsMailAndDropsStayWithinTheirRobot) {
+  Coordinator c = Make();  // timeout 2 s
+  const Names all = {"/robot1/amcl", "/robot1/move_base", "/robot10/amcl", "/robot10/move_base"};
+  for (const char* r : {"/robot1", "/robot10"}) {
+    const std::string ns = r;
+    c.Register(ns + "/amcl", {ns + "/scan", ns + "/initialpose", "/map"});
+    c.Register(ns + "/move_base", {ns + "/move_base/goal"});
+  }
+  EXPECT_EQ(c.Participants(), all);
+  std::uint64_t seq = 0;
+  for (const auto& n : all) {
+    c.MarkTicked(n, ++seq, 0.0, 0.0);
+    ASSERT_TRUE(c.Ack(n, seq, 0.0, {}));
+  }
+  // The simulator queues each robot's scan to its own amcl, and tf to everyone.
+  c.SetSent("/sim", {{"/robot1/scan", "/robot1/amcl", 1}, {"/tf", "/robot1/amcl", 4},
+                     {"/tf", "/robot10/amcl", 4}, {"/tf", "/robot1/move_base", 4},
+                     {"/tf", "/robot10/move_base", 4}});
+  EXPECT_EQ(c.Due(kQ), Names({"/robot1/amcl"}));
+  c.SetSent("/sim", {{"/robot1/scan", "/robot1/amcl", 1}, {"/robot10/scan", "/robot10/amcl", 1}});
+  EXPECT_EQ(c.Due(kQ), Names({"/robot1/amcl", "/robot10/amcl"}));
+
+  // Both amcls answer; robot1's move_base takes a goal and then stalls.
+  for (const char* n : {"/robot1/amcl", "/robot10/amcl"}) {
+    c.MarkTicked(n, ++seq, kQ, 1.0);
+    ASSERT_TRUE(c.Ack(n, seq, 0.0, {{"/tf", "/robot1/move_base", 2},
+                                    {"/tf", "/robot10/move_base", 2}}));
+  }
+  c.MarkTicked("/robot1/move_base", ++seq, 0.05, 1.0);
+  c.MarkTicked("/robot10/move_base", ++seq, 0.05, 1.0);
+  ASSERT_TRUE(c.Ack("/robot10/move_base", seq, 0.1, {{"/robot10/cmd_vel", "/sim", 1}}));
+  EXPECT_EQ(c.Overdue(3.5), Names({"/robot1/move_base"}));
+  ASSERT_TRUE(c.Remove("/robot1/move_base"));
+
+  EXPECT_EQ(c.Participants(), Names({"/robot1/amcl", "/robot10/amcl", "/robot10/move_base"}));
+  EXPECT_TRUE(c.Waiting().empty());
+  // robot10's move_base still waits for what both amcls sent it, and wakes at its own time.
+  EXPECT_EQ(c.Expected("/robot10/move_base").size(), 2u);
+  EXPECT_EQ(c.Due(0.1), Names({"/robot10/move_base"}));
+  // The simulator still waits for robot10's command.
+  const auto to_sim = c.Expected("/sim");
+  ASSERT_EQ(to_sim.size(), 1u);
+  EXPECT_EQ(to_sim[0], (LinkCount{"/robot10/cmd_vel", "/robot10/move_base", 1}));
+  EXPECT_FALSE(c.Remove("/robot1/move_base"));
+  EXPECT_TRUE(c.Has("/robot10/move_base"));
 }
 
 }  // namespace

@@ -6,6 +6,8 @@
 - by default a participant stopped (SIGSTOP, as in a debugger) for 12 s wall is waited for, and
   goes on where it stopped;
 - a participant killed while it holds a tick is dropped and the loop goes on;
+- participants of several robots (/robot1/..., /robot2/...): a stalled one is dropped by its full
+  name, and the other robot's go on;
 - the closed loop (simulator + amcl + move_base + a goal client) gives the same trajectory and
   times twice at real_time_factor 0 (the second time beside two busy processes), and again at
   real_time_factor 1, and the lock-step digests of the runs (every message each participant
@@ -198,6 +200,35 @@ def test_a_killed_participant_is_dropped_and_the_loop_goes_on(tmp_path):
         assert held
         after = read_line(again, 'after', 30)
         assert after and float(after.split()[1]) >= float(held.split()[2]) + 0.5 - 1e-6
+    finally:
+        stack.stop()
+
+
+def test_a_stalled_robot_is_dropped_by_name_and_the_other_robot_goes_on(tmp_path):
+    """Two robots' participants, /robot1/probe_hold and /robot2/probe_hold: robot1's stalls
+    after 0.5 s of sim time; sim time waits for it (robot2, ticked after it in the same round, is
+    held at the same time) until ~lockstep_timeout drops /robot1/probe_hold by name, and robot2's
+    goes on.
+    Catches a drop of the wrong node (a name resolved without its namespace) and a loop that stops
+    for every robot once one has stalled."""
+    stack = sim_stack(tmp_path, '/robot1/probe_hold /robot2/probe_hold', 4.0)
+    try:
+        stalled = stack.probe('hold', '8', '__ns:=robot1')
+        other = stack.probe('hold', '0', '__ns:=robot2')
+        assert read_line(stalled, 'holding', 90), stack.log(3000)
+        held = read_line(other, 'held', 60)
+        assert held, stack.log(3000)
+        assert 'dropped participant /robot1/probe_hold' in stack.log(), stack.log(3000)
+        assert 'dropped participant /robot2' not in stack.log()
+        t0, t1 = (float(v) for v in held.split()[1:])
+        assert t1 == t0, held
+        after = read_line(other, 'after', 30)
+        assert after and float(after.split()[1]) >= t1 + 0.5 - 1e-6, after
+        assert other.wait(30) == 0
+        assert 'dropped participant /robot2' not in stack.log()
+        # robot2 was held at the sim time robot1 stalled at (robot1 prints it once it is done).
+        stalled_held = read_line(stalled, 'held', 30)
+        assert stalled_held and float(stalled_held.split()[1]) == t0, (stalled_held, held)
     finally:
         stack.stop()
 

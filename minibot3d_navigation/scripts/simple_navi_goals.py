@@ -35,6 +35,11 @@ and laser use others gets them as ROS remappings, as the launch files' cmd_vel_t
 scan_topic do for move_base, e.g.  cmd_vel:=mobile_base_controller/cmd_vel scan:=front_laser/scan.
 --base-frame is amcl's base_frame_id.
 
+In a robot's namespace (__ns:=NAME, or ROS_NAMESPACE) its topics are that robot's, and the frames
+(base_link of the X W form, --frame, --base-frame) take the robot's frame_prefix, found from the
+node's namespace upwards as the C++ nodes do (minibot3d_ros.frames): --frame odom is NAME/odom,
+--frame map the shared map.
+
 Under lock-step time (/use_lockstep, see minibot3d_lockstep) it is a participant: it waits for
 the server and the result on sim time that moves only when it is done looking, so a route of
 goals gives the same times in every run.
@@ -57,6 +62,7 @@ from std_msgs.msg import Float32MultiArray
 from std_srvs.srv import Empty
 
 from minibot3d_navigation.wanderer import Wanderer
+from minibot3d_ros.frames import load_frame_names
 
 STATE_NAMES = {getattr(GoalStatus, n): n for n in (
     'PENDING', 'ACTIVE', 'PREEMPTED', 'SUCCEEDED', 'ABORTED', 'REJECTED',
@@ -195,20 +201,21 @@ class ScanWatch(object):
             return self.scan, self.laser_yaw
 
 
-def make_goal(args):
+def make_goal(args, frames):
     goal = MoveBaseGoal()
     pose = goal.target_pose.pose
     if args.frame is None:
         x, w = args.values
         rospy.loginfo('Set X = %s', x)
         rospy.loginfo('Set W = %s', w)
-        goal.target_pose.header.frame_id = 'base_link'
+        goal.target_pose.header.frame_id = frames.resolve('base_link')
         pose.position.x = x
         pose.orientation.w = w
     else:
         x, y, yaw = args.values
-        rospy.loginfo('Set X = %s, Y = %s, YAW = %s in frame %s', x, y, yaw, args.frame)
-        goal.target_pose.header.frame_id = args.frame
+        frame = frames.resolve(args.frame)
+        rospy.loginfo('Set X = %s, Y = %s, YAW = %s in frame %s', x, y, yaw, frame)
+        goal.target_pose.header.frame_id = frame
         pose.position.x = x
         pose.position.y = y
         pose.orientation.z = math.sin(yaw / 2.0)
@@ -219,14 +226,20 @@ def make_goal(args):
 def main():
     args = parse_args(rospy.myargv(argv=sys.argv)[1:])
     rospy.init_node('simple_navi_goals')
-    goal = make_goal(args)
+    try:
+        frames = load_frame_names()
+    except ValueError as e:
+        rospy.logerr('simple_navi_goals.py: bad parameter %s', e)
+        return 2
+    goal = make_goal(args, frames)
     client = actionlib.SimpleActionClient(args.server, MoveBaseAction)
     wake = [args.server.rstrip('/') + '/result', args.server.rstrip('/') + '/status']
     if args.wait_for_fix:
         args.fix_watch = FixWatch()
         moving = args.spin_for_fix or args.wander_for_fix
         args.cmd_pub = rospy.Publisher('cmd_vel', Twist, queue_size=1) if moving else None
-        args.scan_watch = ScanWatch(args.base_frame) if args.wander_for_fix else None
+        args.scan_watch = ScanWatch(frames.resolve(args.base_frame)) if args.wander_for_fix \
+            else None
         wake += ['amcl_pose', 'amcl/confidence']
     lockstep = Participant(wake_topics=wake)
     try:

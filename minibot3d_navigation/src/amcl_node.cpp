@@ -9,8 +9,9 @@
 // beams_used), and global_localization runs the map-wide search, whose
 // candidate poses (best first) are published latched on
 // amcl/search_candidates (geometry_msgs/PoseArray; scores in the log).
-// All estimation logic lives in the core; this file only
-// converts messages and transforms.
+// Its frame parameters take the robot's frame_prefix when several robots
+// share one tf tree (minibot3d_ros/frames.h). All estimation logic lives in
+// the core; this file only converts messages and transforms.
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -43,6 +44,7 @@
 #include "minibot3d_navigation/amcl/amcl_filter.h"
 #include "minibot3d_navigation/amcl/amcl_options.h"
 #include "minibot3d_ros/conversions.h"
+#include "minibot3d_ros/frames.h"
 #include "minibot3d_ros/params.h"
 
 namespace amcl = minibot3d_navigation::amcl;
@@ -73,6 +75,8 @@ class AmclNode {
   bool Configure() {
     minibot3d_ros::ParamReport report = minibot3d_ros::LoadTable(pnh_, amcl::AmclOptionTable(), &options_);
     report.Also(minibot3d_ros::LoadTable(pnh_, amcl::AmclNodeOptionTable(), &node_));
+    minibot3d_ros::FrameOptions frames;
+    report.Also(minibot3d_ros::LoadFrameOptions(pnh_, &frames));
     try {
       report.ThrowIfBad();
       amcl::ValidateAmclOptions(options_);
@@ -82,6 +86,16 @@ class AmclNode {
       return false;
     }
     report.WarnUnknown("amcl");
+    // The config's frames are the robot's own; on a tf tree shared by several robots they carry
+    // its frame_prefix (the map, shared, does not).
+    const minibot3d_ros::FrameNames names(frames);
+    node_.base_frame_id = names.Resolve(node_.base_frame_id);
+    node_.odom_frame_id = names.Resolve(node_.odom_frame_id);
+    node_.global_frame_id = names.Resolve(node_.global_frame_id);
+    if (!names.prefix().empty()) {
+      ROS_INFO("amcl: frames %s -> %s -> %s (frame_prefix %s)", node_.global_frame_id.c_str(),
+               node_.odom_frame_id.c_str(), node_.base_frame_id.c_str(), names.prefix().c_str());
+    }
     transform_tolerance_ = ros::Duration(node_.transform_tolerance);
     return true;
   }

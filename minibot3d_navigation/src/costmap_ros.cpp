@@ -30,7 +30,7 @@ int8_t Translate(uint8_t cost) {
 CostmapRos::CostmapRos(const std::string& name, tf2_ros::Buffer* tf)
     : name_(name), tf_(tf), nh_("~" + name) {}
 
-void CostmapRos::Configure() {
+void CostmapRos::Configure(const minibot3d_ros::FrameNames& frames) {
   minibot3d_ros::ParamReport report =
       minibot3d_ros::LoadTable(nh_, nav::CostmapOptionTable(), &options_);
   nav::CostmapSensorOptions sensors;
@@ -54,6 +54,7 @@ void CostmapRos::Configure() {
         minibot3d_ros::LoadTable(snh, nav::ObservationSourceOptionTable(), &s->options);
     source_report.WarnUnknown("move_base");
     problems.insert(problems.end(), source_report.problems.begin(), source_report.problems.end());
+    s->options.sensor_frame = frames.Resolve(s->options.sensor_frame);
     if (s->options.data_type != "LaserScan" && s->options.data_type != "PointCloud2") {
       problems.push_back(nh_.getNamespace() + "/" + src + "/data_type: '" + s->options.data_type +
                          "' is not supported (LaserScan or PointCloud2)");
@@ -73,6 +74,8 @@ void CostmapRos::Configure() {
     sources_.push_back(std::move(s));
   }
   report.WarnUnknown("move_base");
+  options_.global_frame = frames.Resolve(options_.global_frame);
+  options_.robot_base_frame = frames.Resolve(options_.robot_base_frame);
   try {
     nav::ValidateCostmapOptions(options_);
   } catch (const std::invalid_argument& e) {

@@ -27,6 +27,7 @@
 
 #include "minibot3d_navigation/costmap/costmap_options.h"
 #include "minibot3d_navigation/costmap/layered_costmap.h"
+#include "minibot3d_ros/frames.h"
 
 namespace minibot3d_navigation {
 
@@ -34,9 +35,10 @@ class CostmapRos {
  public:
   CostmapRos(const std::string& name, tf2_ros::Buffer* tf);
 
-  // Reads and validates ~name/ parameters; throws std::invalid_argument
-  // listing every problem (naming the parameter).
-  void Configure();
+  // Reads and validates ~name/ parameters, the frames resolved with `frames`
+  // (global_frame, robot_base_frame and the sources' sensor_frame); throws
+  // std::invalid_argument listing every problem (naming the parameter).
+  void Configure(const minibot3d_ros::FrameNames& frames);
   // Subscribes the map and the observation sources, advertises the costmap.
   void Start();
 

@@ -13,7 +13,8 @@
 // changes, at most max_goal_attempts times.  When no reachable frontier is left
 // on a fresher map (or for three cycles) it logs the explored area and exits 0 —
 // the map can then be saved.  Progress (known free area, frontiers, sim time) is
-// printed as it goes.
+// printed as it goes.  Its frames take the robot's frame_prefix when several
+// robots share one tf tree (minibot3d_ros/frames.h).
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -37,6 +38,7 @@
 #include "minibot3d_navigation/explore/explore_node_options.h"
 #include "minibot3d_navigation/explore/frontier_search.h"
 #include "minibot3d_ros/conversions.h"
+#include "minibot3d_ros/frames.h"
 #include "minibot3d_ros/params.h"
 
 namespace minibot3d_navigation {
@@ -82,12 +84,19 @@ class ExploreNode {
     minibot3d_ros::ParamReport report =
         minibot3d_ros::LoadTable(pnh_, nav::ExploreOptionTable(), &o_);
     report.Also(minibot3d_ros::LoadTable(pnh_, nav::ExploreNodeOptionTable(), &node_));
+    minibot3d_ros::FrameOptions frames;
+    report.Also(minibot3d_ros::LoadFrameOptions(pnh_, &frames));
     report.WarnUnknown("explore");
     std::vector<std::string> problems = report.problems;
     try {
       nav::ValidateExploreNodeOptions(node_);
     } catch (const std::invalid_argument& e) {
       problems.push_back(e.what());
+    }
+    if (report.problems.empty()) {  // else a bad frame_prefix is among them
+      const minibot3d_ros::FrameNames names(frames);
+      node_.global_frame = names.Resolve(node_.global_frame);
+      node_.robot_base_frame = names.Resolve(node_.robot_base_frame);
     }
     try {
       search_ = std::make_unique<nav::FrontierSearch>(o_);

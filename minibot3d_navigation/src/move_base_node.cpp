@@ -5,7 +5,9 @@
 // ~DWAPlannerROS/, ~NavfnROS/ or ~GlobalPlanner/) and services (~make_plan,
 // ~clear_costmaps).  The state machine, planners, controller and costmaps are
 // in the core; this file converts goals, poses, scans and maps and runs the
-// control loop on the ROS (simulator) clock.
+// control loop on the ROS (simulator) clock.  The costmaps' frames take the
+// robot's frame_prefix when several robots share one tf tree
+// (minibot3d_ros/frames.h).
 #include <cmath>
 #include <cstring>
 #include <iostream>
@@ -39,6 +41,7 @@
 #include "minibot3d_navigation/planner/planner_factory.h"
 #include "minibot3d_navigation/planner/planner_options.h"
 #include "minibot3d_ros/conversions.h"
+#include "minibot3d_ros/frames.h"
 #include "minibot3d_ros/params.h"
 
 namespace minibot3d_navigation {
@@ -70,6 +73,8 @@ class MoveBaseNode {
   // Reads every parameter; throws std::invalid_argument naming each problem.
   void Configure() {
     ParamReport report = minibot3d_ros::LoadTable(pnh_, nav::MoveBaseOptionTable(), &mb_);
+    minibot3d_ros::FrameOptions frame_options;
+    report.Also(minibot3d_ros::LoadFrameOptions(pnh_, &frame_options));
     for (const char* ns : kCostmapNamespaces) report.Known(ns);
     for (const char* ns : kLocalPlannerNamespaces) report.Known(ns);
     for (const char* ns : kGlobalPlannerNamespaces) report.Known(ns);
@@ -114,14 +119,25 @@ class MoveBaseNode {
       problems.insert(problems.end(), global.problems.begin(), global.problems.end());
     }
 
+    minibot3d_ros::FrameNames frames;  // a bad frame_prefix is among the problems already
+    try {
+      frames = minibot3d_ros::FrameNames(frame_options);
+    } catch (const std::invalid_argument&) {
+    }
     for (CostmapRos* c : {&global_costmap_, &local_costmap_}) {
       try {
-        c->Configure();
+        c->Configure(frames);
       } catch (const std::invalid_argument& e) {
         problems.push_back(e.what());
       }
     }
     if (!problems.empty()) throw std::invalid_argument(JoinLines(problems));
+    if (!frames.prefix().empty()) {
+      ROS_INFO("move_base: frames: global costmap %s, local costmap %s, robot %s (frame_prefix "
+               "%s)", global_costmap_.options().global_frame.c_str(),
+               local_costmap_.options().global_frame.c_str(),
+               local_costmap_.options().robot_base_frame.c_str(), frames.prefix().c_str());
+    }
 
     // The planners (validate their options on construction).
     try {

@@ -9,6 +9,7 @@
 #include "minibot3d_navigation/explore/frontier_search.h"
 #include "minibot3d_navigation/move_base/move_base_options.h"
 #include "minibot3d_navigation/planner/planner_options.h"
+#include "minibot3d_ros/frame_names.h"
 
 namespace minibot3d_navigation {
 namespace {
@@ -34,7 +35,9 @@ ParameterPage AmclPage() {
                "global localization.",
                amcl::AmclOptionTable()),
        Section("Node", "Frames, the map source and what the node publishes.",
-               amcl::AmclNodeOptionTable())}};
+               amcl::AmclNodeOptionTable()),
+       minibot3d_ros::FrameOptionsSection(
+           "`base_frame_id`, `odom_frame_id` and `global_frame_id`")}};
 }
 
 ParameterPage CostmapPage() {
@@ -44,7 +47,8 @@ ParameterPage CostmapPage() {
       "`move_base` node, with costmap_2d's names and defaults in its flat (pre-plugin) form. The "
       "shipped stacks load `config/costmap_common_params.yaml` into both namespaces, then "
       "`config/global_costmap_params.yaml` (`config/global_costmap_mapless_params.yaml` in "
-      "mapless mode) and `config/local_costmap_params.yaml`. " +
+      "mapless mode) and `config/local_costmap_params.yaml`. The frames take the robot's "
+      "`frame_prefix` ([move_base](move_base.md#robot-frames)). " +
           std::string(kReported),
       {Section("Costmap", "The grid, its frames and rates, the robot's footprint and the layers.",
                nav::CostmapOptionTable()),
@@ -108,7 +112,10 @@ ParameterPage MoveBasePage() {
       "`~TrajectoryPlannerROS/` or `~DWAPlannerROS/` ([dwa](dwa.md)), `~NavfnROS/`, "
       "`~GlobalPlanner/` and `~OmplPlanner/` ([planner](planner.md)). " +
           std::string(kReported),
-      {Section("Planners, rates and recoveries", "", nav::MoveBaseOptionTable())}};
+      {Section("Planners, rates and recoveries", "", nav::MoveBaseOptionTable()),
+       minibot3d_ros::FrameOptionsSection(
+           "both costmaps' `global_frame` and `robot_base_frame` and their sources' "
+           "`sensor_frame`")}};
 }
 
 ParameterPage ExplorePage() {
@@ -124,7 +131,8 @@ ParameterPage ExplorePage() {
                "and when a place is given up.",
                nav::ExploreOptionTable()),
        Section("Node", "Frames, the search rate and when a goal is replaced or cancelled.",
-               nav::ExploreNodeOptionTable())}};
+               nav::ExploreNodeOptionTable()),
+       minibot3d_ros::FrameOptionsSection("`global_frame` and `robot_base_frame`")}};
 }
 
 }  // namespace

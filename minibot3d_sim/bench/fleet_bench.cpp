@@ -2,14 +2,16 @@
 // world, each driving a constant arc and scanning with its lasers at their rates (each scan sees
 // the world and the other robots), and the wall time per robot per sim second.
 //
-//   fleet_bench URDF_FILE WORLD_FILE --robots N [--physics kinematic|bullet] [--seconds S]
-//               [--spacing M]
+//   fleet_bench URDF_FILE WORLD_FILE --robots N [--actors M] [--physics kinematic|bullet]
+//               [--seconds S] [--spacing M]
 //
 // The robots stand on a grid of --spacing metres over the world's bounds, on the spots where a
 // robot's body is clear of the world, picked evenly from the spots found, all facing +x. Each drives
 // arcs (0.2 m/s at +-0.6 rad/s, alternating between robots) with a bumper: after a contact it backs
 // away turning for 1 s of sim time, as Stage's wander controller does; in a small world they meet
-// walls and each other often (the contacts are printed), as a crowd of robots would.
+// walls and each other often (the contacts are printed), as a crowd of robots would. --actors adds
+// M pedestrians of the social force model on other free spots, each walking to and fro between
+// its spot and the spot half the list away.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -42,7 +44,7 @@ int main(int argc, char** argv) {
   minibot3d_sim::SimulatorOptions options;
   options.physics = "kinematic";
   double seconds = 60.0, spacing = 0.8;
-  int robots = 0;
+  int robots = 0, actors = 0;
   for (int i = 3; i < argc; i += 2) {
     const std::string k = argv[i];
     if (i + 1 >= argc) return Usage();
@@ -50,14 +52,16 @@ int main(int argc, char** argv) {
     if (k == "--physics") options.physics = v;
     else if (k == "--seconds") seconds = std::atof(v);
     else if (k == "--robots") robots = std::atoi(v);
+    else if (k == "--actors") actors = std::atoi(v);
     else if (k == "--spacing") spacing = std::atof(v);
     else {
       std::fprintf(stderr, "fleet_bench: unknown option %s\n", k.c_str());
       return 2;
     }
   }
-  if (robots < 1 || !(seconds > 0) || !(spacing > 0)) {
-    std::fprintf(stderr, "fleet_bench: --robots must be >= 1, --seconds and --spacing > 0\n");
+  if (robots < 1 || actors < 0 || !(seconds > 0) || !(spacing > 0)) {
+    std::fprintf(stderr, "fleet_bench: --robots must be >= 1, --actors >= 0, --seconds and "
+                         "--spacing > 0\n");
     return 2;
   }
   std::ifstream in(urdf_path);
@@ -92,21 +96,41 @@ int main(int argc, char** argv) {
         }
       }
     }
-    if (static_cast<int>(spots.size()) < robots) {
-      std::fprintf(stderr, "fleet_bench: %zu free spots %.2f m apart in %s, %d robots asked\n",
-                   spots.size(), spacing, world_path.c_str(), robots);
+    if (static_cast<int>(spots.size()) < robots + actors) {
+      std::fprintf(stderr, "fleet_bench: %zu free spots %.2f m apart in %s, %d robots and %d "
+                   "actors asked\n", spots.size(), spacing, world_path.c_str(), robots, actors);
       return 1;
+    }
+    // Robots on every other spot picked, actors between them.
+    std::vector<Pose2> robot_spots, actor_spots;
+    const int n = robots + actors;
+    for (int k = 0; k < n; ++k) {
+      const Pose2& p = spots[static_cast<size_t>(k) * spots.size() / n];
+      (static_cast<int>(robot_spots.size()) < robots &&
+               (k % 2 == 0 || static_cast<int>(actor_spots.size()) >= actors)
+           ? robot_spots
+           : actor_spots)
+          .push_back(p);
     }
     std::vector<minibot3d_sim::RobotEntry> entries;
     for (int k = 0; k < robots; ++k) {
       minibot3d_sim::RobotEntry e;
       e.model = model;
       e.options.name = "robot" + std::to_string(k + 1);
-      e.options.spawn = spots[static_cast<size_t>(k) * spots.size() / robots];
+      e.options.spawn = robot_spots[k];
       entries.push_back(std::move(e));
     }
-    minibot3d_sim::Simulator sim(std::move(entries),
-                                 minibot3d_sim::LoadWorld(world_path, load, nullptr), options);
+    minibot3d_sim::World world = minibot3d_sim::LoadWorld(world_path, load, nullptr);
+    for (int k = 0; k < actors; ++k) {
+      minibot3d_sim::Actor a;
+      a.name = "person" + std::to_string(k + 1);
+      a.x = actor_spots[k].x, a.y = actor_spots[k].y;
+      a.social_force = true;
+      const Pose2& far = actor_spots[(k + actors / 2) % actors];
+      a.social.goals = {Eigen::Vector2d(far.x, far.y), Eigen::Vector2d(a.x, a.y)};
+      world.actors.push_back(a);
+    }
+    minibot3d_sim::Simulator sim(std::move(entries), std::move(world), options);
     std::vector<float> ranges;
     std::vector<double> backing_until(sim.robot_count(), -1.0);  // sim time the bumper ends
     long scans = 0, rays = 0;
@@ -134,9 +158,9 @@ int main(int argc, char** argv) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::uint64_t collisions = 0;
     for (size_t r = 0; r < sim.robot_count(); ++r) collisions += sim.at(r).collision_count();
-    std::printf("robots=%d physics=%s sim_seconds=%.1f wall_seconds=%.3f real_time_factor=%.1f "
+    std::printf("robots=%d actors=%d physics=%s sim_seconds=%.1f wall_seconds=%.3f real_time_factor=%.1f "
                 "wall_ms_per_robot_per_sim_second=%.3f scans=%ld rays=%ld collisions=%llu\n",
-                robots, options.physics.c_str(), sim.time(), wall, sim.time() / wall,
+                robots, actors, options.physics.c_str(), sim.time(), wall, sim.time() / wall,
                 1e3 * wall / (robots * sim.time()), scans, rays,
                 static_cast<unsigned long long>(collisions));
   } catch (const std::exception& e) {

@@ -225,6 +225,7 @@ class SimNode {
     // Latched: a node that starts while sim time is held (lock-step, or paused) gets the current
     // time at once; roscpp nodes wait for a first /clock (actionlib's clients, for one).
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", q(10), true);
+    tf_static_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf_static", 1, true);
     for (size_t r = 0; r < sim_->robot_count(); ++r) {
       SimRobot& robot = sim_->at(r);
       RobotInterface::Options ro;
@@ -288,12 +289,19 @@ class SimNode {
     return true;
   }
 
+  // Every robot's fixed joints in one latched message (see RobotInterface::AppendStaticTransforms).
+  void PublishStaticTransforms() {
+    tf2_msgs::TFMessage msg;
+    for (auto& r : robots_) r.ros->AppendStaticTransforms(&msg);
+    tf_static_pub_.publish(msg);
+  }
+
   void Run() {
     if (lockstep_) {
       RunLockstep();
     } else {
       PublishClock();
-      for (auto& r : robots_) r.ros->PublishStaticTransforms();
+      PublishStaticTransforms();
       Publish(true);
       Anchor();
       RunFree();
@@ -342,7 +350,7 @@ class SimNode {
     lockstep_host_->WaitForOwnConnections();
     // The first sensor messages go out before the first round: robot_state_publisher answers
     // the first joint states with the latched tf_static that participants wait for.
-    for (auto& r : robots_) r.ros->PublishStaticTransforms();
+    PublishStaticTransforms();
     Publish(true);
     lockstep_host_->RecordSent();
     lockstep_host_->Round();
@@ -581,7 +589,7 @@ class SimNode {
   std::vector<Robot> robots_;
   std::unique_ptr<LockstepHost> lockstep_host_;
   ros::CallbackQueue cmd_queue_;
-  ros::Publisher clock_pub_, status_pub_, actors_pub_;
+  ros::Publisher clock_pub_, status_pub_, tf_static_pub_, actors_pub_;
   double actors_published_ = 0.0;  // ~actors messages sent (the next is due at this / rate)
   ros::Time last_clock_;
   bool clock_published_ = false;

@@ -24,6 +24,10 @@ void ValidateOptions(const SimulatorOptions& o) {
   if (!(o.cmd_timeout > 0.0)) bad("cmd_timeout must be > 0 s, got " + std::to_string(o.cmd_timeout));
   if (!(o.actor_radius > 0.0)) bad("actor_radius must be > 0 m, got " + std::to_string(o.actor_radius));
   if (!(o.actor_height > 0.0)) bad("actor_height must be > 0 m, got " + std::to_string(o.actor_height));
+  if (!(o.social_force.step >= o.physics_step && o.social_force.step <= 0.1)) {
+    bad("the social force step must be in [physics_step, 0.1] s, got " +
+        std::to_string(o.social_force.step));
+  }
   if (!std::isfinite(o.spawn.x) || !std::isfinite(o.spawn.y) || !std::isfinite(o.spawn.yaw)) {
     bad("spawn pose (x, y, yaw) must be finite");
   }
@@ -388,13 +392,65 @@ void Simulator::Build(std::vector<RobotEntry> robots, const BackendFactory& make
       actor_bodies_.push_back(ray_scene_->AddBody({cylinder}, cylinder.name));
     }
   }
+  std::vector<SocialForceAgent> agents;
+  for (size_t k = 0; k < world_.actors.size(); ++k) {
+    const Actor& a = world_.actors[k];
+    if (!a.social_force) continue;
+    SocialForceAgent agent;
+    agent.position = Eigen::Vector2d(a.x, a.y);
+    agent.radius = options_.actor_radius;
+    agent.options = a.social;
+    agents.push_back(agent);
+    crowd_actor_.push_back(k);
+  }
+  actor_states_.resize(world_.actors.size());
+  if (!agents.empty()) {
+    const WorldSlice* legs = slices_.At(0.1);
+    auto wall = [legs](const Eigen::Vector2d& p, double reach, Eigen::Vector2d* away) {
+      const double d = legs->Distance(p);
+      if (!(d < reach)) return d;
+      const double h = 0.01;
+      const Eigen::Vector2d g(legs->Distance(p + Eigen::Vector2d(h, 0)) -
+                                  legs->Distance(p - Eigen::Vector2d(h, 0)),
+                              legs->Distance(p + Eigen::Vector2d(0, h)) -
+                                  legs->Distance(p - Eigen::Vector2d(0, h)));
+      *away = g.norm() > 1e-12 ? Eigen::Vector2d(g.normalized()) : Eigen::Vector2d::Zero();
+      return d;
+    };
+    crowd_ = std::make_unique<SocialForceCrowd>(std::move(agents), options_.social_force, wall,
+                                                options_.seed + 2750159u);
+    crowd_every_ = std::max<std::uint64_t>(
+        1, std::llround(options_.social_force.step / options_.physics_step));
+    for (size_t k : crowd_actor_) actor_states_[k].yaw = world_.actors[k].yaw;
+  }
   UpdateActors();
 }
 
 void Simulator::UpdateActors() {
-  actor_states_.resize(world_.actors.size());
   const double t = time();
-  for (size_t k = 0; k < world_.actors.size(); ++k) actor_states_[k] = ActorAt(world_.actors[k], t);
+  for (size_t k = 0; k < world_.actors.size(); ++k) {
+    if (!world_.actors[k].social_force) actor_states_[k] = ActorAt(world_.actors[k], t);
+  }
+  if (!crowd_) return;
+  if (steps_ > 0 && steps_ % crowd_every_ == 0) {
+    std::vector<SocialForceObstacle> robots;
+    for (const auto& r : robots_) {
+      const Pose2 p = r->true_pose();
+      robots.push_back(SocialForceObstacle{Eigen::Vector2d(p.x, p.y), r->collider().radius()});
+    }
+    crowd_->Step(robots);
+  }
+  for (size_t i = 0; i < crowd_actor_.size(); ++i) {
+    const SocialForceAgent& agent = crowd_->agents()[i];
+    ActorState& s = actor_states_[crowd_actor_[i]];
+    s.x = agent.position.x();
+    s.y = agent.position.y();
+    s.vx = agent.velocity.x();
+    s.vy = agent.velocity.y();
+    // Facing where it walks; a pedestrian standing still keeps its heading.
+    if (agent.velocity.norm() > 0.05) s.yaw = std::atan2(s.vy, s.vx);
+    s.wz = 0.0;
+  }
 }
 
 void Simulator::SeparateFromActors() {

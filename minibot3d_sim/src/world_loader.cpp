@@ -650,12 +650,45 @@ Actor ParseActor(const LoadContext& ctx, const std::string& file, const XMLEleme
   a.yaw = std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
   for (const XMLElement* p = e->FirstChildElement("plugin"); p != nullptr;
        p = p->NextSiblingElement("plugin")) {
-    const char* f = p->Attribute("filename");
-    ctx.Warn(Where(file, p) + ": " + what + ": plugin '" + (f == nullptr ? "" : f) +
-             "' is not simulated; the actor follows its <script> (or stands at its <pose>)");
+    const std::string f = p->Attribute("filename") == nullptr ? "" : p->Attribute("filename");
+    if (f != "libminibot3d_social_force.so") {
+      ctx.Warn(Where(file, p) + ": " + what + ": plugin '" + f +
+               "' is not simulated; the actor follows its <script> (or stands at its <pose>)");
+      continue;
+    }
+    a.social_force = true;
+    const std::string where = what + " social force plugin";
+    for (const XMLElement* c = p->FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) {
+      const std::string tag = c->Name();
+      if (tag == "goal") {
+        std::vector<double> v;
+        if (!ParseNumbers(c->GetText() == nullptr ? "" : c->GetText(), &v) || v.size() != 2) {
+          Fail(file, c, where + ": <goal> must be two numbers, x y (m)");
+        }
+        a.social.goals.emplace_back(v[0], v[1]);
+      } else if (tag == "desired_speed") {
+        a.social.desired_speed = ElementNumber(file, c, where + " <desired_speed>");
+      } else if (tag == "relaxation_time") {
+        a.social.relaxation_time = ElementNumber(file, c, where + " <relaxation_time>");
+      } else if (tag == "goal_radius") {
+        a.social.goal_radius = ElementNumber(file, c, where + " <goal_radius>");
+      } else {
+        ctx.Warn(Where(file, c) + ": " + where + ": ignoring unknown element <" + tag + ">");
+      }
+    }
+    try {
+      ValidateSocialForceAgent(a.social, where);
+    } catch (const std::invalid_argument& ex) {
+      Fail(file, p, ex.what());
+    }
   }
   const XMLElement* script = e->FirstChildElement("script");
   if (script == nullptr) return a;
+  if (a.social_force) {
+    ctx.Warn(Where(file, script) + ": " + what + ": walks by the social force model; its <script> "
+             "is not used");
+    return a;
+  }
   for (const XMLElement* c = script->FirstChildElement(); c != nullptr;
        c = c->NextSiblingElement()) {
     const std::string tag = c->Name();

@@ -3,7 +3,8 @@
 // auto_start), SDF loading and its bad input (no waypoint, times out of order, an unknown script
 // element, a tension out of range, two actors of one name), and actors in the simulation: the laser
 // and the depth camera see one where it is at that time, a robot driving into one is held and
-// reports it by name, a spawn on one is refused naming it.
+// reports it by name, a spawn on one is refused naming it; a social-force crowd walks, keeps off
+// the walls and replays exactly.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -170,6 +171,31 @@ TEST(ActorTest, BadScriptsAreRefusedOrWarnedAboutByName) {
       << warnings[0];
 }
 
+TEST(ActorTest, LoadsASocialForcePedestrian) {
+  std::vector<std::string> warnings;
+  const World w = LoadSdfWorld(
+      WriteWorld("<actor name='visitor'><pose>-3 1 0 0 0 0</pose>"
+                 "<plugin name='walk' filename='libminibot3d_social_force.so'><goal>3 1</goal>"
+                 "<goal>-3 1</goal><desired_speed>1.2</desired_speed><goal_radius>0.4"
+                 "</goal_radius></plugin></actor>"),
+      {}, &warnings);
+  ASSERT_EQ(w.actors.size(), 1u);
+  const Actor& a = w.actors[0];
+  EXPECT_TRUE(a.social_force);
+  ASSERT_EQ(a.social.goals.size(), 2u);
+  EXPECT_EQ(a.social.goals[0], Eigen::Vector2d(3, 1));
+  EXPECT_DOUBLE_EQ(a.social.desired_speed, 1.2);
+  EXPECT_DOUBLE_EQ(a.social.goal_radius, 0.4);
+  EXPECT_DOUBLE_EQ(a.x, -3.0);
+  EXPECT_TRUE(warnings.empty());
+  ExpectRefusal("<actor name='q'><plugin name='w' filename='libminibot3d_social_force.so'>"
+                "<desired_speed>1</desired_speed></plugin></actor>",
+                "<actor name=\"q\"> social force plugin: no <goal>");
+  ExpectRefusal("<actor name='q'><plugin name='w' filename='libminibot3d_social_force.so'>"
+                "<goal>1</goal></plugin></actor>",
+                "<goal> must be two numbers");
+}
+
 // The diff-drive fixture with a laser 7 cm up looking ahead and a depth camera, as in
 // multi_robot_test.
 std::string SensingUrdf() {
@@ -236,6 +262,46 @@ TEST_P(ActorSimTest, ARobotDrivingIntoAnActorIsHeldAndReportsItsName) {
   std::string what;
   EXPECT_TRUE(sim.PoseCollides(Pose2{1.2, 0.0, 0.0}, &what));
   EXPECT_EQ(what, "actor visitor");
+}
+
+TEST_P(ActorSimTest, ASocialForceCrowdWalksReplaysExactlyAndKeepsOffTheWalls) {
+  // Two groups of three crossing a 4 m room (inner faces at +-2) in opposite directions, in
+  // interleaved lanes, past a robot standing at the side.
+  auto run = [&] {
+    World world = testing::MakeRoom(4.0);
+    for (int k = 0; k < 6; ++k) {
+      Actor a;
+      a.name = "p" + std::to_string(k);
+      const double side = k % 2 ? 1.0 : -1.0;
+      a.x = 1.5 * side, a.y = -0.6 + 0.3 * k;
+      a.social_force = true;
+      a.social.goals = {Eigen::Vector2d(-a.x, a.y), Eigen::Vector2d(a.x, a.y)};
+      world.actors.push_back(a);
+    }
+    SimulatorOptions options = Options(GetParam());
+    options.spawn = Pose2{0.0, -1.5, 0.0};
+    Simulator sim(ParseRobotModel(SensingUrdf()), std::move(world), options);
+    double nearest_wall = 1e9;
+    std::vector<double> trace;
+    std::vector<double> farthest(sim.actor_count(), 0.0);  // from the start
+    while (sim.time() < 30.0) {
+      sim.Step();
+      for (size_t k = 0; k < sim.actor_count(); ++k) {
+        const ActorState& a = sim.actor_state(k);
+        nearest_wall = std::min(nearest_wall, 2.0 - std::max(std::abs(a.x), std::abs(a.y)));
+        farthest[k] = std::max(farthest[k], std::hypot(a.x - sim.world().actors[k].x,
+                                                       a.y - sim.world().actors[k].y));
+        if (sim.steps() % 1000 == 0) trace.insert(trace.end(), {a.x, a.y});
+      }
+    }
+    EXPECT_GT(nearest_wall, 0.25 - 0.05) << "a pedestrian walked into a wall";
+    // Each got through the others to the far side (its goal 3 m away, reached within 0.3 m).
+    for (size_t k = 0; k < farthest.size(); ++k) EXPECT_GT(farthest[k], 2.7 - 1e-9) << k;
+    return std::make_pair(trace, sim.collision_count());
+  };
+  const auto a = run(), b = run();
+  EXPECT_EQ(a.first, b.first);
+  EXPECT_EQ(a.second, b.second);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, ActorSimTest, ::testing::Values("kinematic", "bullet"));

@@ -5,6 +5,7 @@ in r2/base_scan; r1/odom -> r1/base_footprint and r2's likewise, each robot's li
 robot_state_publisher); each has its ground truth in the world frame; r1's laser sees r2's body
 ahead where r2 stands; r1 driven into r2 stops short of it and both report the collision, naming
 each other, on their own collision topics.
+A subscriber that connects late gets both robots' fixed joints in the latched /tf_static.
 Catches: frames without the prefix, a laser blind to the other robot, robots passing through each
 other or a collision reported on one side only."""
 import math
@@ -18,6 +19,7 @@ from geometry_msgs.msg import Twist
 from minibot3d_sim.msg import Collision
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import LaserScan
+from tf2_msgs.msg import TFMessage
 
 
 class Latest(object):
@@ -66,6 +68,20 @@ class SimFleet(unittest.TestCase):
             while not ok and rospy.Time.now() < deadline and not rospy.is_shutdown():
                 ok = self.tf_buffer.can_transform(a, b, rospy.Time(0), rospy.Duration(1.0))
             self.assertTrue(ok, 'no transform %s -> %s' % (a, b))
+
+    def test_1b_a_late_subscriber_gets_every_robots_fixed_joints(self):
+        """/tf_static is latched: a subscriber that connects after the simulator published it
+        gets its last message only, which must hold the fixed joints of both robots (catches one
+        message per robot, which leaves a late subscriber with the last robot's joints only)."""
+        self.assertTrue(self.scan1.wait(bool, 60.0), 'no scan on /r1/scan')  # published by now
+        from_sim = Latest('/tf_static', TFMessage)
+        self.assertTrue(from_sim.wait(lambda ms: any(
+            m._connection_header['callerid'] == '/minibot3d_sim' for m in ms), 30.0),
+            'no latched /tf_static from /minibot3d_sim')
+        msgs = [m for m in from_sim.msgs if m._connection_header['callerid'] == '/minibot3d_sim']
+        children = {t.child_frame_id for t in msgs[0].transforms}
+        self.assertIn('r1/laser', children)
+        self.assertIn('r2/base_scan', children)
 
     def test_2_a_laser_sees_the_other_robot(self):
         self.assertTrue(self.truth2.wait(bool, 60.0))

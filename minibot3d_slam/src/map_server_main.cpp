@@ -14,6 +14,7 @@
 #include <string>
 
 #include "minibot3d_ros/conversions.h"
+#include "minibot3d_ros/frames.h"
 #include "minibot3d_ros/params.h"
 #include "minibot3d_slam/map_files.h"
 #include "minibot3d_slam/node_options.h"
@@ -72,16 +73,21 @@ int main(int argc, char** argv) {
   }
 
   minibot3d_slam::MapServerOptions options;
-  const minibot3d_ros::ParamReport report =
+  minibot3d_ros::ParamReport report =
       minibot3d_ros::LoadTable(ros::NodeHandle("~"), minibot3d_slam::MapServerOptionTable(), &options);
+  minibot3d_ros::FrameOptions frames;
+  report.Also(minibot3d_ros::LoadFrameOptions(ros::NodeHandle("~"), &frames));
   report.WarnUnknown("map_server");
   try {
     report.ThrowIfBad();
     minibot3d_slam::ValidateMapServerOptions(options);
   } catch (const std::invalid_argument& e) {
-    ROS_FATAL("map_server: %s", e.what());
+    // Before the node has started rosconsole may not print: stderr, as the errors above.
+    std::fprintf(stderr, "map_server: %s\n", e.what());
     return 2;
   }
+  // A map of one robot among several (shared_frames without map) is in that robot's map frame.
+  options.frame_id = minibot3d_ros::FrameNames(frames).Resolve(options.frame_id);
   // Stamped (and map_load_time) when it is loaded, as ROS map_server does.
   MapServer server(minibot3d_ros::GridToMsg(map, options.frame_id, ros::Time::now()));
   ROS_INFO("Serving %s: %d x %d cells @ %g m/cell, origin (%g, %g, %g), frame '%s'",

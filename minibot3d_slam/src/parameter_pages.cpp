@@ -1,5 +1,6 @@
 #include "parameter_pages.h"
 
+#include "minibot3d_ros/frame_names.h"
 #include "minibot3d_slam/gmapping_options.h"
 #include "minibot3d_slam/node_options.h"
 
@@ -24,7 +25,8 @@ std::vector<ParameterPage> ParameterPages() {
                "closure.",
                GmappingOptionTable()),
        Section("Node", "Frames, map publication and the map -> odom transform.",
-               SlamGmappingNodeOptionTable())}});
+               SlamGmappingNodeOptionTable()),
+       minibot3d_ros::FrameOptionsSection("`base_frame`, `odom_frame` and `map_frame`")}});
   pages.push_back(ParameterPage{
       "map_server.md", "map_server",
       "Private parameter of the `map_server` node (`rosrun minibot3d_slam map_server MAP.yaml`), "
@@ -34,7 +36,8 @@ std::vector<ParameterPage> ParameterPages() {
       "`--occ PERCENT` (cells at or above it are written occupied; default 65), `--free PERCENT` "
       "(cells from 0 to it are written free; default 25), `--timeout SECONDS` (wall time to wait "
       "for a map; default 30) and the remapping `map:=/topic`.",
-      {Section("map_server", "", MapServerOptionTable())}});
+      {Section("map_server", "", MapServerOptionTable()),
+       minibot3d_ros::FrameOptionsSection("`frame_id`")}});
   return pages;
 }
 

@@ -2,7 +2,8 @@
 // node. It converts scans and the odom → base tf into core calls, and the core's map and pose into
 // the latched map/map_metadata, ~entropy, the map → odom tf and the dynamic_map service. All SLAM
 // lives in the core; the parameters keep gmapping's names (gmapping_options.h, node_options.h;
-// docs/parameters/slam.md).
+// docs/parameters/slam.md). Its frames take the robot's frame_prefix when several robots share
+// one tf tree (minibot3d_ros/frames.h).
 #include <memory>
 #include <mutex>
 #include <set>
@@ -27,6 +28,7 @@
 #include <tf2_ros/transform_listener.h>
 
 #include "minibot3d_ros/conversions.h"
+#include "minibot3d_ros/frames.h"
 #include "minibot3d_ros/params.h"
 #include "minibot3d_slam/gmapping_options.h"
 #include "minibot3d_slam/node_options.h"
@@ -59,6 +61,8 @@ class SlamGmappingNode {
     GmappingOptions o;
     minibot3d_ros::ParamReport report = minibot3d_ros::LoadTable(pnh_, GmappingOptionTable(), &o);
     report.Also(minibot3d_ros::LoadTable(pnh_, SlamGmappingNodeOptionTable(), &node_));
+    minibot3d_ros::FrameOptions frames;
+    report.Also(minibot3d_ros::LoadFrameOptions(pnh_, &frames));
     report.WarnUnknown("slam_gmapping");
     std::string problems;
     const auto check = [&problems](const auto& validate) {
@@ -75,6 +79,12 @@ class SlamGmappingNode {
       ROS_FATAL("slam_gmapping: bad parameters:%s", problems.c_str());
       return false;
     }
+    // The config's frames are the robot's own; on a tf tree shared by several robots they carry
+    // its frame_prefix (and so does the map frame, unless shared_frames lists it).
+    const minibot3d_ros::FrameNames names(frames);
+    node_.base_frame = names.Resolve(node_.base_frame);
+    node_.odom_frame = names.Resolve(node_.odom_frame);
+    node_.map_frame = names.Resolve(node_.map_frame);
     options_ = o;
     slam_ = std::make_unique<RbpfSlam>(options_);
 

@@ -13,7 +13,8 @@
 //    parameterised by the fraction of the time between the two waypoints; the heading turns by
 //    spherical interpolation, i.e. along the shorter way, at a constant rate.
 // <auto_start> false waits for a trigger that minibot3d never sends: such an actor stands at its
-// first waypoint. An actor has no collision in Gazebo; here it is an upright cylinder (radius and
+// first waypoint. An actor with the social-force plugin (social_force.h) walks between its goals
+// instead, reacting to the others, the robots and the walls. An actor has no collision in Gazebo; here it is an upright cylinder (radius and
 // height from the simulator's options) standing on the floor at its position.
 #ifndef MINIBOT3D_SIM_ACTOR_H_
 #define MINIBOT3D_SIM_ACTOR_H_
@@ -22,6 +23,8 @@
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "minibot3d_sim/social_force.h"
 
 namespace minibot3d_sim {
 
@@ -44,7 +47,11 @@ struct Actor {
   double delay_start = 0.0;
   bool auto_start = true;
   std::vector<ActorTrajectory> trajectories;  // empty: the actor stands at `x, y, yaw`
-  double x = 0.0, y = 0.0, yaw = 0.0;         // its <pose>, used only without trajectories
+  double x = 0.0, y = 0.0, yaw = 0.0;         // its <pose>: where it stands or starts walking
+  // A pedestrian of the social force model (its <plugin filename="libminibot3d_social_force.so">):
+  // starts at its pose and walks between social.goals; the script is not used.
+  bool social_force = false;
+  SocialForceAgentOptions social;
 };
 
 // Where an actor is and how it moves (world frame, m, rad, m/s, rad/s).

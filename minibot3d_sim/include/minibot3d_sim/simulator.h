@@ -15,7 +15,9 @@
 // The world's actors (actor.h) move on their scripts with sim time. Each is an upright cylinder of
 // `actor_radius` and `actor_height`: lasers and cameras see it where it is at the scan's time, a
 // robot that drives into one is put back where it was (a robot an actor walks into may drive out)
-// and the contact is reported naming the actor ("actor NAME").
+// and the contact is reported naming the actor ("actor NAME"). Pedestrians of the social force
+// model (social_force.h) advance every SocialForceParams::step of sim time, pushed by each other,
+// by the walls at 0.1 m (their legs' height) and by the robots' bounding circles.
 #ifndef MINIBOT3D_SIM_SIMULATOR_H_
 #define MINIBOT3D_SIM_SIMULATOR_H_
 
@@ -58,6 +60,7 @@ struct SimulatorOptions {
   // The upright cylinder that stands for each of the world's actors (m).
   double actor_radius = 0.25;
   double actor_height = 1.8;
+  SocialForceParams social_force;
 };
 
 // Throws std::invalid_argument naming the offending option and value.
@@ -316,6 +319,9 @@ class Simulator {
   std::vector<std::unique_ptr<SimRobot>> robots_;
   std::vector<ActorState> actor_states_;
   std::vector<int> actor_bodies_;  // each actor's cylinder in the ray scene
+  std::unique_ptr<SocialForceCrowd> crowd_;  // the social-force actors, if any
+  std::vector<size_t> crowd_actor_;         // crowd agent k is World::actors[crowd_actor_[k]]
+  std::uint64_t crowd_every_ = 1;           // physics steps per crowd step
   std::uint64_t steps_ = 0;
 };
 

@@ -77,7 +77,7 @@ RobotInterface::RobotInterface(SimRobot* sim_robot, const std::string& urdf_xml,
   joint_state_.position.assign(joint_state_.name.size(), 0.0);
   joint_state_.velocity.assign(joint_state_.name.size(), 0.0);
   // The robot's fixed joints, for tf_static: published by the simulator too (see
-  // PublishStaticTransforms), so they are there when sim time starts.
+  // AppendStaticTransforms), so they are there when sim time starts.
   urdf::Model model;
   model.initString(urdf_xml);
   for (const auto& j : model.joints_) {
@@ -109,7 +109,6 @@ RobotInterface::RobotInterface(SimRobot* sim_robot, const std::string& urdf_xml,
     odom_pub_ = nh_.advertise<nav_msgs::Odometry>(Resolve(ns, d.odometry_topic), q(20));
   }
   tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf", q(100));
-  tf_static_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf_static", 1, true);
   joint_pub_ = nh_.advertise<sensor_msgs::JointState>(Resolve(ns, "joint_states"), q(20));
   if (options_.publish_ground_truth) {
     truth_pub_ = nh_.advertise<nav_msgs::Odometry>(Resolve(ns, "ground_truth/odom"), q(20));
@@ -379,9 +378,11 @@ void RobotInterface::PublishJointStates(const ros::Time& stamp) {
 // robot_state_publisher publishes the same transforms, but only once its own sim-time timer
 // has fired: under lock-step that is after participants need them (base_link -> laser for the
 // first scan). Identical static transforms from two publishers are harmless to tf2.
-void RobotInterface::PublishStaticTransforms() {
-  for (auto& t : static_tf_.transforms) t.header.stamp = ros::Time(robot_->time());
-  tf_static_pub_.publish(static_tf_);
+void RobotInterface::AppendStaticTransforms(tf2_msgs::TFMessage* msg) {
+  for (auto& t : static_tf_.transforms) {
+    t.header.stamp = ros::Time(robot_->time());
+    msg->transforms.push_back(t);
+  }
 }
 
 }  // namespace minibot3d_sim

@@ -37,8 +37,10 @@ class RobotInterface {
 
   // Publishes whatever is due at the current sim time (everything when `all`).
   void Publish(bool all);
-  // The robot's fixed joints on /tf_static, stamped now.
-  void PublishStaticTransforms();
+  // Appends the robot's fixed joints, stamped now, to `msg`: the simulator publishes those of
+  // all its robots as one latched /tf_static message (a latching publisher keeps only its last
+  // message, so one message per robot would leave a late subscriber with the last robot's only).
+  void AppendStaticTransforms(tf2_msgs::TFMessage* msg);
 
   // Resolves a plugin's topic in its namespace: absolute names stay, relative ones go under it.
   static std::string Resolve(const std::string& ns, const std::string& topic);
@@ -62,7 +64,7 @@ class RobotInterface {
   SimRobot* robot_;
   Options options_;
   ros::NodeHandle nh_;
-  ros::Publisher odom_pub_, tf_pub_, tf_static_pub_, joint_pub_, truth_pub_;
+  ros::Publisher odom_pub_, tf_pub_, joint_pub_, truth_pub_;
   std::vector<ros::Publisher> scan_pubs_, imu_pubs_, gt_pubs_;
   std::vector<CameraPublishers> cameras_;
   ros::Subscriber cmd_sub_;
