@@ -145,11 +145,35 @@ for spec in "default||" "arena|minibot3d_sim/worlds/arena.world|" \
     "office|minibot3d_sim/worlds/office.world|DEMO_X=1.0 DEMO_Y=6.17"; do
   IFS='|' read -r name world_arg env_args <<< "$spec"
   echo "-- $name"
+  rm -rf "build/bench/demo_$name/digest"
   # shellcheck disable=SC2086
-  env $env_args DEMO_OUT="build/bench/demo_$name" tools/demo.sh $world_arg \
+  env $env_args DEMO_OUT="build/bench/demo_$name" \
+    MINIBOT3D_LOCKSTEP_DIGEST="$PWD/build/bench/demo_$name/digest" tools/demo.sh $world_arg \
     > "build/bench/demo_$name.txt" 2>&1 || true
   sed -n '/== make demo summary/,$p' "build/bench/demo_$name.txt" | grep -v "^== make demo summary"
 done
+
+echo "== lock-step determinism: the office demo again beside two busy processes; its lock-step"
+echo "   digest compared tick for tick with the run above (tools/lockstep_digest.py), and its summary"
+rm -rf build/bench/demo_office_busy
+busy=()
+for _ in 1 2; do /usr/bin/python3 -c 'while True: pass' & busy+=($!); done
+env DEMO_X=1.0 DEMO_Y=6.17 DEMO_OUT=build/bench/demo_office_busy \
+  MINIBOT3D_LOCKSTEP_DIGEST="$PWD/build/bench/demo_office_busy/digest" \
+  tools/demo.sh minibot3d_sim/worlds/office.world > build/bench/demo_office_busy.txt 2>&1 || true
+kill "${busy[@]}"
+wait "${busy[@]}" 2>/dev/null || true
+/usr/bin/python3 tools/lockstep_digest.py compare build/bench/demo_office/digest \
+  build/bench/demo_office_busy/digest || true
+summary() {  # the summary without its wall-clock figures
+  sed -n '/== make demo summary/,$p' "$1" | sed -E 's/,? [0-9.]+ s wall.*//'
+}
+if diff <(summary build/bench/demo_office.txt) <(summary build/bench/demo_office_busy.txt) \
+    > /dev/null; then
+  echo "summaries: identical but for wall times"
+else
+  echo "summaries: DIFFER (build/bench/demo_office.txt, build/bench/demo_office_busy.txt)"
+fi
 
 echo "== mapless navigation through the 50 shipped clutter worlds (mapless_navigation.launch,"
 echo "   lock-step at full speed, the goal 5.5 m ahead in odom, 150 s of sim time each)"

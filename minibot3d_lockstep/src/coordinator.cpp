@@ -13,9 +13,9 @@ void ValidateOptions(const CoordinatorOptions& o) {
     m << "lockstep_quantum must be in (0, 1] s, got " << o.quantum;
     throw std::invalid_argument(m.str());
   }
-  if (!(o.timeout > 0.0) || !std::isfinite(o.timeout)) {
+  if (!(o.timeout >= 0.0) || !std::isfinite(o.timeout)) {
     std::ostringstream m;
-    m << "lockstep_timeout must be > 0 wall s, got " << o.timeout;
+    m << "lockstep_timeout must be >= 0 wall s (0: never), got " << o.timeout;
     throw std::invalid_argument(m.str());
   }
 }
@@ -143,6 +143,7 @@ std::vector<std::string> Coordinator::Waiting() const {
 
 std::vector<std::string> Coordinator::Overdue(double wall) const {
   std::vector<std::string> w;
+  if (options_.timeout <= 0.0) return w;
   for (const auto& kv : participants_) {
     if (kv.second.waiting && wall - kv.second.tick_wall > options_.timeout) w.push_back(kv.first);
   }

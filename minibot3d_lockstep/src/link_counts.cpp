@@ -18,6 +18,8 @@
 #include <ros/publisher_link.h>
 #include <ros/subscriber_link.h>
 #include <ros/subscription.h>
+#include <ros/subscription_queue.h>
+#include <ros/timer_manager.h>
 #include <ros/topic_manager.h>
 #include <ros/transport/transport_tcp.h>
 #include <ros/transport_subscriber_link.h>
@@ -58,7 +60,33 @@ struct SubscriberLinksMutexTag {
   friend type Get(SubscriberLinksMutexTag);
 };
 
+using SimTimers = ros::TimerManager<ros::Time, ros::Duration, ros::TimerEvent>;
+struct TimersWaitingTag {
+  using type = std::list<int32_t> SimTimers::*;
+  friend type Get(TimersWaitingTag);
+};
+struct TimersWaitingMutexTag {
+  using type = boost::mutex SimTimers::*;
+  friend type Get(TimersWaitingMutexTag);
+};
+
+struct SubscriptionQueueTopicTag {
+  using type = std::string ros::SubscriptionQueue::*;
+  friend type Get(SubscriptionQueueTopicTag);
+};
+
+// CallbackQueue's waiting callbacks are protected members: a derived class may name them.
+struct QueueAccess : ros::CallbackQueue {
+  using Entries = D_CallbackInfo;
+  using Entry = CallbackInfo;
+  static Entries& Callbacks(ros::CallbackQueue* q) { return q->*(&QueueAccess::callbacks_); }
+  static boost::mutex& Mutex(ros::CallbackQueue* q) { return q->*(&QueueAccess::mutex_); }
+};
+
 template struct Expose<SubscriptionsTag, &ros::TopicManager::subscriptions_>;
+template struct Expose<SubscriptionQueueTopicTag, &ros::SubscriptionQueue::topic_>;
+template struct Expose<TimersWaitingTag, &SimTimers::waiting_>;
+template struct Expose<TimersWaitingMutexTag, &SimTimers::waiting_mutex_>;
 template struct Expose<SubsMutexTag, &ros::TopicManager::subs_mutex_>;
 template struct Expose<PublisherLinksTag, &ros::Subscription::publisher_links_>;
 template struct Expose<PublisherLinksMutexTag, &ros::Subscription::publisher_links_mutex_>;
@@ -152,6 +180,13 @@ std::vector<LinkCount> ReceivedCounts() {
   return out;
 }
 
+std::vector<ros::SubscriptionPtr> Subscriptions() {
+  ros::TopicManager& tm = *ros::TopicManager::instance();
+  boost::mutex::scoped_lock lock(tm.*Get(SubsMutexTag()));
+  const ros::L_Subscription& subs = tm.*Get(SubscriptionsTag());
+  return std::vector<ros::SubscriptionPtr>(subs.begin(), subs.end());
+}
+
 void SyncWithPollThread() {
   PollCounter& poll = Poll();
   std::unique_lock<std::mutex> lock(poll.mutex);
@@ -169,6 +204,43 @@ void SyncWithPollThread() {
       lock.lock();
     }
   }
+}
+
+void OrderCallbacks(ros::CallbackQueue* queue) {
+  boost::mutex::scoped_lock lock(QueueAccess::Mutex(queue));
+  QueueAccess::Entries& entries = QueueAccess::Callbacks(queue);
+  // The topic of a subscription's callback; "" (first) for any other callback.
+  const auto topic = [](const QueueAccess::Entry& e) -> const std::string& {
+    static const std::string kNone;
+    const auto* sq = dynamic_cast<const ros::SubscriptionQueue*>(e.callback.get());
+    return sq ? sq->*Get(SubscriptionQueueTopicTag()) : kNone;
+  };
+  std::stable_sort(entries.begin(), entries.end(),
+                   [&](const QueueAccess::Entry& a, const QueueAccess::Entry& b) {
+                     return topic(a) < topic(b);
+                   });
+}
+
+bool WaitForDueTimers(double timeout) {
+  // The timer thread keeps the timers not yet queued in `waiting_`, earliest first; it queues a
+  // due one's callback and takes it off the list under the list's lock. hasPending() (public)
+  // says whether a timer is due; it takes the timers' lock, which the timer thread takes before
+  // the list's, so the list's is not held while asking.
+  SimTimers& timers = SimTimers::global();
+  const ros::WallTime start = ros::WallTime::now();
+  while (ros::ok()) {
+    int32_t front;
+    {
+      boost::mutex::scoped_lock lock(timers.*Get(TimersWaitingMutexTag()));
+      const std::list<int32_t>& waiting = timers.*Get(TimersWaitingTag());
+      if (waiting.empty()) return true;
+      front = waiting.front();
+    }
+    if (!timers.hasPending(front)) return true;
+    if ((ros::WallTime::now() - start).toSec() > timeout) return false;
+    ros::WallDuration(0.00005).sleep();
+  }
+  return false;
 }
 
 bool WaitForPollIteration(double timeout) {
@@ -231,6 +303,28 @@ long SentByPeer(const std::string& topic, const std::string& node) {
 }
 
 }  // namespace
+
+std::string PeerOf(const std::string& missing) {
+  const auto space = missing.rfind(' ');
+  return space == std::string::npos ? missing : missing.substr(space + 1);
+}
+
+bool NodeAnswers(const std::string& node) {
+  XmlRpc::XmlRpcValue args, result, payload;
+  args[0] = ros::this_node::getName();
+  args[1] = node;
+  if (!ros::master::execute("lookupNode", args, result, payload, false) ||
+      payload.getType() != XmlRpc::XmlRpcValue::TypeString) {
+    return false;
+  }
+  std::string host;
+  uint32_t port = 0;
+  if (!ros::network::splitURI(static_cast<std::string>(payload), host, port)) return false;
+  XmlRpc::XmlRpcClient client(host.c_str(), port, "/");
+  XmlRpc::XmlRpcValue a, pid;
+  a[0] = ros::this_node::getName();
+  return client.execute("getPid", a, pid) && !client.isFault();
+}
 
 std::vector<std::string> MissingConnections() {
   std::vector<std::string> missing;

@@ -28,6 +28,12 @@ Participant::Participant(const ros::NodeHandle& nh, const ParticipantOptions& op
   service_nh_.setCallbackQueue(&service_queue_);
   tick_nh_.setCallbackQueue(&service_queue_);
   ack_pub_ = nh_.advertise<Ack>(kAckTopic, 100);
+  try {
+    digest_ = DigestRecorder::FromEnvironment();
+  } catch (const std::runtime_error& e) {
+    ROS_FATAL("%s: %s", name_.c_str(), e.what());
+    throw;
+  }
 }
 
 Participant::~Participant() { Unregister(); }
@@ -53,7 +59,7 @@ void Participant::AddPeriodic(double period, std::function<void(const ros::Time&
 
 void Participant::WakeAt(const ros::Time& t) { wake_at_.push_back(t.toSec()); }
 
-bool Participant::Register() {
+bool Participant::WaitForSimulator() {
   int waited = 0;
   while (ros::ok() && !ros::service::waitForService(kRegisterService, 1000)) {
     if (++waited % 10 == 1) {
@@ -61,7 +67,10 @@ bool Participant::Register() {
                "running with lockstep:=true?)", name_.c_str(), kRegisterService);
     }
   }
-  if (!ros::ok()) return false;
+  return ros::ok();
+}
+
+bool Participant::Register() {
   minibot3d_lockstep::Register srv;
   srv.request.name = name_;
   for (const auto& t : options_.wake_topics) srv.request.wake_topics.push_back(nh_.resolveName(t));
@@ -108,17 +117,26 @@ void Participant::SettleConnections() {
   if (topics == settled_topics_) return;
   settled_topics_ = topics;
   const ros::WallTime start = ros::WallTime::now();
-  ros::WallTime beat = start;
+  ros::WallTime beat = start, checked = start;
   while (ros::ok()) {
     Heartbeat(&beat);
     const auto missing = MissingConnections();
     if (missing.empty()) return;
-    if ((ros::WallTime::now() - start).toSec() > options_.delivery_timeout) {
-      std::string m;
-      for (const auto& s : missing) m += " " + s + ";";
-      ROS_WARN("%s: lock-step: going on without connections:%s (a node registered with the "
-               "master that is not running?)", name_.c_str(), m.c_str());
-      return;
+    const ros::WallTime now = ros::WallTime::now();
+    // Past delivery_timeout, and then every 10 s: a connection to a node that is running is on
+    // its way, however loaded the machine (going on without it would make the run depend on
+    // that); one to a node that is gone (registered, then killed) never comes.
+    if ((now - start).toSec() > options_.delivery_timeout && (now - checked).toSec() > 10.0) {
+      checked = now;
+      std::string alive, gone;
+      for (const auto& m : missing) (NodeAnswers(PeerOf(m)) ? alive : gone) += " " + m + ";";
+      if (alive.empty()) {
+        ROS_WARN("%s: lock-step: going on without connections:%s (their nodes do not answer: "
+                 "registered with the master, no longer running)", name_.c_str(), gone.c_str());
+        return;
+      }
+      ROS_WARN("%s: lock-step: still waiting for connections to running nodes:%s (%.0f s wall)",
+               name_.c_str(), alive.c_str(), (now - start).toSec());
     }
     WaitForPollIteration(0.005);
     service_queue_.callAvailable();
@@ -148,29 +166,39 @@ void Participant::WaitForDelivery(const Tick& tick) {
   const ros::WallTime start = ros::WallTime::now();
   std::map<std::pair<std::string, std::string>, std::uint64_t> want;
   for (const auto& l : tick.expected) want[{l.topic, l.peer}] = l.count;
-  ros::WallTime beat = start;
+  ros::WallTime beat = start, noted = start;
   while (ros::ok()) {
     Heartbeat(&beat);
     std::vector<std::string> missing;
+    bool connected = false;  // a connection that still has messages to bring is there
     std::map<std::pair<std::string, std::string>, std::uint64_t> have;
     for (const auto& l : ReceivedCounts()) have[{l.topic, l.peer}] = l.count;
     for (const auto& w : want) {
       auto it = have.find(w.first);
       const std::uint64_t got = it == have.end() ? 0 : it->second;
       if (got < w.second) {
+        connected = connected || it != have.end();
         std::ostringstream m;
         m << w.first.first << " from " << w.first.second << " (" << got << " of " << w.second << ")";
         missing.push_back(m.str());
       }
     }
     if (missing.empty()) break;
-    if ((ros::WallTime::now() - start).toSec() > options_.delivery_timeout) {
+    // Messages on a connection that is there are on their way, however loaded the machine:
+    // waited for. A connection that is gone (its publisher died mid-send) brings nothing more.
+    const ros::WallTime now = ros::WallTime::now();
+    if ((now - start).toSec() > options_.delivery_timeout && (now - noted).toSec() > 10.0) {
+      noted = now;
       std::ostringstream m;
       for (const auto& s : missing) m << " " << s << ";";
-      ROS_WARN_THROTTLE(10.0, "%s: going on at t=%.3f without messages announced by the "
-                        "simulator's tick:%s (publisher gone?)", name_.c_str(),
-                        tick.stamp.toSec(), m.str().c_str());
-      break;
+      if (!connected) {
+        ROS_WARN("%s: going on at t=%.3f without messages announced by the simulator's tick:%s "
+                 "(their publishers' connections are gone)", name_.c_str(), tick.stamp.toSec(),
+                 m.str().c_str());
+        break;
+      }
+      ROS_WARN("%s: lock-step: still waiting at t=%.3f for messages:%s (%.0f s wall)",
+               name_.c_str(), tick.stamp.toSec(), m.str().c_str(), (now - start).toSec());
     }
     WaitForPollIteration(0.002);
     service_queue_.callAvailable();
@@ -192,6 +220,14 @@ void Participant::WaitForClock(const ros::Time& stamp) {
     }
     ros::WallDuration(0.00005).sleep();
   }
+  // Timers made with ros::Timer (by a library: actionlib's status) fire at this tick if due.
+  // The timer thread is this process's own: it gets there, however loaded the machine.
+  const ros::WallTime timers_start = ros::WallTime::now();
+  while (ros::ok() && !WaitForDueTimers(options_.delivery_timeout)) {
+    ROS_WARN("%s: lock-step: roscpp's timer thread has not yet queued the timers due at %.3f "
+             "(%.0f s wall)", name_.c_str(), stamp.toSec(),
+             (ros::WallTime::now() - timers_start).toSec());
+  }
 }
 
 bool Participant::Spin() {
@@ -199,6 +235,12 @@ bool Participant::Spin() {
     ros::spin();
     return true;
   }
+  if (digest_) digest_->Instrument();
+  // Every connection the node's topics call for is made, and every latched message is here,
+  // before it joins: whoever holds sim time while it joins (a script starting it), nothing is
+  // published meanwhile, so it starts with the same messages in every run.
+  if (!WaitForSimulator()) return false;
+  SettleConnections();
   if (!Register()) return false;
   while (ros::ok()) {
     TickConstPtr tick;
@@ -206,9 +248,12 @@ bool Participant::Spin() {
     current_ = tick;
     SettleConnections();
     WaitForDelivery(*tick);
+    if (digest_) digest_->Tick(tick->seq, tick->stamp);
     WaitForClock(tick->stamp);
-    // tf first, so a message's transform is in the buffer when its callback looks it up.
+    // tf first, so a message's transform is in the buffer when its callback looks it up; then
+    // timers and the other topics' messages in an order that does not depend on the sockets.
     tf_queue_.callAvailable();
+    OrderCallbacks(ros::getGlobalCallbackQueue());
     ros::getGlobalCallbackQueue()->callAvailable();
     service_queue_.callAvailable();
     const double t = tick->stamp.toSec();
@@ -229,12 +274,15 @@ bool Participant::Spin() {
     // Topics advertised or subscribed during this tick connect before the ack, sim time still
     // held: a latched message published at once is counted now, not delivered at a later tick
     // that depends on how fast the master and the peer answered.
+    if (digest_) digest_->Instrument();
     SettleConnections();
     Ack ack;
     ack.name = name_;
     ack.seq = tick->seq;
     ack.next_wake = std::isfinite(next_wake) ? ros::Time(next_wake) : ros::Time(0);
-    for (const auto& l : SentCounts()) {
+    const std::vector<LinkCount> sent = SentCounts();
+    if (digest_) digest_->Acknowledged(sent, ack.next_wake);
+    for (const auto& l : sent) {
       Link link;
       link.topic = l.topic;
       link.peer = l.peer;

@@ -135,6 +135,20 @@ TEST(CoordinatorTest, AStalledParticipantIsOverdueAfterTheTimeoutAndRemovalForge
   EXPECT_EQ(c.Participants(), Names({"/b"}));
 }
 
+// The default: a participant that is alive is waited for however long it takes (a loaded machine,
+// a debugger); only its process going away drops it (the simulator's side).
+TEST(CoordinatorTest, WithoutATimeoutNoParticipantIsEverOverdue) {
+  CoordinatorOptions o;
+  EXPECT_EQ(o.timeout, 0.0);
+  EXPECT_NO_THROW(ValidateOptions(o));
+  Coordinator c(o, "/sim");
+  c.Register("/a", {});
+  c.MarkTicked("/a", 1, 0.0, 10.0);
+  EXPECT_TRUE(c.Overdue(10.0 + 3600.0).empty());
+  EXPECT_NEAR(c.WaitingFor("/a", 3610.0), 3600.0, 1e-9);
+  EXPECT_EQ(c.Waiting(), Names({"/a"}));
+}
+
 TEST(CoordinatorTest, AHeartbeatRestartsTheTimeoutButIsNotAnAcknowledgement) {
   Coordinator c = Make();  // timeout 2 s
   c.Register("/a", {});

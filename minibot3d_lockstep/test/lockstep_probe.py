@@ -13,6 +13,9 @@
   lockstep_probe.py poll                 waits, with poll=0.1 and no wake topic, until
                                          /ground_truth/odom has a stamp 1 s past its first tick;
                                          prints that target and the tick time ("polled T0 T")
+  lockstep_probe.py run_for SIM_S        joins, lets SIM_S of sim time pass, prints "ran T" and
+                                         leaves (holds sim time for a stack's participants, then
+                                         lets go)
   lockstep_probe.py route OUT.json       two move_base goals across the default world; writes the
                                          goal results, times and the whole true trajectory
 Prints "holding" (flushed) when it starts working, so a test can kill it then."""
@@ -83,6 +86,13 @@ def poll():
     return 0
 
 
+def run_for(seconds):
+    lockstep = Participant()
+    lockstep.sleep(seconds)
+    print('ran %.3f' % rospy.get_rostime().to_sec(), flush=True)
+    lockstep.close()
+
+
 def route(out):
     path = []
     rospy.Subscriber('/ground_truth/odom', Odometry, lambda m: path.append(
@@ -127,6 +137,9 @@ def main():
         return 0
     if mode == 'poll':
         return poll()
+    if mode == 'run_for':
+        run_for(float(sys.argv[2]))
+        return 0
     return route(sys.argv[2])
 
 

@@ -2,15 +2,21 @@
 (lockstep_probe.py), each run on a ROS master of its own.
 
 - a participant that works for a while stops sim time, and one that stops answering for
-  ~lockstep_timeout is dropped with a warning naming it, after which time goes on;
+  ~lockstep_timeout (when set) is dropped with a warning naming it, after which time goes on;
+- by default a participant stopped (SIGSTOP, as in a debugger) for 12 s wall is waited for, and
+  goes on where it stopped;
 - a participant killed while it holds a tick is dropped and the loop goes on;
 - participants of several robots (/robot1/..., /robot2/...): a stalled one is dropped by its full
   name, and the other robot's go on;
 - the closed loop (simulator + amcl + move_base + a goal client) gives the same trajectory and
-  times twice at real_time_factor 0, and again at real_time_factor 1.
+  times twice at real_time_factor 0 (the second time beside two busy processes), and again at
+  real_time_factor 1, and the lock-step digests of the runs (every message each participant
+  received, tick by tick) agree;
+- so do the digests of two explorations (SLAM + move_base + explore), one beside busy processes.
 Every wait is on a condition (a line of output, a file, a process exit) with a time limit."""
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -18,6 +24,9 @@ import time
 
 import minibot3d_testing as testing
 import pytest
+from minibot3d_lockstep import digest
+
+DIGEST_ENV = digest.DIGEST_ENV
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PROBE = os.path.join(HERE, 'lockstep_probe.py')
@@ -26,9 +35,13 @@ PROBE = os.path.join(HERE, 'lockstep_probe.py')
 class Stack(testing.Stack):
     """roslaunch on a master of its own, plus probes on the same master."""
 
-    def __init__(self, tmp_path, launch, args):
-        super().__init__(['roslaunch'] + launch + args, tmp_path / 'launch.log',
-                         env=dict(os.environ, ROS_HOME=str(tmp_path)))
+    def __init__(self, tmp_path, launch, args, digest=None):
+        """digest: where the run's lock-step digest goes (None: not written)."""
+        env = dict(os.environ, ROS_HOME=str(tmp_path))
+        env.pop(DIGEST_ENV, None)
+        if digest:
+            env[DIGEST_ENV] = digest
+        super().__init__(['roslaunch'] + launch + args, tmp_path / 'launch.log', env=env)
         # Nodes read /use_sim_time and /use_lockstep when they start: start them once roslaunch
         # has set its parameters and started the simulator.
         import rosgraph
@@ -68,10 +81,12 @@ def read_line(proc, prefix, timeout):
     return None
 
 
-def sim_stack(tmp_path, participant, timeout):
+def sim_stack(tmp_path, participant, timeout=None):
+    """timeout: ~lockstep_timeout (None: the default, never)."""
     return Stack(tmp_path, ['minibot3d_sim', 'minibot3d_gazebo.launch'],
                  ['lockstep:=true', 'real_time_factor:=0', 'physics:=kinematic',
-                  'lockstep_participants:=' + participant, 'lockstep_timeout:=%g' % timeout])
+                  'lockstep_participants:=' + participant] +
+                 ([] if timeout is None else ['lockstep_timeout:=%g' % timeout]))
 
 
 def test_a_working_participant_holds_time_and_a_stalled_one_is_dropped(tmp_path):
@@ -95,6 +110,38 @@ def test_a_working_participant_holds_time_and_a_stalled_one_is_dropped(tmp_path)
         held = read_line(stalled, 'held', 30)
         t0, t1 = (float(v) for v in held.split()[1:])
         assert t1 > t0, 'sim time did not go on after the stalled participant was dropped'
+    finally:
+        stack.stop()
+
+
+def test_a_participant_stopped_as_in_a_debugger_is_waited_for_not_dropped(tmp_path):
+    """Slow is not dead: with the default ~lockstep_timeout a participant that does not answer for
+    12 s wall (stopped with SIGSTOP, as a debugger stops it) keeps sim time
+    where it is and carries on when it continues. Breakage caught: a wall-clock time-out that
+    drops a live participant (the run then depends on the machine's load)."""
+    stack = sim_stack(tmp_path, '/probe_hold')
+    try:
+        probe = stack.probe('hold', '0.2')
+        assert read_line(probe, 'holding', 90), stack.log(3000)
+        os.kill(probe.pid, signal.SIGSTOP)
+        try:
+            # The simulator says whom it waits for, and for how long so far: past 12 s wall, and
+            # nobody dropped.
+            def waited():
+                return max([float(w) for w in re.findall(
+                    r'waits for /probe_hold \(([0-9.]+) s wall so far', stack.log())] or [0.0])
+            testing.wait_until(lambda: waited() >= 12.0, 60, lambda: stack.log(3000),
+                               interval=0.5)
+            assert 'dropped participant' not in stack.log(), stack.log(3000)
+        finally:
+            os.kill(probe.pid, signal.SIGCONT)
+        held = read_line(probe, 'held', 30)
+        assert held, stack.log(3000)
+        t0, t1 = (float(v) for v in held.split()[1:])
+        assert t0 == pytest.approx(t1, abs=1e-9), 'sim time moved while the participant was stopped'
+        assert read_line(probe, 'after', 30)
+        assert probe.wait(30) == 0
+        assert 'dropped participant' not in stack.log()
     finally:
         stack.stop()
 
@@ -186,28 +233,101 @@ def test_a_stalled_robot_is_dropped_by_name_and_the_other_robot_goes_on(tmp_path
         stack.stop()
 
 
-def closed_loop(tmp_path, rtf):
+class Busy(object):
+    """n processes that keep a core each busy while the block runs (CPU load)."""
+
+    def __init__(self, n):
+        self.n, self.procs = n, []
+
+    def __enter__(self):
+        self.procs = [subprocess.Popen([sys.executable, '-c', 'while True: pass'])
+                      for _ in range(self.n)]
+        return self
+
+    def __exit__(self, *exc):
+        for p in self.procs:
+            p.kill()
+            p.wait()
+
+
+def closed_loop(tmp_path, rtf, busy=0):
     tmp_path.mkdir(parents=True, exist_ok=True)
-    stack = Stack(tmp_path, ['minibot3d_navigation', 'amcl_navigation.launch'],
-                  ['lockstep:=true', 'real_time_factor:=%s' % rtf,
-                   'lockstep_participants:=/amcl /move_base /probe_route'])
-    out = str(tmp_path / 'route.json')
-    try:
-        client = stack.probe('route', out)
-        assert client.wait(300) == 0, client.stdout.read() + stack.log(3000)
-    finally:
-        stack.stop()
+    with Busy(busy):
+        stack = Stack(tmp_path, ['minibot3d_navigation', 'amcl_navigation.launch'],
+                      ['lockstep:=true', 'real_time_factor:=%s' % rtf,
+                       'lockstep_participants:=/amcl /move_base /probe_route'],
+                      digest=str(tmp_path / 'digest'))
+        out = str(tmp_path / 'route.json')
+        try:
+            client = stack.probe('route', out)
+            assert client.wait(300) == 0, client.stdout.read() + stack.log(3000)
+        finally:
+            stack.stop()
     with open(out) as f:
         return json.load(f)
 
 
-def test_two_closed_loop_runs_are_identical_at_any_real_time_factor(tmp_path):
+def test_two_closed_loop_runs_are_identical_at_any_real_time_factor_and_load(tmp_path):
     first = closed_loop(tmp_path / 'a', 0)
     assert [g[0] for g in first['goals']] == [3, 3], first['goals']  # SUCCEEDED
     assert len(first['path']) > 500
-    second = closed_loop(tmp_path / 'b', 0)
+    second = closed_loop(tmp_path / 'b', 0, busy=2)
     assert second['goals'] == first['goals']
     assert second['path'] == first['path']
     paced = closed_loop(tmp_path / 'c', 1)
     assert paced['goals'] == first['goals']
     assert paced['path'] == first['path']
+    # Tick by tick, every participant received the same messages. Breakage caught: a participant
+    # whose output depends on the wall clock or on thread timing (say, a timer that fires at the
+    # tick it falls due in at one speed and the next at another).
+    for other in ('b', 'c'):
+        result = digest.compare(str(tmp_path / 'a' / 'digest'), str(tmp_path / other / 'digest'))
+        assert result.identical, '\n'.join(digest.report(result, 'a', other))
+        # The simulator, amcl, move_base and the client, compared over the whole route.
+        assert result.sections >= 4, digest.report(result, 'a', other)
+        assert float(result.last_stamp[1]) >= first['path'][-1][0], \
+            digest.report(result, 'a', other)
+
+
+EXPLORE_SIM_S = 150.0
+
+
+def exploration(tmp_path, busy):
+    """SLAM + move_base + explore on the default world at real-time factor 0 for EXPLORE_SIM_S of
+    sim time (held from 0 by a probe that then leaves); returns the probe's "ran T" time."""
+    tmp_path.mkdir(parents=True, exist_ok=True)
+    with Busy(busy):
+        stack = Stack(tmp_path, ['minibot3d_navigation', 'explore.launch'],
+                      ['lockstep:=true', 'real_time_factor:=0',
+                       'lockstep_clients:=/probe_run_for'],
+                      digest=str(tmp_path / 'digest'))
+        try:
+            probe = stack.probe('run_for', '%g' % EXPLORE_SIM_S)
+            ran = read_line(probe, 'ran', 600)
+            assert ran, stack.log(3000)
+            assert probe.wait(30) == 0
+            assert 'explore: ' in stack.log(), stack.log(3000)
+        finally:
+            stack.stop()
+    return float(ran.split()[1])
+
+
+def test_two_explorations_agree_tick_for_tick_beside_busy_processes(tmp_path):
+    """The loop that builds a map (SLAM, costmaps, frontier choice, move_base) twice, the second
+    time beside two busy processes: every participant receives the same messages at the same
+    ticks for the whole EXPLORE_SIM_S. Breakage caught: anything in that loop that depends on
+    thread timing under load (a timer firing a tick late, callbacks in socket order, a
+    participant that goes on without a message it was sent), which the route above, without SLAM
+    and explore, does not exercise. make bench compares whole demos the same way."""
+    ran_a = exploration(tmp_path / 'a', 0)
+    ran_b = exploration(tmp_path / 'b', 2)
+    assert ran_a == ran_b >= EXPLORE_SIM_S
+    # Up to the probe's end: after it, time runs on until the stack is stopped, a wall-clock
+    # moment at which its nodes die one after the other.
+    result = digest.compare(str(tmp_path / 'a' / 'digest'), str(tmp_path / 'b' / 'digest'),
+                            until=ran_a)
+    assert result.identical, '\n'.join(digest.report(result, 'a', 'b'))
+    # The three participants, the probe and the simulator, compared up to the probe's end.
+    assert result.sections >= 5, digest.report(result, 'a', 'b')
+    reached = digest.stamp_key(result.last_stamp[1])
+    assert reached >= (int(EXPLORE_SIM_S), 0), digest.report(result, 'a', 'b')

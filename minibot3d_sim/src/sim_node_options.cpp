@@ -87,7 +87,7 @@ const OptionTable<SimNodeOptions>& SimNodeOptionTable() {
              "Lock-step: sim time between rounds (s), a whole number of physics steps."),
        Field("lockstep_timeout", &O::lockstep_timeout,
              "Lock-step: wall seconds a participant may take to acknowledge a tick before it is "
-             "dropped."),
+             "dropped; 0: never (a participant is dropped only when its process is gone)."),
        Field("lockstep_start_timeout", &O::lockstep_start_timeout,
              "Lock-step: wall seconds to wait for lockstep_participants before time starts "
              "without them."),
@@ -126,7 +126,8 @@ void ValidateSimNodeOptions(const SimNodeOptions& o, bool lockstep) {
   p.Positive("actor_height", o.actor_height);
   p.Positive("actors_rate", o.actors_rate);
   p.Positive("lockstep_quantum", o.lockstep_quantum);
-  p.Positive("lockstep_timeout", o.lockstep_timeout);
+  p.Check(std::isfinite(o.lockstep_timeout) && o.lockstep_timeout >= 0.0, "lockstep_timeout",
+          o.lockstep_timeout, ">= 0 wall s (0: never drop a participant that is alive)");
   p.Positive("lockstep_start_timeout", o.lockstep_start_timeout);
   if (lockstep && o.physics_step > 0.0 && o.lockstep_quantum > 0.0) {
     const double q = o.lockstep_quantum / o.physics_step;

@@ -42,7 +42,9 @@ struct LinkCount {
 
 struct CoordinatorOptions {
   double quantum = 0.005;  // s of sim time between rounds
-  double timeout = 10.0;   // wall s a participant may take to acknowledge before it is dropped
+  // Wall s a participant may take to acknowledge before it is dropped; 0: never. A participant
+  // that is dropped while alive makes the run depend on the machine's speed and load.
+  double timeout = 0.0;
 };
 
 // Throws std::invalid_argument naming the offending option.
@@ -86,7 +88,8 @@ class Coordinator {
 
   // Participants ticked and not yet acknowledged, in name order.
   std::vector<std::string> Waiting() const;
-  // Waiting participants whose tick is older than options().timeout at wall time `wall`.
+  // Waiting participants whose tick is older than options().timeout at wall time `wall` (none
+  // when the timeout is 0).
   std::vector<std::string> Overdue(double wall) const;
   // Wall seconds `name` has been waiting at `wall` (0 if not waiting).
   double WaitingFor(const std::string& name, double wall) const;

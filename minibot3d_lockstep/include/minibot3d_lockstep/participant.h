@@ -28,6 +28,7 @@
 #include <tf2_ros/buffer.h>
 
 #include "minibot3d_lockstep/Tick.h"
+#include "minibot3d_lockstep/digest.h"
 
 namespace minibot3d_lockstep {
 
@@ -45,8 +46,9 @@ bool LockstepEnabled();
 struct ParticipantOptions {
   // Topics (resolved against the node handle) whose messages wake the node between its jobs.
   std::vector<std::string> wake_topics;
-  // Wall seconds to wait for a message that was announced but does not arrive before going on
-  // with a warning (a publisher that died mid-send).
+  // Wall seconds after which a connection or an announced message that has not come is looked
+  // into (then every 10 s): one from a node that is running is waited for however long it takes
+  // (a loaded machine); one whose node or connection is gone is given up, with a warning.
   double delivery_timeout = 10.0;
 };
 
@@ -92,6 +94,7 @@ class Participant {
     std::function<void(const ros::Time&)> fn;
     ros::Timer timer;
   };
+  bool WaitForSimulator();
   bool Register();
   void Unregister();
   bool WaitForTick(TickConstPtr* tick);
@@ -115,6 +118,7 @@ class Participant {
   std::vector<std::unique_ptr<Job>> jobs_;
   std::vector<double> wake_at_;
   std::vector<std::string> settled_topics_;
+  std::unique_ptr<DigestRecorder> digest_;  // with MINIBOT3D_LOCKSTEP_DIGEST set
 };
 
 }  // namespace minibot3d_lockstep

@@ -33,6 +33,7 @@ With ``/use_lockstep`` false (or unset) the same calls fall back to ordinary ros
 time, so a script written this way runs both ways.
 """
 import math
+import os
 import socket
 import subprocess
 import threading
@@ -45,6 +46,7 @@ import rospy.impl.registration
 import rospy.impl.tcpros_base
 import rospy.impl.tcpros_pubsub
 import rospy.topics
+from minibot3d_lockstep.digest import DIGEST_ENV, DigestWriter, chain_crc, format_stamp
 from minibot3d_lockstep.msg import Ack, Link, Participants, Tick
 from minibot3d_lockstep.srv import Register, Unregister
 
@@ -53,12 +55,36 @@ REGISTER_SERVICE = '/minibot3d_sim/lockstep/register'
 UNREGISTER_SERVICE = '/minibot3d_sim/lockstep/unregister'
 ACK_TOPIC = '/minibot3d_sim/lockstep/ack'
 PARTICIPANTS_TOPIC = '/minibot3d_sim/lockstep/participants'
+TICK_TOPIC_PREFIX = '/minibot3d_sim/lockstep/tick/'
 
 _patch_lock = threading.Lock()
 _patched = False
 # Under lock-step a subscriber's queue_size drops nothing (set by Participant): rospy applies it to
 # whatever one socket read returned, so what it kept would depend on how TCP batched the bytes.
 _keep_all = False
+# The digest's directory (see minibot3d_lockstep.digest), read once: the CRCs of received messages
+# are chained as rospy reads them, on every connection made after this module's import.
+_digest_dir = os.environ.get(DIGEST_ENV) or None
+
+
+def _recorded(topic):
+    """Topics the digest records: not /clock (its count depends on the wall clock) nor the
+    lock-step protocol's own."""
+    return topic not in ('/clock', ACK_TOPIC) and not topic.startswith(TICK_TOPIC_PREFIX)
+
+
+class _Hashed(object):
+    """Stands in for a message class in rospy's deserialize_messages: chains the CRC of each
+    message's bytes onto its connection's before deserializing it."""
+    __slots__ = ('_msg', '_proto')
+
+    def __init__(self, msg, proto):
+        self._msg, self._proto = msg, proto
+
+    def deserialize(self, data):
+        n, crc = self._proto.__dict__.get('_lockstep_digest', (0, 0))
+        self._proto.__dict__['_lockstep_digest'] = (n + 1, chain_crc(crc, data))
+        return self._msg.deserialize(data)
 
 
 def lockstep_enabled():
@@ -102,11 +128,14 @@ def _install_counting():
         protocol = rospy.impl.tcpros_base.TCPROSTransportProtocol
 
         def counting_read(self, b, msg_queue, sock):
+            cls = self.recv_data_class
+            if _digest_dir and _recorded(getattr(self, 'resolved_name', '')):
+                def cls(real=self.recv_data_class, proto=self):
+                    return _Hashed(real(), proto)
             if self.queue_size is None or _keep_all:
-                return rospy.impl.tcpros_base.deserialize_messages(b, msg_queue,
-                                                                   self.recv_data_class)
+                return rospy.impl.tcpros_base.deserialize_messages(b, msg_queue, cls)
             parsed = []
-            rospy.impl.tcpros_base.deserialize_messages(b, parsed, self.recv_data_class)
+            rospy.impl.tcpros_base.deserialize_messages(b, parsed, cls)
             dropped = max(0, len(msg_queue) + len(parsed) - self.queue_size)
             msg_queue.extend(parsed)
             del msg_queue[:-self.queue_size]
@@ -170,6 +199,21 @@ def handled_counts():
     return out
 
 
+def received_digests():
+    """{(topic, publisher caller id): (messages, CRC)} read so far on each recorded connection."""
+    out = {}
+    tm = rospy.impl.registration.get_topic_manager()
+    for topic, impl in list(tm.subs.items()):
+        if not _recorded(topic):
+            continue
+        for c in list(impl.connections):
+            proto = getattr(c, 'protocol', None)
+            d = proto.__dict__.get('_lockstep_digest') if proto is not None else None
+            if d is not None:
+                out[(topic, getattr(c, 'callerid_pub', ''))] = d
+    return out
+
+
 def _sent_by_peer(topic, node):
     """Messages `node` has queued to this node on `topic` (its getBusInfo/getBusStats), or None."""
     try:
@@ -193,6 +237,22 @@ def _sent_by_peer(topic, node):
     except Exception:  # noqa: BLE001 - a node that cannot be asked is reported as missing
         return None
     return None
+
+
+def node_answers(node):
+    """True when `node` is registered with the master and its process answers at the XML-RPC
+    address it registered (getPid); False when it is gone (see the C++ NodeAnswers)."""
+    try:
+        uri = rosgraph.Master(rospy.get_name()).lookupNode(node)
+        xmlrpc.client.ServerProxy(uri).getPid(rospy.get_name())
+        return True
+    except Exception:  # noqa: BLE001 - not registered, or not answering: gone
+        return False
+
+
+def _peer_of(missing):
+    """The node a missing_connections() entry names (its last word)."""
+    return missing.rsplit(' ', 1)[-1]
 
 
 def missing_connections():
@@ -264,13 +324,21 @@ class Participant(object):
         self._current = None     # being worked on, not yet acknowledged
         self._registered = False
         self.dropped = False  # the simulator dropped this script: its sim time no longer holds
+        self._digest = None
         if not self.enabled:
             return
+        if _digest_dir:
+            self._digest = DigestWriter(_digest_dir, self.name, rospy.get_param('/run_id', ''))
         global _keep_all
         _keep_all = True
         self._ack_pub = rospy.Publisher(ACK_TOPIC, Ack, queue_size=100, tcp_nodelay=True)
         self._participants_sub = rospy.Subscriber(PARTICIPANTS_TOPIC, Participants,
                                                   self._on_participants, queue_size=10)
+        # Every connection this script's topics call for is made, and every latched message is
+        # here, before it joins: whoever holds sim time while it joins (a script starting it),
+        # nothing is published meanwhile, so it starts with the same messages in every run.
+        self._wait_for_simulator()
+        self._settle_connections()
         self._register()
         rospy.on_shutdown(self.close)
 
@@ -394,18 +462,20 @@ class Participant(object):
 
     # -- protocol ----------------------------------------------------------------------------
 
-    def _register(self):
+    def _wait_for_simulator(self):
         warned = 0.0
         while not rospy.is_shutdown():
             try:
                 rospy.wait_for_service(REGISTER_SERVICE, timeout=1.0)
-                break
+                return
             except rospy.ROSException:
                 if time.time() - warned > 10.0:
                     warned = time.time()
                     rospy.logwarn('%s: /use_lockstep is true; waiting for the simulator\'s %s '
                                   '(is minibot3d_sim running with lockstep:=true?)',
                                   self.name, REGISTER_SERVICE)
+
+    def _register(self):
         res = rospy.ServiceProxy(REGISTER_SERVICE, Register)(self.name, self._wake_topics)
         if not res.accepted:
             raise RuntimeError('%s: the simulator refused lock-step registration: %s'
@@ -437,7 +507,11 @@ class Participant(object):
             if job[1] is not None and (wake is None or job[1] < wake):
                 wake = job[1]
         ack = Ack(name=self.name, seq=tick.seq, next_wake=wake if wake is not None else rospy.Time(0))
-        ack.sent = [Link(topic=t, peer=p, count=n) for t, p, n in sent_counts()]
+        sent = sent_counts()
+        ack.sent = [Link(topic=t, peer=p, count=n) for t, p, n in sent]
+        if self._digest is not None:
+            self._digest.acknowledged([s for s in sent if _recorded(s[0])],
+                                      format_stamp(ack.next_wake))
         self._ack_pub.publish(ack)
 
     def _next_tick(self, deadline):
@@ -458,6 +532,8 @@ class Participant(object):
         self._current = tick  # held from here: heartbeats name it
         self._settle_connections()
         self._wait_for_delivery(tick)
+        if self._digest is not None:
+            self._digest.tick(tick.seq, format_stamp(tick.stamp), received_digests())
         self._wait_for_clock(tick.stamp)
         return tick
 
@@ -469,18 +545,26 @@ class Participant(object):
         if topics == getattr(self, '_settled', None):
             return
         self._settled = topics
-        start = time.time()
+        start = checked = time.time()
         beat = [start]
         while not rospy.is_shutdown():
             self._beat(beat)
             missing = missing_connections()
             if not missing:
                 return
-            if time.time() - start > self._delivery_timeout:
-                rospy.logwarn('%s: lock-step: going on without connections: %s (a node '
-                              'registered with the master that is not running?)', self.name,
-                              '; '.join(missing))
-                return
+            # Past delivery_timeout, and then every 10 s: a connection to a node that is running
+            # is on its way however loaded the machine; one to a node that is gone never comes.
+            now = time.time()
+            if now - start > self._delivery_timeout and now - checked > 10.0:
+                checked = now
+                alive = [m for m in missing if node_answers(_peer_of(m))]
+                if not alive:
+                    rospy.logwarn('%s: lock-step: going on without connections: %s (their nodes '
+                                  'do not answer: registered with the master, no longer running)',
+                                  self.name, '; '.join(missing))
+                    return
+                rospy.logwarn('%s: lock-step: still waiting for connections to running nodes: '
+                              '%s (%.0f s wall)', self.name, '; '.join(alive), now - start)
             if time.time() - start > 2.0 and not getattr(self, '_noted', False):
                 self._noted = True
                 rospy.loginfo('%s: lock-step: waiting for connections: %s', self.name,
@@ -488,36 +572,53 @@ class Participant(object):
             time.sleep(0.002)
 
     def _wait_for_delivery(self, tick):
-        start = time.time()
+        start = noted = time.time()
         beat = [start]
         while not rospy.is_shutdown():
             self._beat(beat)
             have = handled_counts()
-            missing = ['%s from %s (%d of %d)' % (l.topic, l.peer, have.get((l.topic, l.peer), 0),
-                                                   l.count)
-                       for l in tick.expected if have.get((l.topic, l.peer), 0) < l.count]
-            if not missing:
+            short = [l for l in tick.expected if have.get((l.topic, l.peer), 0) < l.count]
+            if not short:
                 return
-            if time.time() - start > self._delivery_timeout:
-                rospy.logwarn('%s: going on at t=%.3f without messages announced by the '
-                              'simulator\'s tick: %s (publisher gone?)', self.name,
-                              tick.stamp.to_sec(), '; '.join(missing))
-                return
+            # Messages on a connection that is there are on their way, however loaded the
+            # machine: waited for. A connection that is gone (its publisher died mid-send) brings
+            # nothing more.
+            now = time.time()
+            if now - start > self._delivery_timeout and now - noted > 10.0:
+                noted = now
+                missing = ['%s from %s (%d of %d)' % (l.topic, l.peer,
+                                                       have.get((l.topic, l.peer), 0), l.count)
+                           for l in short]
+                if not any((l.topic, l.peer) in have for l in short):
+                    rospy.logwarn('%s: going on at t=%.3f without messages announced by the '
+                                  'simulator\'s tick: %s (their publishers\' connections are '
+                                  'gone)', self.name, tick.stamp.to_sec(), '; '.join(missing))
+                    return
+                rospy.logwarn('%s: lock-step: still waiting at t=%.3f for messages: %s (%.0f s '
+                              'wall)', self.name, tick.stamp.to_sec(), '; '.join(missing),
+                              now - start)
             if time.time() - start > 2.0 and not getattr(self, '_noted_d', False):
                 self._noted_d = True
-                rospy.loginfo('%s: lock-step: waiting for messages: %s', self.name,
-                              '; '.join(missing))
+                rospy.loginfo('%s: lock-step: waiting for messages: %s', self.name, '; '.join(
+                    '%s from %s' % (l.topic, l.peer) for l in short))
             time.sleep(0.0001)
 
     def _wait_for_clock(self, stamp):
         # rospy's /clock subscriber sets the time; /clock for `stamp` precedes the tick and older
         # /clock messages precede it on the same connection.
-        start = time.time()
+        # Waited for while a /clock connection is there, however loaded the machine.
+        start = noted = time.time()
         while not rospy.is_shutdown() and rospy.get_rostime() < stamp:
-            if time.time() - start > self._delivery_timeout:
-                rospy.logwarn('%s: /clock has not reached the tick\'s time %.3f', self.name,
-                              stamp.to_sec())
-                return
+            now = time.time()
+            if now - start > self._delivery_timeout and now - noted > 10.0:
+                noted = now
+                clock = rospy.impl.registration.get_topic_manager().subs.get('/clock')
+                if clock is None or not list(clock.connections):
+                    rospy.logwarn('%s: /clock has not reached the tick\'s time %.3f and its '
+                                  'publisher is gone', self.name, stamp.to_sec())
+                    return
+                rospy.logwarn('%s: lock-step: still waiting for /clock to reach the tick\'s time '
+                              '%.3f (%.0f s wall)', self.name, stamp.to_sec(), now - start)
             time.sleep(0.0001)
 
     def _run_jobs(self, now):

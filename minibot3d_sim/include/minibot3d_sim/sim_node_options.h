@@ -45,7 +45,7 @@ struct SimNodeOptions {
   double actors_rate = 20.0;
   // Lock-step time (when /use_lockstep is true).
   double lockstep_quantum = 0.005;
-  double lockstep_timeout = 10.0;
+  double lockstep_timeout = 0.0;  // 0: a participant is dropped only when its process is gone
   double lockstep_start_timeout = 60.0;
   std::vector<std::string> lockstep_participants;
 };

@@ -1,7 +1,11 @@
 #include "lockstep_host.h"
 
 #include <algorithm>
+#include <map>
+#include <sstream>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "minibot3d_lockstep/Link.h"
 #include "minibot3d_lockstep/Participants.h"
@@ -10,6 +14,12 @@
 #include "minibot3d_lockstep/participant.h"
 
 namespace minibot3d_sim {
+
+namespace {
+// Wall s after which a missing connection or message is looked into (then as often): waited for
+// while the node at the other end is running, given up when it is gone.
+constexpr double kLookInto = 10.0;
+}  // namespace
 
 LockstepHost::LockstepHost(ros::NodeHandle nh, const Options& options,
                            std::function<double()> sim_time,
@@ -30,7 +40,11 @@ LockstepHost::LockstepHost(ros::NodeHandle nh, const Options& options,
       nh_.advertiseService(minibot3d_lockstep::kRegisterService, &LockstepHost::OnRegister, this));
   services_.push_back(nh_.advertiseService(minibot3d_lockstep::kUnregisterService,
                                            &LockstepHost::OnUnregister, this));
-  PublishParticipants();
+  digest_ = minibot3d_lockstep::DigestRecorder::FromEnvironment();
+  if (digest_) {
+    digest_->Instrument();
+    ROS_INFO("minibot3d_sim: lock-step digest in %s", digest_->path().c_str());
+  }
 }
 
 std::string LockstepHost::Join(const std::vector<std::string>& names) {
@@ -66,18 +80,38 @@ void LockstepHost::WaitForExpectedParticipants() {
 }
 
 // Every subscriber the master lists for the simulator's topics is connected, so the first
-// messages reach every node that has asked for them, however fast each process started.
+// messages reach every node that has asked for them, however fast each process started. A
+// connection to a node that is running is waited for however loaded the machine; one to a node
+// that no longer answers (registered, then killed) never comes, and time starts without it.
 void LockstepHost::WaitForOwnConnections() {
   const ros::WallTime start = ros::WallTime::now();
+  ros::WallTime checked = start;
   while (ros::ok()) {
     const auto missing = minibot3d_lockstep::MissingConnections();
-    if (missing.empty()) return;
-    if ((ros::WallTime::now() - start).toSec() > options_.coordinator.timeout) {
-      ROS_WARN("minibot3d_sim: lock-step: starting without connections: %s", Join(missing).c_str());
-      return;
+    if (missing.empty()) break;
+    const ros::WallTime now = ros::WallTime::now();
+    if ((now - start).toSec() > kLookInto && (now - checked).toSec() > kLookInto) {
+      checked = now;
+      std::vector<std::string> alive, gone;
+      for (const auto& m : missing) {
+        (minibot3d_lockstep::NodeAnswers(minibot3d_lockstep::PeerOf(m)) ? alive : gone)
+            .push_back(m);
+      }
+      if (alive.empty()) {
+        ROS_WARN("minibot3d_sim: lock-step: starting without connections: %s (their nodes do "
+                 "not answer: registered with the master, no longer running)",
+                 Join(gone).c_str());
+        break;
+      }
+      ROS_WARN("minibot3d_sim: lock-step: still waiting for connections to running nodes: %s "
+               "(%.0f s wall)", Join(alive).c_str(), (now - start).toSec());
     }
     ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.005));
   }
+  // The participant list goes out first now: one list, the same in every run, whatever order
+  // the participants joined in while time waited.
+  started_ = true;
+  PublishParticipants();
 }
 
 void LockstepHost::RecordSent() {
@@ -86,6 +120,7 @@ void LockstepHost::RecordSent() {
 
 void LockstepHost::Round() {
   ros::getGlobalCallbackQueue()->callAvailable();
+  if (digest_) digest_->Instrument();
   DropDead();
   const double t = sim_time_();
   bool clock_sent = false;
@@ -113,13 +148,16 @@ void LockstepHost::Round() {
     // What it sent the simulator is queued before the next participant works: commands from
     // two participants on one topic (cmd_vel) are applied in tick order, not arrival order.
     WaitForDeliveryToSim();
+    if (digest_) digest_->ReceivedBy(tick.seq, tick.stamp);
   }
   apply_commands_();
 }
 
-// A joined participant is ticked once its tick subscription is connected.
+// A joined participant is ticked once its tick subscription is connected; until then it is waited
+// for as long as its process is there (a slow start is not a failure).
 bool LockstepHost::WaitReady(const std::string& name) {
   const ros::WallTime start = ros::WallTime::now();
+  ros::WallTime last_check = start, last_note = start;
   while (ros::ok()) {
     auto it = ticks_.find(name);
     if (it == ticks_.end()) return false;
@@ -127,62 +165,99 @@ bool LockstepHost::WaitReady(const std::string& name) {
       it->second.connected = true;
       return true;
     }
-    if ((ros::WallTime::now() - start).toSec() > options_.coordinator.timeout) {
-      Drop(name, "never subscribed to its tick topic");
+    const ros::WallTime now = ros::WallTime::now();
+    const double waited = (now - start).toSec();
+    if (options_.coordinator.timeout > 0.0 && waited > options_.coordinator.timeout) {
+      Drop(name, "did not subscribe to its tick topic within ~lockstep_timeout");
       return false;
+    }
+    if ((now - last_check).toSec() > 1.0) {
+      last_check = now;
+      if (!minibot3d_lockstep::NodeAnswers(name)) {
+        Drop(name, "its process is gone (it never subscribed to its tick topic)");
+        return false;
+      }
+    }
+    if (waited > 2.0 && (now - last_note).toSec() > 10.0) {
+      last_note = now;
+      ROS_WARN("minibot3d_sim: lock-step: sim time %.3f waits for %s to subscribe to its tick "
+               "topic (%.0f s wall so far)", sim_time_(), name.c_str(), waited);
     }
     ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.001));
   }
   return false;
 }
 
+// A participant that is alive is waited for however long it works (a loaded machine, a debugger):
+// dropping it would make the run depend on the wall clock. It is dropped when its process is gone
+// (its tick subscription closes), or, with ~lockstep_timeout > 0, when it takes longer than that.
 void LockstepHost::WaitForAck(const std::string& name) {
-  ros::WallTime last_note = ros::WallTime::now();
+  const ros::WallTime start = ros::WallTime::now();
+  ros::WallTime last_note = start;
+  double note_every = 2.0;
   while (ros::ok() && coordinator_->Has(name)) {
     const auto waiting = coordinator_->Waiting();
     if (std::find(waiting.begin(), waiting.end(), name) == waiting.end()) return;
     ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.001));
     const ros::WallTime now = ros::WallTime::now();
-    const double waited = coordinator_->WaitingFor(name, now.toSec());
     auto it = ticks_.find(name);
     if (it != ticks_.end() && it->second.connected && it->second.pub.getNumSubscribers() == 0) {
       Drop(name, "its process is gone (tick topic unsubscribed)");
       return;
     }
-    if (waited > options_.coordinator.timeout) {
+    const auto overdue = coordinator_->Overdue(now.toSec());
+    if (std::find(overdue.begin(), overdue.end(), name) != overdue.end()) {
       Drop(name, "no acknowledgement within ~lockstep_timeout");
       return;
     }
-    if (waited > 1.0 && (now - last_note).toSec() > 2.0) {
+    // Every 2 s, then less often: a debugger session may last an hour.
+    if ((now - last_note).toSec() > note_every) {
       last_note = now;
-      ROS_WARN("minibot3d_sim: lock-step: sim time %.3f waits for %s (%.1f s wall so far)",
-               sim_time_(), name.c_str(), waited);
+      note_every = std::min(60.0, note_every * 1.5);
+      ROS_WARN("minibot3d_sim: lock-step: sim time %.3f waits for %s (%.1f s wall so far; a "
+               "participant must not block in rospy.sleep, wait_for_result or a waiting tf "
+               "lookup, see docs/lockstep.md)", sim_time_(), name.c_str(),
+               (now - start).toSec());
     }
   }
 }
 
 // Messages participants sent to the simulator (cmd_vel, acks) are all here before commands are
-// applied and physics goes on.
+// applied and physics goes on. Messages on a connection that is there are on their way, however loaded the machine: waited
+// for (going on without them would make the run depend on the load). A connection that is gone
+// (its publisher died mid-send) brings nothing more: looked into after kLookInto wall s, then
+// every kLookInto s, and given up with a warning.
 void LockstepHost::WaitForDeliveryToSim() {
   const auto expected = coordinator_->Expected(ros::this_node::getName());
   const ros::WallTime start = ros::WallTime::now();
+  ros::WallTime noted = start;
   while (ros::ok()) {
     std::map<std::pair<std::string, std::string>, std::uint64_t> have;
     for (const auto& l : minibot3d_lockstep::ReceivedCounts()) have[{l.topic, l.peer}] = l.count;
-    bool ok = true;
+    std::vector<std::string> missing;
+    bool connected = false;  // a connection that still has messages to bring is there
     for (const auto& e : expected) {
       auto it = have.find({e.topic, e.peer});
-      if (it == have.end() || it->second < e.count) {
-        ok = false;
-        if ((ros::WallTime::now() - start).toSec() > options_.coordinator.timeout) {
-          ROS_WARN("minibot3d_sim: lock-step: going on without %s's messages on %s",
-                   e.peer.c_str(), e.topic.c_str());
-          ok = true;
-        }
-        break;
+      const std::uint64_t got = it == have.end() ? 0 : it->second;
+      if (got < e.count) {
+        connected = connected || it != have.end();
+        std::ostringstream m;
+        m << e.topic << " from " << e.peer << " (" << got << " of " << e.count << ")";
+        missing.push_back(m.str());
       }
     }
-    if (ok) break;
+    if (missing.empty()) break;
+    const ros::WallTime now = ros::WallTime::now();
+    if ((now - start).toSec() > kLookInto && (now - noted).toSec() > kLookInto) {
+      noted = now;
+      if (!connected) {
+        ROS_WARN("minibot3d_sim: lock-step: going on at t=%.3f without messages: %s (their "
+                 "publishers' connections are gone)", sim_time_(), Join(missing).c_str());
+        break;
+      }
+      ROS_WARN("minibot3d_sim: lock-step: still waiting at t=%.3f for messages: %s (%.0f s wall)",
+               sim_time_(), Join(missing).c_str(), (now - start).toSec());
+    }
     minibot3d_lockstep::WaitForPollIteration(0.002);
   }
   minibot3d_lockstep::SyncWithPollThread();
@@ -206,6 +281,7 @@ void LockstepHost::Drop(const std::string& name, const std::string& why) {
 }
 
 void LockstepHost::PublishParticipants() {
+  if (!started_) return;
   minibot3d_lockstep::Participants p;
   p.stamp = ros::Time(sim_time_());
   p.names = coordinator_->Participants();

@@ -19,6 +19,7 @@
 #include "minibot3d_lockstep/Register.h"
 #include "minibot3d_lockstep/Unregister.h"
 #include "minibot3d_lockstep/coordinator.h"
+#include "minibot3d_lockstep/digest.h"
 
 namespace minibot3d_sim {
 
@@ -35,7 +36,7 @@ class LockstepHost {
                std::function<void(bool)> publish_clock, std::function<void()> apply_commands);
 
   // Before time starts: the named participants have joined, and every subscriber of the
-  // simulator's topics is connected.
+  // simulator's topics is connected; then the participant list is published (not before).
   void WaitForExpectedParticipants();
   void WaitForOwnConnections();
   // Ticks every participant that has work at the current time, in name order, waiting for each.
@@ -72,6 +73,8 @@ class LockstepHost {
   };
   std::map<std::string, TickPublisher> ticks_;
   std::uint64_t tick_seq_ = 0;
+  bool started_ = false;  // time has started: the participant list is published from then on
+  std::unique_ptr<minibot3d_lockstep::DigestRecorder> digest_;  // MINIBOT3D_LOCKSTEP_DIGEST set
 };
 
 }  // namespace minibot3d_sim
