@@ -24,7 +24,7 @@ else
   unset ROS_MASTER_URI
 fi
 
-# ros_start_core: rosmaster and rosout (what roscore starts), each in a session of its own, on a
+# ros_start_core: rosmaster and rosout (what roscore starts), each in a process group of its own, on a
 # port no other process holds: minibot3d_testing.RosCore keeps a port only once the master there
 # answers as its own, and tries another when it is taken. Exports ROS_MASTER_URI; a roslaunch then
 # finds the master up and starts only its nodes. ros_stop_core stops them (scripts call it when

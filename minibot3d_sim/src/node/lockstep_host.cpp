@@ -210,7 +210,7 @@ void LockstepHost::WaitForAck(const std::string& name) {
       Drop(name, "no acknowledgement within ~lockstep_timeout");
       return;
     }
-    // Every 2 s, then less often: a debugger session may last an hour.
+    // Every 2 s, then less often: a stop in a debugger may last an hour.
     if ((now - last_note).toSec() > note_every) {
       last_note = now;
       note_every = std::min(60.0, note_every * 1.5);

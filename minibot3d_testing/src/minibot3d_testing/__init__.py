@@ -157,7 +157,7 @@ def stop_group(pgid, grace=20.0, proc=None):
 
 
 class Process(object):
-    """A command in a session (process group) of its own, so stop() reaches every process it
+    """A command in a process group of its own (setsid), so stop() reaches every process it
     starts, and nothing else. Its stdout and stderr go to log_path when given (appended), else
     where popen_kwargs say (default: nowhere)."""
 
@@ -238,7 +238,7 @@ def _rosout_executable():
 
 class RosCore(object):
     """rosmaster and rosout (what roscore starts) for one test or run, on a port no other process
-    holds; each in a session of its own.
+    holds; each in a process group of its own.
 
     env: the environment they and everything started with .env run in (default os.environ);
     log_dir: where rosmaster's output goes (default a temporary directory, removed by stop());

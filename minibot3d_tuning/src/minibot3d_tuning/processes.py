@@ -1,6 +1,6 @@
 """The processes of trials: each trial has a ROS master and rosout of its own (Core, a
 minibot3d_testing.RosCore on a port no other process holds), and its stack (roslaunch and its
-nodes) and its driver each run in a session of their own (Group), so one killpg reaches every
+nodes) and its driver each run in a process group of their own (Group), so one killpg reaches every
 process of a group and nothing else.  Stopping is SIGINT to the group (roslaunch shuts its nodes
 down in order), then SIGKILL to whatever is left after a grace period; a group is gone when /proc
 lists none of its members alive.  Every process started here also gets SIGTERM when the tool dies
@@ -21,7 +21,7 @@ _PR_SET_PDEATHSIG = 1
 
 
 def _die_with_parent():
-    """preexec_fn (after the new session): SIGTERM if the tool dies without cleaning up."""
+    """preexec_fn (after setsid): SIGTERM if the tool dies without cleaning up."""
     try:
         ctypes.CDLL('libc.so.6', use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
     except OSError:
@@ -48,7 +48,7 @@ def processes_with_marker(value):
 
 
 class Group(testing.Process):
-    """A command in its own session, its output appended to log_path; stop() ends the whole
+    """A command in its own process group, its output appended to log_path; stop() ends the whole
     group.  Listed in registry until stopped."""
 
     def __init__(self, cmd, env, log_path, registry=None):
