@@ -351,8 +351,8 @@ def open_study(optuna, study_name, storage, sampler):
     """Creates the study, or loads it if another worker has.  Optuna creates its schema on a
     database's first use, and workers started together on a fresh database race to create it: the
     loser's CREATE TABLE or CREATE TYPE fails ('relation "studies" already exists', or a unique
-    violation on pg_type).  On PostgreSQL the workers therefore take turns, holding a connection-held
-    advisory lock (pg_advisory_lock: the next worker blocks until the holder has committed the
+    violation on pg_type).  On PostgreSQL the workers therefore take turns, holding an advisory
+    lock (pg_advisory_lock: the next worker blocks until the holder has committed the
     schema and its study), so the second finds both in place.  Other databases (SQLite, for one
     machine) open the study directly."""
     if not str(storage).startswith('postgresql'):
