@@ -24,11 +24,11 @@ else
   unset ROS_MASTER_URI
 fi
 
-# ros_start_core: rosmaster and rosout (what roscore starts), each in a process group of its own,
-# on a port no other process holds: minibot3d_testing.RosCore keeps a port only once the master there
+# ros_start_core: rosmaster and rosout (what roscore starts), each in a process group of its own, on
+# a port no other process holds: minibot3d_testing.RosCore keeps a port only once the master there
 # answers as its own, and tries another when it is taken. Exports ROS_MASTER_URI; a roslaunch then
-# finds the master up and starts only its nodes. ros_stop_core stops them (scripts call it when
-# done and from their EXIT trap); a second ros_start_core stops the first core.
+# finds the master up and starts only its nodes. ros_stop_core stops them (scripts call it when done
+# and from their EXIT trap); a second ros_start_core stops the first core.
 ros_core_groups=
 ros_start_core() {
   ros_stop_core
