@@ -196,25 +196,6 @@ TEST(ActorTest, LoadsASocialForcePedestrian) {
                 "<goal> must be two numbers");
 }
 
-// The diff-drive fixture with a laser 7 cm up looking ahead and a depth camera, as in
-// multi_robot_test.
-std::string SensingUrdf() {
-  return testing::DiffDriveUrdf(
-      "<updateRate>0</updateRate>",
-      "<gazebo reference='base_scan'><sensor type='ray' name='front'><update_rate>10</update_rate>"
-      "<pose>0 0 -0.1 0 0 0</pose><ray><scan><horizontal><samples>181</samples>"
-      "<resolution>1</resolution><min_angle>-1.5707963</min_angle><max_angle>1.5707963</max_angle>"
-      "</horizontal></scan><range><min>0.05</min><max>8</max><resolution>0.001</resolution>"
-      "</range></ray><plugin name='l' filename='libgazebo_ros_laser.so'><topicName>scan"
-      "</topicName><frameName>base_scan</frameName></plugin></sensor></gazebo>"
-      "<gazebo reference='base_link'><sensor type='depth' name='cam'><update_rate>10</update_rate>"
-      "<pose>0.16 0 0.1 0 0 0</pose><camera><horizontal_fov>1.0</horizontal_fov><image><width>41"
-      "</width><height>31</height><format>R8G8B8</format></image><clip><near>0.05</near>"
-      "<far>8</far></clip><depth_camera/></camera><plugin name='c' "
-      "filename='libgazebo_ros_openni_kinect.so'><cameraName>camera</cameraName><frameName>"
-      "base_link</frameName></plugin></sensor></gazebo>");
-}
-
 SimulatorOptions Options(const std::string& physics) {
   SimulatorOptions o;
   o.physics = physics;
@@ -230,7 +211,7 @@ TEST_P(ActorSimTest, TheLaserAndTheCameraSeeAnActorWhereItIsAtTheTime) {
   // the robot's axis.
   World world = testing::MakeRoom(4.0);
   world.actors.push_back(Walker({Wp(0, 2, -3), Wp(6, 2, 3)}));
-  Simulator sim(ParseRobotModel(SensingUrdf()), std::move(world), Options(GetParam()));
+  Simulator sim(ParseRobotModel(testing::SensingDiffDriveUrdf()), std::move(world), Options(GetParam()));
   std::vector<float> ranges;
   sim.TakeScan(0, &ranges);
   EXPECT_NEAR(ranges[90], 4.0, 1e-2);  // the room's wall: the actor is far to the side
@@ -250,7 +231,7 @@ TEST_P(ActorSimTest, ARobotDrivingIntoAnActorIsHeldAndReportsItsName) {
   standing.name = "visitor";
   standing.x = 1.0;
   world.actors.push_back(standing);
-  Simulator sim(ParseRobotModel(SensingUrdf()), std::move(world), Options(GetParam()));
+  Simulator sim(ParseRobotModel(testing::SensingDiffDriveUrdf()), std::move(world), Options(GetParam()));
   sim.SetCommand(0.3, 0.0);
   while (sim.time() < 5.0) sim.Step();
   // The body's front (0.15 m ahead of the centre) stops at the actor's surface, 0.75 m ahead.
@@ -280,7 +261,7 @@ TEST_P(ActorSimTest, ASocialForceCrowdWalksReplaysExactlyAndKeepsOffTheWalls) {
     }
     SimulatorOptions options = Options(GetParam());
     options.spawn = Pose2{0.0, -1.5, 0.0};
-    Simulator sim(ParseRobotModel(SensingUrdf()), std::move(world), options);
+    Simulator sim(ParseRobotModel(testing::SensingDiffDriveUrdf()), std::move(world), options);
     double nearest_wall = 1e9;
     std::vector<double> trace;
     std::vector<double> farthest(sim.actor_count(), 0.0);  // from the start

@@ -16,28 +16,9 @@
 namespace minibot3d_sim {
 namespace {
 
-// The diff-drive fixture (body 0.3 x 0.2 m, 3-13 cm up) with a laser looking ahead 7 cm up (through
-// the height of the other robots' bodies) and a depth camera 10 cm up.
-std::string SensingUrdf() {
-  return testing::DiffDriveUrdf(
-      "<updateRate>0</updateRate>",
-      "<gazebo reference='base_scan'><sensor type='ray' name='front'><update_rate>10</update_rate>"
-      "<pose>0 0 -0.1 0 0 0</pose><ray><scan><horizontal><samples>181</samples>"
-      "<resolution>1</resolution><min_angle>-1.5707963</min_angle><max_angle>1.5707963</max_angle>"
-      "</horizontal></scan><range><min>0.05</min><max>8</max><resolution>0.001</resolution>"
-      "</range></ray><plugin name='l' filename='libgazebo_ros_laser.so'><topicName>scan"
-      "</topicName><frameName>base_scan</frameName></plugin></sensor></gazebo>"
-      "<gazebo reference='base_link'><sensor type='depth' name='cam'><update_rate>10</update_rate>"
-      "<pose>0.16 0 0.1 0 0 0</pose><camera><horizontal_fov>1.0</horizontal_fov><image><width>41"
-      "</width><height>31</height><format>R8G8B8</format></image><clip><near>0.05</near>"
-      "<far>8</far></clip><depth_camera/></camera><plugin name='c' "
-      "filename='libgazebo_ros_openni_kinect.so'><cameraName>camera</cameraName><frameName>"
-      "base_link</frameName></plugin></sensor></gazebo>");
-}
-
 RobotEntry Robot(const std::string& name, double x, double y, double yaw) {
   RobotEntry e;
-  e.model = ParseRobotModel(SensingUrdf());
+  e.model = ParseRobotModel(testing::SensingDiffDriveUrdf());
   e.options.name = name;
   e.options.spawn = Pose2{x, y, yaw};
   return e;
