@@ -528,10 +528,10 @@ void Simulator::SeparateRobots(double /*now*/) {
   // order (a, b) with a < b so the outcome does not depend on where the robots stand.
   std::vector<std::pair<size_t, size_t>> candidates;
   std::vector<size_t> order(n);
+  std::vector<double> lo(n), hi(n);
   for (bool changed = true; changed;) {
     changed = false;
     for (size_t i = 0; i < n; ++i) order[i] = i;
-    std::vector<double> lo(n), hi(n);
     for (size_t i = 0; i < n; ++i) {
       const double x = robots_[i]->true_pose().x, r = robots_[i]->collider().radius();
       lo[i] = x - r;
