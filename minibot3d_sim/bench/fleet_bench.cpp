@@ -6,13 +6,16 @@
 //               [--seconds S] [--spacing M]
 //
 // The robots stand on a grid of --spacing metres over the world's bounds, on the spots where a
-// robot's body is clear of the world, picked evenly from the spots found, all facing +x. Each drives
-// arcs (0.2 m/s at +-0.6 rad/s, alternating between robots) with a bumper: after a contact it backs
-// away turning for 1 s of sim time, as Stage's wander controller does; in a small world they meet
-// walls and each other often (the contacts are printed), as a crowd of robots would. --actors adds
+// robot's body has 0.1 m of room, picked evenly from the spots found, all facing +x. Each runs
+// a wander controller at 20 Hz on its first laser, as Stage's wander example does: arcs (0.2 m/s
+// at +-0.6 rad/s, alternating between robots) while nothing is within 0.35 m ahead (+-60 degrees),
+// else a turn in place towards the side that was freer when it began; after a contact it backs off straight for 0.5 s.
+// In a small world the robots still meet walls and each other often, as a crowd would; the mean
+// speed and the share of time in contact are printed, so a fleet that jams shows. --actors adds
 // M pedestrians of the social force model on other free spots, each walking to and fro between
 // its spot and the spot half the list away.
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -34,6 +37,28 @@ int Usage() {
   std::fprintf(stderr, "usage: fleet_bench URDF_FILE WORLD_FILE --robots N [--physics NAME] "
                        "[--seconds S] [--spacing M]\n");
   return 2;
+}
+
+// A spot keeps this much room around a robot's body (m): none starts boxed in under a table.
+constexpr double kSpotClearance = 0.1;
+
+// The wander controller turns in place when something is nearer than this ahead (m).
+constexpr double kAhead = 0.35;
+
+// From a scan: the nearest return within 60 degrees either side of the sensor's +x, and +1 when
+// the left half (beams at positive angles) is on the whole further away than the right, else -1.
+void Look(const minibot3d_sim::LaserSpec& spec, double increment, const std::vector<float>& ranges,
+          double* ahead, double* freer_side) {
+  constexpr double kSector = 60.0 * M_PI / 180.0;
+  *ahead = std::numeric_limits<double>::infinity();
+  double left = 0.0, right = 0.0;
+  for (size_t i = 0; i < ranges.size(); ++i) {
+    const double a = spec.min_angle + static_cast<double>(i) * increment;
+    const double r = std::isfinite(ranges[i]) ? ranges[i] : (ranges[i] > 0 ? spec.max_range : 0.0);
+    if (std::abs(a) <= kSector) *ahead = std::min(*ahead, r);
+    (a > 0.0 ? left : right) += std::min(r, 2.0);
+  }
+  *freer_side = left >= right ? 1.0 : -1.0;
 }
 
 }  // namespace
@@ -75,7 +100,7 @@ int main(int argc, char** argv) {
     const auto model = minibot3d_sim::ParseRobotModel(xml.str(), {});
     minibot3d_sim::WorldLoadOptions load;
 
-    // Free spots: a lone robot's body clear of the world.
+    // Free spots: a lone robot's body with room around it.
     std::vector<Pose2> spots;
     {
       minibot3d_sim::Simulator probe(model, minibot3d_sim::LoadWorld(world_path, load, nullptr),
@@ -92,7 +117,9 @@ int main(int argc, char** argv) {
       for (double y = y0 + spacing / 2; y < y1; y += spacing) {
         for (double x = x0 + spacing / 2; x < x1; x += spacing) {
           const Pose2 p{x, y, 0.0};
-          if (!probe.at(0).PoseCollides(p, &what)) spots.push_back(p);
+          if (probe.at(0).PoseCollides(p, &what)) continue;
+          probe.at(0).SetPose(p);
+          if (probe.at(0).Clearance() >= kSpotClearance) spots.push_back(p);
         }
       }
     }
@@ -133,23 +160,44 @@ int main(int argc, char** argv) {
     minibot3d_sim::Simulator sim(std::move(entries), std::move(world), options);
     std::vector<float> ranges;
     std::vector<double> backing_until(sim.robot_count(), -1.0);  // sim time the bumper ends
+    // Per robot, from its first laser's last scan: the nearest return ahead and which side is
+    // freer.
+    std::vector<double> ahead(sim.robot_count(), std::numeric_limits<double>::infinity());
+    std::vector<double> freer_side(sim.robot_count(), 1.0);
+    std::vector<double> turning(sim.robot_count(), 0.0);  // rad/s while turning in place, else 0
     long scans = 0, rays = 0;
+    long contact_steps = 0;  // robot-steps in contact
+    double driven = 0.0;     // metres the robots' centres moved, all together
+    std::vector<Pose2> last(sim.robot_count());
+    for (size_t r = 0; r < sim.robot_count(); ++r) last[r] = sim.at(r).true_pose();
     const auto steps = static_cast<long>(seconds / sim.physics_step());
     const auto t0 = std::chrono::steady_clock::now();
     for (long i = 0; i < steps; ++i) {
       for (size_t r = 0; r < sim.robot_count(); ++r) {
         minibot3d_sim::SimRobot& robot = sim.at(r);
-        const double turn = r % 2 ? -0.6 : 0.6;
-        if (robot.in_contact()) backing_until[r] = sim.time() + 1.0;
+        if (robot.in_contact()) {
+          backing_until[r] = sim.time() + 0.5;
+          ++contact_steps;
+        }
+        const Pose2 now = robot.true_pose();
+        driven += std::hypot(now.x - last[r].x, now.y - last[r].y);
+        last[r] = now;
         if (i % 50 == 0) {  // a 20 Hz controller
-          if (sim.time() < backing_until[r]) robot.Command({-0.1, 0.0, -2.0 * turn});
-          else robot.Command({0.2, 0.0, turn});
+          const double arc = r % 2 ? -0.6 : 0.6;
+          // A turn keeps its direction until the way ahead is clear.
+          if (ahead[r] >= kAhead) turning[r] = 0.0;
+          else if (turning[r] == 0.0) turning[r] = freer_side[r];
+          if (sim.time() < backing_until[r]) robot.Command({-0.1, 0.0, 0.0});
+          else if (turning[r] != 0.0) robot.Command({0.0, 0.0, turning[r]});
+          else robot.Command({0.2, 0.0, arc});
         }
         for (size_t l = 0; l < robot.laser_count(); ++l) {
           if (!robot.ScanDue(l)) continue;
           robot.TakeScan(l, &ranges);
           ++scans;
           rays += static_cast<long>(ranges.size());
+          if (l == 0) Look(robot.lidar(0).spec(), robot.lidar(0).angle_increment(), ranges,
+                           &ahead[r], &freer_side[r]);
         }
       }
       sim.Step();
@@ -159,10 +207,12 @@ int main(int argc, char** argv) {
     std::uint64_t collisions = 0;
     for (size_t r = 0; r < sim.robot_count(); ++r) collisions += sim.at(r).collision_count();
     std::printf("robots=%d actors=%d physics=%s sim_seconds=%.1f wall_seconds=%.3f real_time_factor=%.1f "
-                "wall_ms_per_robot_per_sim_second=%.3f scans=%ld rays=%ld collisions=%llu\n",
+                "wall_ms_per_robot_per_sim_second=%.3f scans=%ld rays=%ld collisions=%llu "
+                "mean_speed=%.3f in_contact=%.1f%%\n",
                 robots, actors, options.physics.c_str(), sim.time(), wall, sim.time() / wall,
                 1e3 * wall / (robots * sim.time()), scans, rays,
-                static_cast<unsigned long long>(collisions));
+                static_cast<unsigned long long>(collisions), driven / (robots * sim.time()),
+                100.0 * contact_steps / (static_cast<double>(robots) * steps));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fleet_bench: %s\n", e.what());
     return 1;

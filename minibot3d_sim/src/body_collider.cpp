@@ -136,13 +136,45 @@ BodyCollider::BodyCollider(const RobotModel& robot, const World& world, SliceCac
       area2 += Cross(part.outline[i], part.outline[(i + 1) % part.outline.size()]);
     }
     if (area2 < 0.0) std::reverse(part.outline.begin(), part.outline.end());
+    const std::size_t n = part.outline.size();
+    if (n >= 3 && area2 != 0.0) {
+      // Outward unit normal of edge i (from vertex i to i + 1) of a counter-clockwise outline.
+      std::vector<Eigen::Vector2d> normals(n);
+      bool degenerate = false;
+      for (std::size_t i = 0; i < n; ++i) {
+        const Eigen::Vector2d e = part.outline[(i + 1) % n] - part.outline[i];
+        degenerate |= e.squaredNorm() < 1e-18;
+        normals[i] = Eigen::Vector2d(e.y(), -e.x()).normalized();
+      }
+      for (std::size_t i = 0; i < n && !degenerate; ++i) {
+        const Eigen::Vector2d& a = normals[(i + n - 1) % n];
+        const Eigen::Vector2d& b = normals[i];
+        // The corner point at unit distance from both edges' lines: (a + b) / (1 + a·b).
+        const double c = 1.0 + a.dot(b);
+        if (c < 1e-6) {
+          degenerate = true;  // a needle-thin corner: no useful bound
+          break;
+        }
+        part.miter.push_back((a + b) / c);
+      }
+      if (degenerate) part.miter.clear();
+    }
     for (const auto& v : part.outline) radius_ = std::max(radius_, v.norm());
+    if (!part.outline.empty()) {
+      Eigen::Vector2d lo = part.outline.front(), hi = lo;
+      for (const auto& v : part.outline) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+      part.center = 0.5 * (lo + hi);
+      for (const auto& v : part.outline) part.radius = std::max(part.radius, (v - part.center).norm());
+    }
     for (long mm : PartHeights(body.z_min, body.z_max, world)) {  // NOLINT(runtime/int)
       const WorldSlice* slice = cache->At(mm / 1000.0);
-      part.slices.push_back(slice);
-      if (std::find(all_slices_.begin(), all_slices_.end(), slice) == all_slices_.end()) {
-        all_slices_.push_back(slice);
+      // Heights in increasing order: the first of a geometry is its lowest.
+      const auto same = [slice](const WorldSlice* s) { return s->SameGeometry(*slice); };
+      if (std::none_of(part.slices.begin(), part.slices.end(), same)) {
+        part.slices.push_back(slice);
+        part.heights.push_back(slice->height());
       }
+      if (std::none_of(all_slices_.begin(), all_slices_.end(), same)) all_slices_.push_back(slice);
     }
     scratch_.reserve(std::max(scratch_.capacity(), part.outline.size()));
     parts_.push_back(std::move(part));
@@ -150,19 +182,21 @@ BodyCollider::BodyCollider(const RobotModel& robot, const World& world, SliceCac
 }
 
 bool BodyCollider::Collides(const Pose2& pose, Hit* hit) const {
+  const minibot3d_common::PoseTransform place(pose);
   for (std::size_t k = 0; k < parts_.size(); ++k) {
     const Part& part = parts_[k];
     scratch_.resize(part.outline.size());
     for (std::size_t i = 0; i < part.outline.size(); ++i) {
-      scratch_[i] = minibot3d_common::TransformPoint(pose, part.outline[i]);
+      scratch_[i] = place(part.outline[i]);
     }
-    for (const WorldSlice* slice : part.slices) {
+    for (std::size_t s = 0; s < part.slices.size(); ++s) {
+      const WorldSlice* slice = part.slices[s];
       int shape = -1;
       if (slice->PolygonCollides(scratch_, &shape)) {
         if (hit != nullptr) {
           hit->shape = shape;
           hit->part = static_cast<int>(k);
-          hit->height = slice->height();
+          hit->height = part.heights[s];
           hit->slice = slice;
         }
         return true;
@@ -170,6 +204,21 @@ bool BodyCollider::Collides(const Pose2& pose, Hit* hit) const {
     }
   }
   return false;
+}
+
+bool BodyCollider::Clear(const Pose2& pose, double margin) const {
+  const minibot3d_common::PoseTransform place(pose);
+  for (const Part& part : parts_) {
+    if (part.miter.size() != part.outline.size()) return false;
+    scratch_.resize(part.outline.size());
+    for (std::size_t i = 0; i < part.outline.size(); ++i) {
+      scratch_[i] = place(Eigen::Vector2d(part.outline[i] + margin * part.miter[i]));
+    }
+    for (const WorldSlice* slice : part.slices) {
+      if (slice->PolygonCollides(scratch_)) return false;
+    }
+  }
+  return true;
 }
 
 double BodyCollider::Distance(const Eigen::Vector2d& p) const {
@@ -183,27 +232,38 @@ bool BodyOverlap(const BodyCollider& a, const Pose2& pose_a, const BodyCollider&
   const double dx = pose_a.x - pose_b.x, dy = pose_a.y - pose_b.y;
   const double reach = a.radius() + b.radius();
   if (dx * dx + dy * dy > reach * reach) return false;
-  // The outlines in the world frame, as minibot3d_common::TransformPoint places them (one sine and
-  // cosine per pose rather than per vertex).
-  const double ca = std::cos(pose_a.yaw), sa = std::sin(pose_a.yaw);
-  const double cb = std::cos(pose_b.yaw), sb = std::sin(pose_b.yaw);
-  thread_local std::vector<Eigen::Vector2d> pa, pb;  // reused: no allocation per pair
+  const minibot3d_common::PoseTransform place_a(pose_a), place_b(pose_b);
+  // b's outlines in the world frame, placed on first use; reused: no allocation per pair.
+  thread_local std::vector<Eigen::Vector2d> pa;
+  thread_local std::vector<std::vector<Eigen::Vector2d>> pb;
+  thread_local std::vector<char> placed;
+  thread_local std::vector<Eigen::Vector2d> centres_b;
+  const auto& parts_b = b.parts();
+  if (pb.size() < parts_b.size()) pb.resize(parts_b.size());
+  placed.assign(parts_b.size(), 0);
+  centres_b.clear();
+  for (const BodyCollider::Part& y : parts_b) centres_b.push_back(place_b(y.center));
   double best = std::numeric_limits<double>::infinity();
   bool overlap = false;
   for (const BodyCollider::Part& x : a.parts()) {
+    const Eigen::Vector2d xc = place_a(x.center);
     pa.clear();
-    for (const auto& v : x.outline) {
-      pa.emplace_back(pose_a.x + ca * v.x() - sa * v.y(), pose_a.y + sa * v.x() + ca * v.y());
-    }
-    for (const BodyCollider::Part& y : b.parts()) {
+    for (std::size_t k = 0; k < parts_b.size(); ++k) {
+      const BodyCollider::Part& y = parts_b[k];
       if (x.z_max <= y.z_min || y.z_max <= x.z_min) continue;
-      pb.clear();
-      for (const auto& v : y.outline) {
-        pb.emplace_back(pose_b.x + cb * v.x() - sb * v.y(), pose_b.y + sb * v.x() + cb * v.y());
+      const double r = x.radius + y.radius;
+      if ((xc - centres_b[k]).squaredNorm() > r * r) continue;
+      if (pa.empty()) {
+        for (const auto& v : x.outline) pa.push_back(place_a(v));
+      }
+      if (!placed[k]) {
+        pb[k].clear();
+        for (const auto& v : y.outline) pb[k].push_back(place_b(v));
+        placed[k] = 1;
       }
       double depth = 0.0;
       Eigen::Vector2d axis = Eigen::Vector2d::UnitX();
-      if (!ConvexOverlap(pa, pb, &depth, &axis)) continue;
+      if (!ConvexOverlap(pa, pb[k], &depth, &axis)) continue;
       overlap = true;
       if (normal == nullptr) return true;
       if (depth < best) {
@@ -220,14 +280,12 @@ bool BodyTouchesDisc(const BodyCollider& body, const Pose2& pose, const Eigen::V
   const double dx = pose.x - center.x(), dy = pose.y - center.y();
   const double reach = body.radius() + radius;
   if (dx * dx + dy * dy > reach * reach) return false;
-  const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
+  const minibot3d_common::PoseTransform place(pose);
   thread_local std::vector<Eigen::Vector2d> outline;
   for (const BodyCollider::Part& part : body.parts()) {
     if (part.z_max <= z_min || z_max <= part.z_min || part.outline.empty()) continue;
     outline.clear();
-    for (const auto& v : part.outline) {
-      outline.emplace_back(pose.x + c * v.x() - s * v.y(), pose.y + s * v.x() + c * v.y());
-    }
+    for (const auto& v : part.outline) outline.push_back(place(v));
     const bool inside =
         outline.size() >= 3 && minibot3d_common::PointInPolygon(outline, center.x(), center.y());
     double nearest = std::numeric_limits<double>::infinity();

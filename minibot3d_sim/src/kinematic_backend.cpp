@@ -42,14 +42,32 @@ KinematicBackend::KinematicBackend(const RobotModel& robot, const World& world, 
 }
 
 void KinematicBackend::SetPose(const Pose2& pose) {
-  pose_ = pose;
-  pose_.yaw = NormalizeAngle(pose.yaw);
+  const Pose2 to{pose.x, pose.y, NormalizeAngle(pose.yaw)};
   twist_ = Twist2{};
   std::fill(wheel_velocities_.begin(), wheel_velocities_.end(), 0.0);
-  cache_valid_ = false;
   blocked_contact_valid_ = false;
+  blocked_end_valid_ = false;
+  if (step_start_.valid && minibot3d_common::SamePose(to, step_start_.pose)) {
+    // Back to where the last step began (another robot was in the way): what was known of the
+    // world around that pose still holds.
+    pose_ = to;
+    start_colliding_ = step_start_.colliding;
+    cache_ = step_start_.cache;
+    clearance_ = step_start_.clearance;
+    travelled_ = step_start_.travelled;
+    return;
+  }
+  pose_ = to;
+  cache_ = Cache::kNone;
+  step_start_.valid = false;
   int shape = -1;
   start_colliding_ = Collides(pose_, &shape);
+}
+
+void KinematicBackend::Fill(Cache kind, double clearance) {
+  cache_ = kind;
+  clearance_ = clearance;
+  travelled_ = 0.0;
 }
 
 void KinematicBackend::SetTargets(const DriveTargets& targets) { targets_ = targets; }
@@ -62,6 +80,7 @@ bool KinematicBackend::Collides(const Pose2& p, int* shape) {
 }
 
 void KinematicBackend::Step(double dt, std::vector<Contact>* contacts) {
+  step_start_ = StepStart{true, pose_, start_colliding_, cache_, clearance_, travelled_};
   const Twist2 nominal = targets_.body_twist;
   // A holonomic base's wheels (if any) are not driven.
   const std::vector<double>& wheels = targets_.wheel_speeds;
@@ -76,27 +95,43 @@ void KinematicBackend::Step(double dt, std::vector<Contact>* contacts) {
   }
   const Pose2 end = IntegrateTwist(pose_, nominal, dt);
   const double moved = std::hypot(end.x - pose_.x, end.y - pose_.y);
+  // No point of the body moves further than this in the step.
+  const double swept = moved + collider_.radius() * std::abs(NormalizeAngle(end.yaw - pose_.yaw));
+  const double used = cache_ == Cache::kCentre ? moved : swept;
 
   bool free = false;
   int shape = -1;
-  if (cache_valid_ && travelled_ + moved < clearance_) {
-    // Every part's vertex is within collider_.radius() of the root, which has moved at most
-    // travelled_ + moved since nothing was closer than clearance_ + that radius.
-    travelled_ += moved;
+  if (cache_ != Cache::kNone && travelled_ + used < clearance_) {
+    travelled_ += used;
     free = true;
+  } else if (blocked_end_valid_ && minibot3d_common::SamePose(end, blocked_end_)) {
+    // The very step refused last time (the robot has not moved and asks the same): refused again.
+    shape = blocked_contact_.shape;
   } else {
-    const double clearance = collider_.Distance(Eigen::Vector2d(end.x, end.y)) - collider_.radius();
+    // Near something (the body cache ran out before its margin reached its top) the centre's
+    // clearance is not worth computing: it would be used up by the parts' radius.
+    const bool near = cache_ == Cache::kNone || (cache_ == Cache::kBody && margin_ < kMaxMargin);
+    const double clearance =
+        near ? 0.0 : collider_.Distance(Eigen::Vector2d(end.x, end.y)) - collider_.radius();
     if (clearance > 0.0) {
-      cache_valid_ = true;
-      clearance_ = clearance;
-      travelled_ = 0.0;
+      // Every part's vertex is within collider_.radius() of the root, which may move clearance
+      // before a vertex can reach anything.
+      Fill(Cache::kCentre, clearance);
+      free = true;
+    } else if (collider_.Clear(end, margin_)) {
+      // Near something, yet nothing within margin_ of the body: every body point may move margin_.
+      Fill(Cache::kBody, margin_);
+      margin_ = std::min(2.0 * margin_, kMaxMargin);
       free = true;
     } else {
-      // Within reach of something: only the exact polygon test can tell; check every step.
-      cache_valid_ = false;
+      // Within margin_ of something: only the exact polygon test can tell; try a smaller margin
+      // next time.
+      cache_ = Cache::kNone;
+      margin_ = std::max(0.5 * margin_, kMinMargin);
       free = !Collides(end, &shape);
     }
   }
+  blocked_end_valid_ = false;
 
   if (free || start_colliding_) {
     // A robot placed inside an obstacle may drive (out): refusing every step would lock it there.
@@ -116,6 +151,8 @@ void KinematicBackend::Step(double dt, std::vector<Contact>* contacts) {
       blocked_contact_valid_ = true;
     }
     if (contacts != nullptr) contacts->push_back(blocked_contact_);
+    blocked_end_ = end;
+    blocked_end_valid_ = true;
   }
   for (size_t i = 0; i < wheel_positions_.size(); ++i) {
     wheel_positions_[i] += wheel_velocities_[i] * dt;
@@ -126,9 +163,8 @@ Contact KinematicBackend::MakeContact(int shape) const {
   const BodyCollider::Part& part = collider_.parts()[hit_.part];
   const WorldSlice& slice = *hit_.slice;
   std::vector<Eigen::Vector2d> poly(part.outline.size());
-  for (std::size_t i = 0; i < part.outline.size(); ++i) {
-    poly[i] = TransformPoint(pose_, part.outline[i]);
-  }
+  const minibot3d_common::PoseTransform place(pose_);
+  for (std::size_t i = 0; i < part.outline.size(); ++i) poly[i] = place(part.outline[i]);
 
   // Closest pair (world point, robot point) over the slice geometry of `shape`; a plain scan, as
   // this runs once per blocking event.

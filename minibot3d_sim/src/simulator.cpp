@@ -71,10 +71,6 @@ DepthCameraSpec CameraSpecOf(const CameraSpec& c) {
   return spec;
 }
 
-bool SamePose(const Pose2& a, const Pose2& b) {
-  return a.x == b.x && a.y == b.y && a.yaw == b.yaw;
-}
-
 constexpr int kActorSides = 32;
 
 }  // namespace
@@ -137,7 +133,7 @@ void SimRobot::Observe(double now, double dt) {
 }
 
 void SimRobot::OtherBodies(const Eigen::Vector2d& from, double height, double reach,
-                           std::vector<std::vector<Eigen::Vector2d>>* out) const {
+                           std::vector<BodyOutline>* out) const {
   out->clear();
   for (size_t j = 0; j < sim_->robot_count(); ++j) {
     if (j == index_) continue;
@@ -146,24 +142,16 @@ void SimRobot::OtherBodies(const Eigen::Vector2d& from, double height, double re
     if (std::hypot(p.x - from.x(), p.y - from.y()) - other.collider().radius() > reach) continue;
     for (const BodyCollider::Part& part : other.collider().parts()) {
       if (height < part.z_min || height > part.z_max) continue;
-      out->emplace_back();
-      for (const auto& v : part.outline) {
-        out->back().push_back(minibot3d_common::TransformPoint(p, v));
-      }
+      out->push_back(BodyOutline{&part.outline, p, minibot3d_common::TransformPoint(p, part.center),
+                                 part.radius});
     }
   }
   const double r = sim_->options_.actor_radius;
   if (height < 0.0 || height > sim_->options_.actor_height) return;
   for (const ActorState& a : sim_->actor_states_) {
     if (std::hypot(a.x - from.x(), a.y - from.y()) - r > reach) continue;
-    // A polygon circumscribing the circle would be seen up to 0.5 % of r too early; one inscribed
-    // too late: vertices at the radius that keeps the polygon's area the circle's.
-    const double rv = r * std::sqrt(2.0 * M_PI / (kActorSides * std::sin(2.0 * M_PI / kActorSides)));
-    out->emplace_back();
-    for (int k = 0; k < kActorSides; ++k) {
-      const double t = 2.0 * M_PI * k / kActorSides;
-      out->back().emplace_back(a.x + rv * std::cos(t), a.y + rv * std::sin(t));
-    }
+    out->push_back(BodyOutline{&sim_->actor_outline_, Pose2{a.x, a.y, 0.0},
+                               Eigen::Vector2d(a.x, a.y), sim_->actor_outline_radius_});
   }
 }
 
@@ -326,6 +314,18 @@ Simulator::Simulator(std::vector<RobotEntry> robots, World world, const Simulato
 }
 
 void Simulator::Build(std::vector<RobotEntry> robots, const BackendFactory& make_backend) {
+  {
+    // A polygon circumscribing the circle would be seen up to 0.5 % of r too early; one inscribed
+    // too late: vertices at the radius that keeps the polygon's area the circle's.
+    const double r = options_.actor_radius;
+    const double rv =
+        r * std::sqrt(2.0 * M_PI / (kActorSides * std::sin(2.0 * M_PI / kActorSides)));
+    for (int k = 0; k < kActorSides; ++k) {
+      const double t = 2.0 * M_PI * k / kActorSides;
+      actor_outline_.emplace_back(rv * std::cos(t), rv * std::sin(t));
+    }
+    actor_outline_radius_ = rv;
+  }
   bool cameras = false;
   for (const RobotEntry& e : robots) cameras |= !e.model.cameras.empty();
   if (cameras) ray_scene_ = std::make_unique<RayScene>(world_);
@@ -463,7 +463,7 @@ void Simulator::SeparateFromActors() {
                            options_.actor_height, &normal)) {
         continue;
       }
-      if (!SamePose(r->true_pose(), r->before_step_) &&
+      if (!minibot3d_common::SamePose(r->true_pose(), r->before_step_) &&
           !BodyTouchesDisc(r->collider(), r->before_step_, centre, options_.actor_radius, 0.0,
                            options_.actor_height)) {
         r->backend_->SetPose(r->before_step_);
@@ -521,16 +521,32 @@ void Simulator::Step() {
 
 void Simulator::SeparateRobots(double /*now*/) {
   const size_t n = robots_.size();
-  std::vector<char> reverted(n, 0);
-  std::vector<std::pair<size_t, size_t>> touching;
-  std::vector<Eigen::Vector2d> normals;
+  // Scratch kept between steps (no allocation per step).
+  Separation& w = separation_;
+  std::vector<char>& reverted = w.reverted;
+  std::vector<std::pair<size_t, size_t>>& touching = w.touching;
+  std::vector<Eigen::Vector2d>& normals = w.normals;
+  std::vector<std::pair<size_t, size_t>>& candidates = w.candidates;
+  std::vector<size_t>& order = w.order;
+  std::vector<double>& lo = w.lo;
+  std::vector<double>& hi = w.hi;
+  std::vector<char>& moved = w.moved;
+  std::vector<char>& moved_now = w.moved_now;
+  reverted.assign(n, 0);
+  touching.clear();
+  normals.clear();
+  order.resize(n);
+  lo.resize(n);
+  hi.resize(n);
   // Sweep and prune along x: only robots whose bounding circles overlap in x are tested, in the
   // order (a, b) with a < b so the outcome does not depend on where the robots stand.
-  std::vector<std::pair<size_t, size_t>> candidates;
-  std::vector<size_t> order(n);
-  std::vector<double> lo(n), hi(n);
+  // Robots put back during the last pass; a pair of which neither was has been settled with the
+  // poses it has now, and is not tested again.
+  moved.assign(n, 1);
+  moved_now.assign(n, 0);
   for (bool changed = true; changed;) {
     changed = false;
+    std::fill(moved_now.begin(), moved_now.end(), 0);
     for (size_t i = 0; i < n; ++i) order[i] = i;
     for (size_t i = 0; i < n; ++i) {
       const double x = robots_[i]->true_pose().x, r = robots_[i]->collider().radius();
@@ -548,6 +564,7 @@ void Simulator::SeparateRobots(double /*now*/) {
     std::sort(candidates.begin(), candidates.end());
     for (const auto& pair : candidates) {
       const size_t a = pair.first, b = pair.second;
+      if (!moved[a] && !moved[b]) continue;
       SimRobot& ra = *robots_[a];
       SimRobot& rb = *robots_[b];
       Eigen::Vector2d normal;
@@ -559,12 +576,14 @@ void Simulator::SeparateRobots(double /*now*/) {
         normals.push_back(normal);
       }
       for (SimRobot* r : {&ra, &rb}) {
-        if (reverted[r->index_] || SamePose(r->true_pose(), r->before_step_)) continue;
+        if (reverted[r->index_] || minibot3d_common::SamePose(r->true_pose(), r->before_step_)) continue;
         r->backend_->SetPose(r->before_step_);
         reverted[r->index_] = 1;
+        moved_now[r->index_] = 1;
         changed = true;
       }
     }
+    moved.swap(moved_now);
   }
   for (size_t k = 0; k < touching.size(); ++k) {
     SimRobot& ra = *robots_[touching[k].first];

@@ -679,4 +679,23 @@ double WorldSlice::Distance(const Eigen::Vector2d& p) const {
   return best;
 }
 
+bool WorldSlice::SameGeometry(const WorldSlice& other) const {
+  if (this == &other) return true;
+  if (cell_size_ != other.cell_size_) return false;  // a grid of its own visits items in its own order
+  if (segments_.size() != other.segments_.size() || circles_.size() != other.circles_.size()) {
+    return false;
+  }
+  for (std::size_t i = 0; i < segments_.size(); ++i) {
+    const Segment2& s = segments_[i];
+    const Segment2& o = other.segments_[i];
+    if (s.shape != o.shape || s.a != o.a || s.b != o.b) return false;
+  }
+  for (std::size_t i = 0; i < circles_.size(); ++i) {
+    const Circle2& c = circles_[i];
+    const Circle2& o = other.circles_[i];
+    if (c.shape != o.shape || c.center != o.center || c.radius != o.radius) return false;
+  }
+  return true;
+}
+
 }  // namespace minibot3d_sim

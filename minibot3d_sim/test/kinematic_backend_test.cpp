@@ -2,12 +2,15 @@
 #include "../src/kinematic_backend.h"
 
 #include <cmath>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "minibot3d_sim/body_collider.h"
+#include "minibot3d_sim/drive.h"
 #include "minibot3d_sim/physics_backend.h"
 #include "sim_test_fixtures.h"
 #include "minibot3d_sim/world_slice.h"
@@ -179,6 +182,78 @@ TEST(KinematicBackendTest, DistanceCacheSkipsChecksInOpenSpaceButNotNearWalls) {
   EXPECT_FALSE(contacts.empty());
   EXPECT_LE(b.pose().x + 0.12, 3.0);
   EXPECT_GT(b.pose().x + 0.12, 3.0 - 0.0015);
+}
+
+// A body grown by a margin is clear exactly when nothing is within the margin (up to the corners,
+// which grow a little more): the fixture's side is 2 cm from the wall.
+TEST(KinematicBackendTest, BodyColliderClearHonoursTheMargin) {
+  const World world = MakeWorld(1.0);
+  SliceCache cache(&world);
+  const BodyCollider body(MakeRobot(), world, &cache);
+  const Pose2 beside{1.0 - 0.135, 0.0, M_PI / 2};
+  ASSERT_FALSE(body.Collides(beside, nullptr));
+  EXPECT_TRUE(body.Clear(beside, 0.019));
+  EXPECT_FALSE(body.Clear(beside, 0.021));
+  // A margin never hides a contact: at the wall no margin is clear.
+  EXPECT_FALSE(body.Clear(Pose2{1.0 - 0.115, 0.0, M_PI / 2}, 1e-6));
+}
+
+// Beside a wall the body margin keeps most steps untested; pushing against the wall repeats the
+// refused step without testing it again.
+TEST(KinematicBackendTest, BodyMarginCacheBesideAWallAndRefusedStepsUntested) {
+  const World world = MakeWorld(1.0);
+  KinematicBackend b(MakeRobot(), world);
+  b.SetPose(Pose2{1.0 - 0.135, 0.0, M_PI / 2});  // side 2 cm from the wall, facing along it
+  std::vector<Contact> contacts;
+  long before = b.collision_checks();
+  Drive(&b, 0.3, 0.0, 0.001, 1000, &contacts);  // 0.3 m along the wall
+  EXPECT_TRUE(contacts.empty());
+  EXPECT_NEAR(b.pose().y, 0.3, 1e-9);
+  EXPECT_LT(b.collision_checks() - before, 50);
+  // Turn to face the wall (clear of it) and push into it.
+  b.SetPose(Pose2{0.5, 0.0, 0.0});
+  Drive(&b, 1.0, 0.0, 0.001, 600, &contacts);
+  ASSERT_FALSE(contacts.empty());
+  const Pose2 stopped = b.pose();
+  before = b.collision_checks();
+  contacts.clear();
+  Drive(&b, 1.0, 0.0, 0.001, 500, &contacts);
+  EXPECT_EQ(contacts.size(), 500u);  // every refused step reports its contact
+  EXPECT_EQ(b.collision_checks() - before, 0);
+  EXPECT_EQ(b.pose().x, stopped.x);
+}
+
+// Whatever the caches skip, the backend goes exactly where a robot tested at every step goes:
+// random arcs among posts and walls, blocked steps included.
+TEST(KinematicBackendTest, CachesAgreeWithTestingEveryStep) {
+  World world = testing::MakeRoom(1.5);
+  world.shapes.push_back(testing::Box("post_a", 0.4, 0.3, 0.2, 0.2));
+  world.shapes.push_back(testing::Box("post_b", -0.5, -0.6, 0.3, 0.1));
+  const RobotModel robot = MakeRobot();
+  KinematicBackend b(robot, world);
+  SliceCache cache(&world);
+  const BodyCollider reference(robot, world, &cache);
+  Pose2 expected{-0.8, 0.6, 0.3};
+  b.SetPose(expected);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> v(-0.3, 0.6), w(-1.5, 1.5);
+  long steps = 0, blocked = 0;
+  for (int leg = 0; leg < 100; ++leg) {
+    // Mostly arcs, every third leg straight on: into the walls head-on as well as glancing.
+    const DriveTargets targets = testing::SkidTargets(v(rng), leg % 3 == 0 ? 0.0 : w(rng));
+    b.SetTargets(targets);
+    for (int i = 0; i < 1000; ++i, ++steps) {
+      b.Step(0.001, nullptr);
+      const Pose2 end = IntegrateTwist(expected, targets.body_twist, 0.001);
+      if (reference.Collides(end, nullptr)) ++blocked;
+      else expected = end;
+      ASSERT_EQ(b.pose().x, expected.x) << "step " << steps;
+      ASSERT_EQ(b.pose().y, expected.y) << "step " << steps;
+      ASSERT_EQ(b.pose().yaw, expected.yaw) << "step " << steps;
+    }
+  }
+  EXPECT_GT(blocked, 100);                       // it met the walls and posts
+  EXPECT_LT(b.collision_checks(), steps / 4);    // and mostly skipped the polygon test
 }
 
 TEST(KinematicBackendTest, RobotPlacedInsideObstacleCanDriveOut) {

@@ -26,6 +26,11 @@ struct Pose2 {
   double yaw = 0.0;
 };
 
+// Whether two poses are exactly the same numbers (no tolerance: a step repeated, a pose unchanged).
+inline bool SamePose(const Pose2& a, const Pose2& b) {
+  return a.x == b.x && a.y == b.y && a.yaw == b.yaw;
+}
+
 // A planar twist in the body frame: forward, leftward (m/s) and yaw rate (rad/s).
 struct Twist2 {
   double vx = 0.0;
@@ -73,11 +78,25 @@ inline double Y(const Point2& p) { return p.y; }
 inline double X(const Eigen::Vector2d& p) { return p.x(); }
 inline double Y(const Eigen::Vector2d& p) { return p.y(); }
 
+// Points given in the frame of pose p, expressed in p's parent frame: the pose's sine and cosine
+// taken once for many points.
+class PoseTransform {
+ public:
+  explicit PoseTransform(const Pose2& p)
+      : x_(p.x), y_(p.y), c_(std::cos(p.yaw)), s_(std::sin(p.yaw)) {}
+  template <typename P>
+  P operator()(const P& q) const {
+    return P{x_ + c_ * X(q) - s_ * Y(q), y_ + s_ * X(q) + c_ * Y(q)};
+  }
+
+ private:
+  double x_, y_, c_, s_;
+};
+
 // A point given in the frame of pose p, expressed in p's parent frame.
 template <typename P>
 P TransformPoint(const Pose2& p, const P& q) {
-  const double c = std::cos(p.yaw), s = std::sin(p.yaw);
-  return P{p.x + c * X(q) - s * Y(q), p.y + s * X(q) + c * Y(q)};
+  return PoseTransform(p)(q);
 }
 
 // Distance from point p to the closed segment [a, b] (to a when the segment is a point).

@@ -6,7 +6,9 @@
 // tested against the world's horizontal cross-sections (WorldSlice) at the heights it spans: its
 // band's ends, every 5 cm between, and the heights where a world shape begins or ends within it,
 // so a table top above the robot or a low step under its body count where they are. Cross-
-// sections come from a SliceCache, so robots of one model (and lasers at one height) share them.
+// sections come from a SliceCache, so robots of one model (and lasers at one height) share them;
+// a part tests each distinct cross-section once (walls extruded from the floor cut the same lines
+// at every height), at the lowest of its heights that has it.
 #ifndef MINIBOT3D_SIM_BODY_COLLIDER_H_
 #define MINIBOT3D_SIM_BODY_COLLIDER_H_
 
@@ -49,6 +51,10 @@ class BodyCollider {
   };
   // Whether a part overlaps the world with the robot's root at `pose`; *hit says where.
   bool Collides(const Pose2& pose, Hit* hit) const;
+  // Whether every part, grown by `margin` (> 0) all round, is clear of the world with the robot's
+  // root at `pose`: then nothing is within `margin` of the body. Conservative: a part is grown by
+  // moving its edges out (corners grow a little more than `margin`).
+  bool Clear(const Pose2& pose, double margin) const;
   // Distance from p to the nearest geometry in any of the cross-sections.
   double Distance(const Eigen::Vector2d& p) const;
   // Largest distance of a part's vertex from the root frame's origin.
@@ -57,7 +63,15 @@ class BodyCollider {
   struct Part {
     std::vector<Eigen::Vector2d> outline;  // root frame, counter-clockwise
     double z_min = 0.0, z_max = 0.0;
+    // Per vertex, the direction and rate at which it moves when each edge is moved out by a unit
+    // distance (the miter); empty for an outline of fewer than three vertices.
+    std::vector<Eigen::Vector2d> miter;
+    // The outline's bounding circle (root frame).
+    Eigen::Vector2d center = Eigen::Vector2d::Zero();
+    double radius = 0.0;
+    // Distinct cross-sections the part meets, each with the lowest of its heights that cuts it.
     std::vector<const WorldSlice*> slices;
+    std::vector<double> heights;
   };
   const std::vector<Part>& parts() const { return parts_; }
 

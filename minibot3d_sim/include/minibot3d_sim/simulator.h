@@ -187,10 +187,10 @@ class SimRobot {
   void Advance(double t, double dt);
   // After the step (and the robots' contacts): the drive's odometry, the collision events.
   void Observe(double t, double dt);
-  // The bodies of the other robots and the actors at `height` within `reach` of `from`, as world
-  // polygons (an actor's cylinder as a 32-gon, within 0.5 % of its radius).
+  // The bodies of the other robots and the actors at `height` within `reach` of `from` (an
+  // actor's cylinder as a 32-gon, within 0.5 % of its radius).
   void OtherBodies(const Eigen::Vector2d& from, double height, double reach,
-                   std::vector<std::vector<Eigen::Vector2d>>* out) const;
+                   std::vector<BodyOutline>* out) const;
 
   Simulator* sim_;
   size_t index_;
@@ -202,7 +202,7 @@ class SimRobot {
   std::unique_ptr<BodyCollider> collider_;
   std::vector<std::unique_ptr<Lidar>> lidars_;
   std::vector<SensorClock> scan_clocks_;
-  std::vector<std::vector<Eigen::Vector2d>> bodies_scratch_;
+  std::vector<BodyOutline> bodies_scratch_;
   std::vector<Imu> imus_;
   std::vector<SensorClock> imu_clocks_;
   int body_ = -1;       // this robot's shapes in the simulator's ray scene, as others see them
@@ -319,10 +319,20 @@ class Simulator {
   std::vector<std::unique_ptr<SimRobot>> robots_;
   std::vector<ActorState> actor_states_;
   std::vector<int> actor_bodies_;  // each actor's cylinder in the ray scene
+  std::vector<Eigen::Vector2d> actor_outline_;  // an actor's cylinder as lasers see it
+  double actor_outline_radius_ = 0.0;
   std::unique_ptr<SocialForceCrowd> crowd_;  // the social-force actors, if any
   std::vector<size_t> crowd_actor_;         // crowd agent k is World::actors[crowd_actor_[k]]
   std::uint64_t crowd_every_ = 1;           // physics steps per crowd step
   std::uint64_t steps_ = 0;
+  struct Separation {  // SeparateRobots' working lists
+    std::vector<char> reverted, moved, moved_now;
+    std::vector<std::pair<size_t, size_t>> touching, candidates;
+    std::vector<Eigen::Vector2d> normals;
+    std::vector<size_t> order;
+    std::vector<double> lo, hi;
+  };
+  Separation separation_;
 };
 
 }  // namespace minibot3d_sim

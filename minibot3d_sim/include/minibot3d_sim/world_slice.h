@@ -63,6 +63,10 @@ class WorldSlice {
   // Distance from p to the nearest geometry (inf when the slice is empty).
   double Distance(const Eigen::Vector2d& p) const;
 
+  // Whether `other` holds exactly the same segments and circles (same shapes, same order) on the
+  // same grid: every query answers the same on both.
+  bool SameGeometry(const WorldSlice& other) const;
+
  private:
   // Builds the acceleration grid over segments_ and circles_.
   void BuildGrid();
