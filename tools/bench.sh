@@ -139,6 +139,18 @@ for scenario in corridor corridor3; do
   done
 done
 
+echo "== a fleet file's robots of three models (config/fleets/mixed.yaml: minibot3d, diffbot,"
+echo "   quadbot, tools/fleet.py) crossing the default world at once, each with amcl and move_base,"
+echo "   lock-step at full speed (fleet_goals.test), 3 runs"
+/usr/bin/python3 tools/fleet.py config/fleets/mixed.yaml --out build/bench/mixed_fleet.launch
+for run in 1 2 3; do
+  t0=$SECONDS
+  rostest --text minibot3d_navigation fleet_goals.test \
+    fleet_launch:="$PWD/build/bench/mixed_fleet.launch" names:="scout rover carrier" 2>&1 \
+    | grep -E "^fleet_swap:" | sed "s/^/  mixed run $run: /" || true
+  echo "  mixed run $run: $((SECONDS - t0)) s wall, start-up and shut-down included"
+done
+
 echo "== make demo on the shipped worlds (explore with SLAM until no frontier is left, save the map,"
 echo "   localize globally on it, visit the goals; lock-step at full speed): the summary of each"
 for spec in "default||" "arena|minibot3d_sim/worlds/arena.world|" \

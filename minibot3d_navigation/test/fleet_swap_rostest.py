@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """rostest: several robots, each with its own amcl and move_base, swap places (fleet_swap.test:
-launch/fleet.launch in the default world, lock-step time at full speed). All goals of the
-scenario (~scenario in ~goals_file: per robot [x, y, yaw, limit], limit in s of sim time, about
-three times what a passing run takes) are sent at once; each robot must reach its goal, truly
+launch/fleet.launch in the default world, lock-step time at full speed) or cross the world
+(fleet_goals.test: a fleet file's robots, of several models). All goals of the scenario
+(~scenario in ~goals_file: per robot, in the order of ~names (default robot1 .. robotN),
+[x, y, yaw, limit], limit in s of sim time, about three times what a passing run takes) are sent
+at once; each robot must reach its goal, truly
 within 0.3 m and 0.3 rad, within its limit. Reported per robot: reached, time, collisions with
 walls and with robots (from its /NAME/minibot3d_sim/collisions, whose object names the other
 robot as "robot NAME"), and the smallest distance between two robots' true positions over the run.
@@ -92,9 +94,13 @@ class FleetSwap(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node('fleet_swap')
         n = int(rospy.get_param('~robots'))
+        names = rospy.get_param('~names', 'none')
+        names = (['robot%d' % (k + 1) for k in range(n)] if names == 'none' else names.split())
+        if len(names) != n:
+            raise ValueError('~names %s: %d names for %d robots' % (' '.join(names), len(names), n))
         goals = load_goals(rospy.get_param('~goals_file'), rospy.get_param('~scenario'), n)
         cls.lock = threading.Lock()
-        cls.robots = [Robot('robot%d' % (k + 1), goals[k], cls) for k in range(n)]
+        cls.robots = [Robot(names[k], goals[k], cls) for k in range(n)]
         wake = ['/%s/move_base/result' % r.name for r in cls.robots] + \
             ['/%s/amcl_pose' % r.name for r in cls.robots]
         cls.lockstep = Participant(wake_topics=wake)

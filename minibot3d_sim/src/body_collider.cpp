@@ -164,7 +164,9 @@ BodyCollider::BodyCollider(const RobotModel& robot, const World& world, SliceCac
       Eigen::Vector2d lo = part.outline.front(), hi = lo;
       for (const auto& v : part.outline) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
       part.center = 0.5 * (lo + hi);
-      for (const auto& v : part.outline) part.radius = std::max(part.radius, (v - part.center).norm());
+      for (const auto& v : part.outline) {
+        part.radius = std::max(part.radius, (v - part.center).norm());
+      }
     }
     for (long mm : PartHeights(body.z_min, body.z_max, world)) {  // NOLINT(runtime/int)
       const WorldSlice* slice = cache->At(mm / 1000.0);
