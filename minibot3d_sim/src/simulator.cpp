@@ -567,16 +567,38 @@ void Simulator::SeparateRobots(double /*now*/) {
       if (!moved[a] && !moved[b]) continue;
       SimRobot& ra = *robots_[a];
       SimRobot& rb = *robots_[b];
-      Eigen::Vector2d normal;
-      if (!BodyOverlap(ra.collider(), ra.true_pose(), rb.collider(), rb.true_pose(), &normal)) {
-        continue;
+      const Pose2 pa = ra.true_pose(), pb = rb.true_pose();
+      const double reach = ra.collider().radius() + rb.collider().radius();
+      if ((pa.x - pb.x) * (pa.x - pb.x) + (pa.y - pb.y) * (pa.y - pb.y) > reach * reach) continue;
+      Eigen::Vector2d normal = Eigen::Vector2d::UnitX();
+      // The same two poses as a test of the last step (a robot held against another asks for
+      // the same step again): the same answer.
+      const auto from = std::lower_bound(
+          w.last.begin(), w.last.end(), std::make_pair(a, b),
+          [](const Separation::Tested& t, const std::pair<size_t, size_t>& k) {
+            return std::make_pair(t.a, t.b) < k;
+          });
+      int known = -1;
+      for (auto it = from; it != w.last.end() && it->a == a && it->b == b; ++it) {
+        if (minibot3d_common::SamePose(it->pa, pa) && minibot3d_common::SamePose(it->pb, pb)) {
+          known = it->overlap ? 1 : 0;
+          normal = it->normal;
+          break;
+        }
       }
+      const bool overlap = known >= 0
+                               ? known == 1
+                               : BodyOverlap(ra.collider(), pa, rb.collider(), pb, &normal);
+      w.tested.push_back(Separation::Tested{a, b, pa, pb, overlap, normal});
+      if (!overlap) continue;
       if (std::find(touching.begin(), touching.end(), std::make_pair(a, b)) == touching.end()) {
         touching.emplace_back(a, b);
         normals.push_back(normal);
       }
       for (SimRobot* r : {&ra, &rb}) {
-        if (reverted[r->index_] || minibot3d_common::SamePose(r->true_pose(), r->before_step_)) continue;
+        if (reverted[r->index_] || minibot3d_common::SamePose(r->true_pose(), r->before_step_)) {
+          continue;
+        }
         r->backend_->SetPose(r->before_step_);
         reverted[r->index_] = 1;
         moved_now[r->index_] = 1;
@@ -585,6 +607,13 @@ void Simulator::SeparateRobots(double /*now*/) {
     }
     moved.swap(moved_now);
   }
+  // By pair (the order among one pair's tests does not matter: each holds for its poses).
+  std::sort(w.tested.begin(), w.tested.end(),
+            [](const Separation::Tested& x, const Separation::Tested& y) {
+              return std::make_pair(x.a, x.b) < std::make_pair(y.a, y.b);
+            });
+  w.last.swap(w.tested);
+  w.tested.clear();
   for (size_t k = 0; k < touching.size(); ++k) {
     SimRobot& ra = *robots_[touching[k].first];
     SimRobot& rb = *robots_[touching[k].second];

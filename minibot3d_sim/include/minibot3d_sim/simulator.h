@@ -331,6 +331,13 @@ class Simulator {
     std::vector<Eigen::Vector2d> normals;
     std::vector<size_t> order;
     std::vector<double> lo, hi;
+    struct Tested {  // a pair's overlap test: robots a < b at poses pa, pb
+      size_t a, b;
+      Pose2 pa, pb;
+      bool overlap;
+      Eigen::Vector2d normal;
+    };
+    std::vector<Tested> tested, last;  // this step's tests; the last step's, by (a, b)
   };
   Separation separation_;
 };
