@@ -46,8 +46,10 @@ for n in 1 10 50; do
   "$bin/fleet_bench" "$urdf" "$world" --robots "$n" --seconds 120
 done
 echo "== people in the simulator core: one minibot as above among 20 pedestrians of the social force"
-echo "   model walking to and fro across the default world"
+echo "   model, each walking to and fro along its own straight walk, in the default world (a small"
+echo "   apartment, where so many jam) and in the office world"
 "$bin/fleet_bench" "$urdf" "$world" --robots 1 --actors 20 --seconds 120
+"$bin/fleet_bench" "$urdf" minibot3d_sim/worlds/office.world --robots 1 --actors 20 --seconds 120
 
 echo "== physics step cost (Google Benchmark, ~40 static shapes)"
 "$bin/physics_bench" --benchmark_min_time=0.2 2>/dev/null | grep -E "^(BM_|Benchmark|-)" || true

@@ -11,9 +11,11 @@
 // at +-0.6 rad/s, alternating between robots) while nothing is within 0.35 m ahead (+-60 degrees),
 // else a turn in place towards the side that was freer when it began; after a contact it backs off straight for 0.5 s.
 // In a small world the robots still meet walls and each other often, as a crowd would; the mean
-// speed and the share of time in contact are printed, so a fleet that jams shows. --actors adds
+// speed and the share of time in contact are printed (and the actors' mean speed), so a fleet
+// or a crowd that jams shows. --actors adds
 // M pedestrians of the social force model on other free spots, each walking to and fro between
-// its spot and the spot half the list away.
+// its spot and the furthest free spot it can reach in a straight line that no other pedestrian
+// starts at or walks to.
 #include <algorithm>
 #include <cmath>
 #include <chrono>
@@ -41,6 +43,9 @@ int Usage() {
 
 // A spot keeps this much room around a robot's body (m): none starts boxed in under a table.
 constexpr double kSpotClearance = 0.1;
+
+// A pedestrian's straight walk is at least this long (m).
+constexpr double kMinWalk = 1.5;
 
 // The wander controller turns in place when something is nearer than this ahead (m).
 constexpr double kAhead = 0.35;
@@ -102,11 +107,11 @@ int main(int argc, char** argv) {
 
     // Free spots: a lone robot's body with room around it.
     std::vector<Pose2> spots;
+    double x0 = std::numeric_limits<double>::max(), y0 = x0, x1 = -x0, y1 = -x0;  // world bounds
     {
       minibot3d_sim::Simulator probe(model, minibot3d_sim::LoadWorld(world_path, load, nullptr),
                                      options);
       const minibot3d_sim::WorldSlice slice(probe.world(), 0.1);
-      double x0 = std::numeric_limits<double>::max(), y0 = x0, x1 = -x0, y1 = -x0;
       for (const auto& s : slice.segments()) {
         for (const auto& p : {s.a, s.b}) {
           x0 = std::min(x0, p.x()), x1 = std::max(x1, p.x());
@@ -128,16 +133,13 @@ int main(int argc, char** argv) {
                    "actors asked\n", spots.size(), spacing, world_path.c_str(), robots, actors);
       return 1;
     }
-    // Robots on every other spot picked, actors between them.
-    std::vector<Pose2> robot_spots, actor_spots;
-    const int n = robots + actors;
-    for (int k = 0; k < n; ++k) {
-      const Pose2& p = spots[static_cast<size_t>(k) * spots.size() / n];
-      (static_cast<int>(robot_spots.size()) < robots &&
-               (k % 2 == 0 || static_cast<int>(actor_spots.size()) >= actors)
-           ? robot_spots
-           : actor_spots)
-          .push_back(p);
+    // Robots on spots picked evenly from the list.
+    std::vector<Pose2> robot_spots;
+    std::vector<char> taken(spots.size(), 0);
+    for (int k = 0; k < robots; ++k) {
+      const size_t i = static_cast<size_t>(k) * spots.size() / robots;
+      robot_spots.push_back(spots[i]);
+      taken[i] = 1;
     }
     std::vector<minibot3d_sim::RobotEntry> entries;
     for (int k = 0; k < robots; ++k) {
@@ -148,14 +150,80 @@ int main(int argc, char** argv) {
       entries.push_back(std::move(e));
     }
     minibot3d_sim::World world = minibot3d_sim::LoadWorld(world_path, load, nullptr);
-    for (int k = 0; k < actors; ++k) {
-      minibot3d_sim::Actor a;
-      a.name = "person" + std::to_string(k + 1);
-      a.x = actor_spots[k].x, a.y = actor_spots[k].y;
-      a.social_force = true;
-      const Pose2& far = actor_spots[(k + actors / 2) % actors];
-      a.social.goals = {Eigen::Vector2d(far.x, far.y), Eigen::Vector2d(a.x, a.y)};
-      world.actors.push_back(a);
+    if (actors > 0) {
+      // Each pedestrian walks to and fro between two free spots joined by a straight walk (the
+      // social force model steers round people, not round rooms): the segment (sampled every
+      // 0.1 m) keeps a person's radius and 5 cm off the world at knee height.
+      const minibot3d_sim::WorldSlice knee(world, 0.3);
+      const double room = minibot3d_sim::SimulatorOptions().actor_radius + 0.05;
+      const auto walkable = [&](const Pose2& a, const Pose2& b) {
+        const double len = std::hypot(b.x - a.x, b.y - a.y);
+        const int steps = static_cast<int>(std::ceil(len / 0.1));
+        for (int i = 0; i <= steps; ++i) {
+          const double t = steps > 0 ? static_cast<double>(i) / steps : 0.0;
+          const Eigen::Vector2d p(a.x + t * (b.x - a.x), a.y + t * (b.y - a.y));
+          if (knee.Distance(p) < room) return false;
+        }
+        return true;
+      };
+      // Pedestrians' spots: a grid twice as fine as the robots', a person's radius and 5 cm off
+      // the world and 0.5 m from every robot.
+      std::vector<Pose2> people;
+      for (double y = y0 + spacing / 4; y < y1; y += spacing / 2) {
+        for (double x = x0 + spacing / 4; x < x1; x += spacing / 2) {
+          bool clear = knee.Distance(Eigen::Vector2d(x, y)) >= room;
+          for (const Pose2& r : robot_spots) clear &= std::hypot(r.x - x, r.y - y) >= 0.5;
+          if (clear) people.push_back(Pose2{x, y, 0.0});
+        }
+      }
+      std::vector<char> used(people.size(), 0);
+      // Starts: spread evenly over the spots, each the first unused spot from its share on with
+      // a straight walk of at least kMinWalk; then, in turn, each pedestrian's far end: the
+      // furthest spot it can walk to that no other pedestrian starts at or walks to (a crowd all
+      // heading for one spot would only jam there).
+      const auto has_walk = [&](size_t i) {
+        for (const Pose2& p : people) {
+          if (std::hypot(p.x - people[i].x, p.y - people[i].y) >= kMinWalk &&
+              walkable(people[i], p)) {
+            return true;
+          }
+        }
+        return false;
+      };
+      std::vector<size_t> picked;
+      for (int k = 0; k < actors; ++k) {
+        size_t i = static_cast<size_t>(k) * people.size() / actors;
+        while (i < people.size() && (used[i] || !has_walk(i))) ++i;
+        if (i == people.size()) {
+          std::fprintf(stderr, "fleet_bench: no free spot with a straight walk of %.1f m left in "
+                       "%s for person%d of %d\n", kMinWalk, world_path.c_str(), k + 1, actors);
+          return 1;
+        }
+        picked.push_back(i);
+        used[i] = 1;
+      }
+      for (int k = 0; k < actors; ++k) {
+        const Pose2& from = people[picked[k]];
+        size_t far = people.size();
+        double best = 0.0;
+        for (size_t i = 0; i < people.size(); ++i) {
+          const double d = std::hypot(people[i].x - from.x, people[i].y - from.y);
+          if (!used[i] && d > best && walkable(from, people[i])) best = d, far = i;
+        }
+        if (far == people.size()) {
+          std::fprintf(stderr, "fleet_bench: person%d at (%.2f, %.2f) has no free spot to walk "
+                       "to\n", k + 1, from.x, from.y);
+          return 1;
+        }
+        used[far] = 1;
+        minibot3d_sim::Actor a;
+        a.name = "person" + std::to_string(k + 1);
+        a.x = from.x, a.y = from.y;
+        a.social_force = true;
+        a.social.goals = {Eigen::Vector2d(people[far].x, people[far].y),
+                          Eigen::Vector2d(a.x, a.y)};
+        world.actors.push_back(a);
+      }
     }
     minibot3d_sim::Simulator sim(std::move(entries), std::move(world), options);
     std::vector<float> ranges;
@@ -168,6 +236,11 @@ int main(int argc, char** argv) {
     long scans = 0, rays = 0;
     long contact_steps = 0;  // robot-steps in contact
     double driven = 0.0;     // metres the robots' centres moved, all together
+    double walked = 0.0;     // metres the actors moved, all together
+    std::vector<Eigen::Vector2d> actor_last;
+    for (size_t k = 0; k < sim.actor_count(); ++k) {
+      actor_last.emplace_back(sim.actor_state(k).x, sim.actor_state(k).y);
+    }
     std::vector<Pose2> last(sim.robot_count());
     for (size_t r = 0; r < sim.robot_count(); ++r) last[r] = sim.at(r).true_pose();
     const auto steps = static_cast<long>(seconds / sim.physics_step());
@@ -201,6 +274,13 @@ int main(int argc, char** argv) {
         }
       }
       sim.Step();
+      if (i % 100 == 99) {  // the actors' progress every 0.1 s
+        for (size_t k = 0; k < sim.actor_count(); ++k) {
+          const Eigen::Vector2d at(sim.actor_state(k).x, sim.actor_state(k).y);
+          walked += (at - actor_last[k]).norm();
+          actor_last[k] = at;
+        }
+      }
     }
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -208,11 +288,12 @@ int main(int argc, char** argv) {
     for (size_t r = 0; r < sim.robot_count(); ++r) collisions += sim.at(r).collision_count();
     std::printf("robots=%d actors=%d physics=%s sim_seconds=%.1f wall_seconds=%.3f real_time_factor=%.1f "
                 "wall_ms_per_robot_per_sim_second=%.3f scans=%ld rays=%ld collisions=%llu "
-                "mean_speed=%.3f in_contact=%.1f%%\n",
+                "mean_speed=%.3f in_contact=%.1f%% actor_mean_speed=%.3f\n",
                 robots, actors, options.physics.c_str(), sim.time(), wall, sim.time() / wall,
                 1e3 * wall / (robots * sim.time()), scans, rays,
                 static_cast<unsigned long long>(collisions), driven / (robots * sim.time()),
-                100.0 * contact_steps / (static_cast<double>(robots) * steps));
+                100.0 * contact_steps / (static_cast<double>(robots) * steps),
+                actors > 0 ? walked / (actors * sim.time()) : 0.0);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fleet_bench: %s\n", e.what());
     return 1;
