@@ -168,6 +168,12 @@ for spec in "default||" "arena|minibot3d_sim/worlds/arena.world|" \
   sed -n '/== make demo summary/,$p' "build/bench/demo_$name.txt" | grep -v "^== make demo summary"
 done
 
+echo "== lock-step determinism over 300 s of sim time: an exploration (SLAM, move_base, explore) at"
+echo "   real_time_factor 1 against one at 0, and two at 0, one beside two busy processes; digests"
+echo "   compared tick for tick (test_lockstep_loop.py at full length)"
+MINIBOT3D_EXPLORE_SIM_S=300 MINIBOT3D_PACED_SIM_S=300 /usr/bin/python3 -m pytest -q \
+  -p no:cacheprovider minibot3d_lockstep/test/test_lockstep_loop.py -k exploration 2>&1 | tail -1
+
 echo "== lock-step determinism: the office demo again beside two busy processes; its lock-step"
 echo "   digest compared tick for tick with the run above (tools/lockstep_digest.py), and its summary"
 rm -rf build/bench/demo_office_busy

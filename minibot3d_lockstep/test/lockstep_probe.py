@@ -16,8 +16,10 @@
   lockstep_probe.py run_for SIM_S        joins, lets SIM_S of sim time pass, prints "ran T" and
                                          leaves (holds sim time for a stack's participants, then
                                          lets go)
-  lockstep_probe.py route OUT.json       two move_base goals across the default world; writes the
-                                         goal results, times and the whole true trajectory
+  lockstep_probe.py route OUT.json [FRAME X,Y,YAW ...]
+                                         move_base goals one after the other (by default two
+                                         across the default world, in map); writes the goal
+                                         results, times and the whole true trajectory
 Prints "holding" (flushed) when it starts working, so a test can kill it then."""
 import json
 import math
@@ -93,7 +95,10 @@ def run_for(seconds):
     lockstep.close()
 
 
-def route(out):
+DEFAULT_ROUTE = ('map', [(-2.1, 0.6, 1.57), (-0.3, 2.0, 0.0)])
+
+
+def route(out, frame=DEFAULT_ROUTE[0], poses=DEFAULT_ROUTE[1]):
     path = []
     rospy.Subscriber('/ground_truth/odom', Odometry, lambda m: path.append(
         (m.header.stamp.to_sec(), m.pose.pose.position.x, m.pose.pose.position.y)),
@@ -104,9 +109,9 @@ def route(out):
         print('no move_base', flush=True)
         return 1
     goals = []
-    for x, y, yaw in ((-2.1, 0.6, 1.57), (-0.3, 2.0, 0.0)):
+    for x, y, yaw in poses:
         g = MoveBaseGoal()
-        g.target_pose.header.frame_id = 'map'
+        g.target_pose.header.frame_id = frame
         g.target_pose.pose.position.x, g.target_pose.pose.position.y = x, y
         g.target_pose.pose.orientation.z = math.sin(yaw / 2.0)
         g.target_pose.pose.orientation.w = math.cos(yaw / 2.0)
@@ -140,6 +145,9 @@ def main():
     if mode == 'run_for':
         run_for(float(sys.argv[2]))
         return 0
+    if len(sys.argv) > 3:
+        return route(sys.argv[2], sys.argv[3],
+                     [tuple(float(v) for v in p.split(',')) for p in sys.argv[4:]])
     return route(sys.argv[2])
 
 

@@ -12,7 +12,9 @@
   times twice at real_time_factor 0 (the second time beside two busy processes), and again at
   real_time_factor 1, and the lock-step digests of the runs (every message each participant
   received, tick by tick) agree;
-- so do the digests of two explorations (SLAM + move_base + explore), one beside busy processes.
+- so do the digests of two explorations (SLAM + move_base + explore), one beside busy processes,
+  and of one at real_time_factor 0 against one paced at 1, and of two mapless runs through
+  clutter (move_base alone, odometry error), one beside busy processes.
 Every wait is on a condition (a line of output, a file, a process exit) with a time limit."""
 import json
 import os
@@ -24,6 +26,7 @@ import time
 
 import minibot3d_testing as testing
 import pytest
+import rospkg
 from minibot3d_lockstep import digest
 
 DIGEST_ENV = digest.DIGEST_ENV
@@ -250,16 +253,19 @@ class Busy(object):
             p.wait()
 
 
-def closed_loop(tmp_path, rtf, busy=0):
+def closed_loop(tmp_path, rtf, busy=0, launch=('minibot3d_navigation', 'amcl_navigation.launch'),
+                participants='/amcl /move_base', args=(), goals=()):
+    """A route of move_base goals (lockstep_probe.py route; goals: FRAME X,Y,YAW ..., by default
+    the probe's) in the stack `launch` starts; returns the probe's results."""
     tmp_path.mkdir(parents=True, exist_ok=True)
     with Busy(busy):
-        stack = Stack(tmp_path, ['minibot3d_navigation', 'amcl_navigation.launch'],
+        stack = Stack(tmp_path, list(launch),
                       ['lockstep:=true', 'real_time_factor:=%s' % rtf,
-                       'lockstep_participants:=/amcl /move_base /probe_route'],
+                       'lockstep_participants:=%s /probe_route' % participants] + list(args),
                       digest=str(tmp_path / 'digest'))
         out = str(tmp_path / 'route.json')
         try:
-            client = stack.probe('route', out)
+            client = stack.probe('route', out, *goals)
             assert client.wait(300) == 0, client.stdout.read() + stack.log(3000)
         finally:
             stack.stop()
@@ -289,24 +295,53 @@ def test_two_closed_loop_runs_are_identical_at_any_real_time_factor_and_load(tmp
             digest.report(result, 'a', other)
 
 
-EXPLORE_SIM_S = 150.0
+def test_two_mapless_runs_through_clutter_are_identical_beside_busy_processes(tmp_path):
+    """The mapless loop (move_base with its global costmap in odom, no map, no amcl; a robot with
+    a typical odometry error) through a clutter world to a goal 5.5 m ahead in odom, twice, the
+    second time beside two busy processes: the same result, trajectory and digests. Breakage
+    caught: timing-dependent behaviour in the rolling costmaps and the odometry error model,
+    which the map-based loop above does not use."""
+    sim = rospkg.RosPack().get_path('minibot3d_sim')
+    world = os.path.join(sim, 'worlds', 'clutter', 'clutter_43.world')
+    error = os.path.join(sim, 'config', 'typical_odometry_error.yaml')
+    kwargs = dict(launch=('minibot3d_navigation', 'mapless_navigation.launch'),
+                  participants='/move_base', args=('world:=' + world, 'odom_error_params:=' + error),
+                  goals=('odom', '5.5,0.0,0.0'))
+    first = closed_loop(tmp_path / 'a', 0, **kwargs)
+    assert [g[0] for g in first['goals']] == [3], first['goals']  # SUCCEEDED
+    assert len(first['path']) > 300
+    second = closed_loop(tmp_path / 'b', 0, busy=2, **kwargs)
+    assert second == first
+    result = digest.compare(str(tmp_path / 'a' / 'digest'), str(tmp_path / 'b' / 'digest'))
+    assert result.identical, '\n'.join(digest.report(result, 'a', 'b'))
+    assert result.sections >= 3, digest.report(result, 'a', 'b')
+    assert float(result.last_stamp[1]) >= first['path'][-1][0], digest.report(result, 'a', 'b')
 
 
-def exploration(tmp_path, busy):
-    """SLAM + move_base + explore on the default world at real-time factor 0 for EXPLORE_SIM_S of
-    sim time (held from 0 by a probe that then leaves); returns the probe's "ran T" time."""
+# Sim time of the explorations at full speed, and of the one paced at real time (wall time as
+# long): make test's lengths; make bench runs both at 300 s (MINIBOT3D_EXPLORE_SIM_S,
+# MINIBOT3D_PACED_SIM_S).
+EXPLORE_SIM_S = float(os.environ.get('MINIBOT3D_EXPLORE_SIM_S', '150'))
+PACED_SIM_S = float(os.environ.get('MINIBOT3D_PACED_SIM_S', '60'))
+
+
+def exploration(tmp_path, busy, rtf=0, sim_s=EXPLORE_SIM_S):
+    """SLAM + move_base + explore on the default world at real-time factor rtf for sim_s of sim
+    time (held from 0 by a probe that then leaves); returns the probe's "ran T" time."""
     tmp_path.mkdir(parents=True, exist_ok=True)
     with Busy(busy):
         stack = Stack(tmp_path, ['minibot3d_navigation', 'explore.launch'],
-                      ['lockstep:=true', 'real_time_factor:=0',
+                      ['lockstep:=true', 'real_time_factor:=%g' % rtf,
                        'lockstep_clients:=/probe_run_for'],
                       digest=str(tmp_path / 'digest'))
         try:
-            probe = stack.probe('run_for', '%g' % EXPLORE_SIM_S)
-            ran = read_line(probe, 'ran', 600)
+            probe = stack.probe('run_for', '%g' % sim_s)
+            # Paced, the run takes at least its sim time divided by the factor in wall time.
+            ran = read_line(probe, 'ran', 600 + (sim_s / rtf if rtf > 0 else 0.0))
             assert ran, stack.log(3000)
             assert probe.wait(30) == 0
-            assert 'explore: ' in stack.log(), stack.log(3000)
+            # explore's goals reached move_base: the loop ran.
+            assert 'move_base: new goal' in stack.log(), stack.log(3000)
         finally:
             stack.stop()
     return float(ran.split()[1])
@@ -331,3 +366,18 @@ def test_two_explorations_agree_tick_for_tick_beside_busy_processes(tmp_path):
     assert result.sections >= 5, digest.report(result, 'a', 'b')
     reached = digest.stamp_key(result.last_stamp[1])
     assert reached >= (int(EXPLORE_SIM_S), 0), digest.report(result, 'a', 'b')
+
+
+def test_an_exploration_paced_at_real_time_agrees_with_one_at_full_speed(tmp_path):
+    """The same loop at real_time_factor 1 (PACED_SIM_S of wall time) and at 0: the same messages
+    at the same ticks. Breakage caught: anything that reads the wall clock or depends on how much
+    wall time a tick takes (a wall-time timer, a timeout in wall seconds deciding an outcome)."""
+    ran_fast = exploration(tmp_path / 'fast', 0, sim_s=PACED_SIM_S)
+    ran_paced = exploration(tmp_path / 'paced', 0, rtf=1, sim_s=PACED_SIM_S)
+    assert ran_fast == ran_paced >= PACED_SIM_S
+    result = digest.compare(str(tmp_path / 'fast' / 'digest'), str(tmp_path / 'paced' / 'digest'),
+                            until=ran_fast)
+    assert result.identical, '\n'.join(digest.report(result, 'fast', 'paced'))
+    assert result.sections >= 5, digest.report(result, 'fast', 'paced')
+    reached = digest.stamp_key(result.last_stamp[1])
+    assert reached >= (int(PACED_SIM_S), 0), digest.report(result, 'fast', 'paced')

@@ -83,12 +83,19 @@ def test_small_sweep_writes_csv_table_and_plots_and_resumes(tmp_path):
 
 def test_same_command_gives_the_same_figures(tmp_path):
     """Lock-step time (the default): the driver joins before sim time starts, and two runs of one
-    command agree to the last digit, trajectories included."""
+    command, each two trials at once, the second beside a busy process, agree to the last digit,
+    trajectories included."""
     cmd = ['--set', 'max_vel_x=0.3,0.6', '--repeats', '1', '--jobs', '2', '--timeout', '120',
            *SHORT_ROUTE]
     runs = []
-    for name in ('a', 'b'):
-        r = tool(tmp_path / name, *cmd, timeout=300)
+    for name, busy in (('a', 0), ('b', 1)):
+        hogs = [subprocess.Popen([sys.executable, '-c', 'while True: pass']) for _ in range(busy)]
+        try:
+            r = tool(tmp_path / name, *cmd, timeout=300)
+        finally:
+            for h in hogs:
+                h.kill()
+                h.wait()
         assert r.returncode == 0, r.stdout
         assert 'lock-step, real-time factor 0' in r.stdout
         runs.append({row['key']: row for row in read_rows(tmp_path / name)})
