@@ -305,7 +305,8 @@ def test_two_mapless_runs_through_clutter_are_identical_beside_busy_processes(tm
     world = os.path.join(sim, 'worlds', 'clutter', 'clutter_43.world')
     error = os.path.join(sim, 'config', 'typical_odometry_error.yaml')
     kwargs = dict(launch=('minibot3d_navigation', 'mapless_navigation.launch'),
-                  participants='/move_base', args=('world:=' + world, 'odom_error_params:=' + error),
+                  participants='/move_base',
+                  args=('world:=' + world, 'odom_error_params:=' + error),
                   goals=('odom', '5.5,0.0,0.0'))
     first = closed_loop(tmp_path / 'a', 0, **kwargs)
     assert [g[0] for g in first['goals']] == [3], first['goals']  # SUCCEEDED

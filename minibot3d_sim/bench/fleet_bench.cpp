@@ -1,21 +1,20 @@
 // fleet_bench: real-time factor of the simulator core (no ROS) with N copies of one robot in a
-// world, each driving a constant arc and scanning with its lasers at their rates (each scan sees
-// the world and the other robots), and the wall time per robot per sim second.
+// world, each wandering and scanning with its lasers at their rates (each scan sees the world,
+// the other robots and the pedestrians), and the wall time per robot per sim second.
 //
 //   fleet_bench URDF_FILE WORLD_FILE --robots N [--actors M] [--physics kinematic|bullet]
 //               [--seconds S] [--spacing M]
 //
 // The robots stand on a grid of --spacing metres over the world's bounds, on the spots where a
-// robot's body has 0.1 m of room, picked evenly from the spots found, all facing +x. Each runs
-// a wander controller at 20 Hz on its first laser, as Stage's wander example does: arcs (0.2 m/s
-// at +-0.6 rad/s, alternating between robots) while nothing is within 0.35 m ahead (+-60 degrees),
-// else a turn in place towards the side that was freer when it began; after a contact it backs off straight for 0.5 s.
-// In a small world the robots still meet walls and each other often, as a crowd would; the mean
-// speed and the share of time in contact are printed (and the actors' mean speed), so a fleet
-// or a crowd that jams shows. --actors adds
-// M pedestrians of the social force model on other free spots, each walking to and fro between
-// its spot and the furthest free spot it can reach in a straight line that no other pedestrian
-// starts at or walks to.
+// robot's body has 0.1 m of room, picked evenly from the spots found, all facing +x. Each runs a
+// wander controller at 20 Hz on its first laser, as Stage's wander example does: arcs (0.2 m/s at
+// +-0.6 rad/s, alternating between robots) while nothing is within 0.35 m ahead (+-60 degrees),
+// else a turn in place towards the side that was freer when it began; after a contact it backs
+// off straight for 0.5 s. In a small world the robots still meet walls and each other often, as
+// a crowd would; the robots' mean speed, their share of time in contact and the pedestrians' mean
+// speed are printed, so a fleet or a crowd that jams shows. --actors adds M pedestrians of the
+// social force model on a grid twice as fine, each walking to and fro between its spot and the
+// furthest spot it can reach in a straight line that no other pedestrian starts at or walks to.
 #include <algorithm>
 #include <cmath>
 #include <chrono>

@@ -681,7 +681,8 @@ double WorldSlice::Distance(const Eigen::Vector2d& p) const {
 
 bool WorldSlice::SameGeometry(const WorldSlice& other) const {
   if (this == &other) return true;
-  if (cell_size_ != other.cell_size_) return false;  // a grid of its own visits items in its own order
+  // A grid of its own visits the items in another order (PolygonCollides' shape).
+  if (cell_size_ != other.cell_size_) return false;
   if (segments_.size() != other.segments_.size() || circles_.size() != other.circles_.size()) {
     return false;
   }

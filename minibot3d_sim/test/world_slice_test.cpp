@@ -82,6 +82,24 @@ bool HasEndpoint(const WorldSlice& slice, const Eigen::Vector2d& p, double tol =
   return false;
 }
 
+// Upright boxes and cylinders cut the same lines at every height they span; a sphere does not,
+// nor does a box that ends between the two heights.
+TEST(WorldSliceTest, SameGeometryAtHeightsWhereNothingChanges) {
+  const World prisms = WorldOf({Box(MakePose(1, 0, 0.5, 0, 0, 0.3), 0.4, 0.2, 1.0),
+                                Cylinder(MakePose(-1, 0.5, 0.5), 0.2, 1.0)});
+  const WorldSlice low(prisms, 0.1), high(prisms, 0.8);
+  EXPECT_TRUE(low.SameGeometry(high));
+  EXPECT_TRUE(low.SameGeometry(low));
+  const WorldSlice coarse(prisms, 0.8, 0.5);  // another grid answers in another order
+  EXPECT_FALSE(low.SameGeometry(coarse));
+  World round = prisms;
+  round.shapes.push_back(Sphere(MakePose(0, -1, 0.5), 0.4));
+  EXPECT_FALSE(WorldSlice(round, 0.3).SameGeometry(WorldSlice(round, 0.6)));
+  World shelf = prisms;
+  shelf.shapes.push_back(Box(MakePose(0, 1, 0.25), 0.5, 0.5, 0.5));  // up to 0.5 m
+  EXPECT_FALSE(WorldSlice(shelf, 0.1).SameGeometry(WorldSlice(shelf, 0.8)));
+}
+
 TEST(WorldSliceTest, BoxCutIsItsRectangle) {
   const WorldSlice slice(WorldOf({Box(MakePose(1.0, 2.0, 0.5), 2.0, 1.0, 1.0)}), 0.11);
   ASSERT_EQ(slice.segments().size(), 4u);
