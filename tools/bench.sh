@@ -174,6 +174,10 @@ echo "   compared tick for tick (test_lockstep_loop.py at full length)"
 MINIBOT3D_EXPLORE_SIM_S=300 MINIBOT3D_PACED_SIM_S=300 /usr/bin/python3 -m pytest -q \
   -p no:cacheprovider minibot3d_lockstep/test/test_lockstep_loop.py -k exploration 2>&1 | tail -1
 
+echo "== lock-step digest cost: the closed loop (simulator, amcl, move_base, a goal client; two goals,"
+echo "   real_time_factor 0) 5 times with MINIBOT3D_LOCKSTEP_DIGEST set and 5 times without"
+/usr/bin/python3 minibot3d_lockstep/test/digest_cost.py 5
+
 echo "== lock-step determinism: the office demo again beside two busy processes; its lock-step"
 echo "   digest compared tick for tick with the run above (tools/lockstep_digest.py), and its summary"
 rm -rf build/bench/demo_office_busy
