@@ -3,7 +3,8 @@ made by hand on a master of their own (run_checks_probe.py: latched /tf publishe
 the checking node, all started by this test as a rostest starts its nodes):
 - a clean run (two frames at one stamp, a listener on 127.0.0.1, rosout's XML-RPC server on
   0.0.0.0 as roscpp forces it) has no problem;
-- one child frame sent at one stamp by two publishers is reported, naming both;
+- one child frame sent at one stamp by two publishers is reported, naming both; a latched message
+  delivered twice (two connections to one publisher) is not;
 - a process of the run listening on 0.0.0.0 is reported, with its port;
 - a run in which no /tf arrived is reported.
 Every wait is on a condition (a line of output, a message count, a process exit) with a limit."""
@@ -75,6 +76,35 @@ def test_one_frame_at_one_stamp_from_two_publishers_is_reported(core, processes)
     assert problems[0].startswith('tf sent twice at one stamp'), problems
     assert 'base_link (parent odom) at 100.000000000 s' in problems[0], problems
     assert '/tf_first' in problems[0] and '/tf_second' in problems[0], problems
+
+
+def transform(child, stamp, x=0.0):
+    from geometry_msgs.msg import TransformStamped
+    import rospy
+    t = TransformStamped()
+    t.header.frame_id = 'odom'
+    t.header.stamp = rospy.Time.from_sec(stamp)
+    t.child_frame_id = child
+    t.transform.translation.x = x
+    t.transform.rotation.w = 1.0
+    return t
+
+
+def test_a_latched_message_delivered_twice_is_not_a_repeat():
+    """rospy delivers a latched message once per connection, and a subscriber may briefly hold two
+    connections to one publisher. Catches: that second delivery reported as tf sent twice (a
+    run failed for it), or a real repeat hidden by the rule."""
+    from minibot3d_lockstep.run_checks import TfRepeatMonitor
+    m = TfRepeatMonitor(subscribe=False)
+    m.record('/pub', True, [transform('base_link', 100.0)])
+    m.record('/pub', True, [transform('base_link', 100.0)])  # the same message again
+    assert m.repeats() == [] and m.messages == 1
+    m.record('/pub', True, [transform('base_link', 100.0, x=0.5)])  # another transform: sent
+    m.record('/other', True, [transform('base_link', 100.0)])  # another publisher: sent
+    m.record('/pub', False, [transform('laser', 100.0)])
+    m.record('/pub', False, [transform('laser', 100.0)])  # not latched: sent twice
+    assert len(m.repeats()) == 3 and m.messages == 5, m.repeats()
+    assert 'first from /pub, again from /other' in m.repeats()[1]
 
 
 def test_a_listener_on_all_addresses_is_reported(core, processes):

@@ -29,38 +29,55 @@ from minibot3d_testing import descendants  # the run's processes
 from tf2_msgs.msg import TFMessage
 
 
+def _transform_tuple(t):
+    r, q = t.transform.translation, t.transform.rotation
+    return (r.x, r.y, r.z, q.x, q.y, q.z, q.w)
+
+
 class TfRepeatMonitor(object):
     """Subscribes to /tf and records every (child frame, stamp) sent more than once.
 
     Stamps are remembered for ``horizon`` seconds behind the newest one of their frame (tf2's
     buffer keeps 10 s), so a long run does not grow the memory without bound."""
 
-    def __init__(self, topic='/tf', horizon=15.0):
+    def __init__(self, topic='/tf', horizon=15.0, subscribe=True):
         self._lock = threading.Lock()
         self._horizon_ns = int(horizon * 1e9)
-        self._first = {}  # (child frame, stamp in ns) -> callerid of its first sender
+        # (child frame, stamp in ns) -> (callerid of its first sender, (parent, transform))
+        self._first = {}
         self._order = collections.defaultdict(collections.deque)  # child -> its stamps, in order
         self._repeats = []
         self.messages = 0
-        rospy.Subscriber(topic, TFMessage, self._on_tf, queue_size=1000, buff_size=1 << 22)
+        if subscribe:  # else messages come through record()
+            rospy.Subscriber(topic, TFMessage, self._on_tf, queue_size=1000, buff_size=1 << 22)
 
     def _on_tf(self, msg):
         header = getattr(msg, '_connection_header', None) or {}
-        sender = header.get('callerid', '?')
+        self.record(header.get('callerid', '?'), header.get('latching') == '1', msg.transforms)
+
+    def record(self, sender, latched, transforms):
+        """One /tf message from `sender` (latched: sent on a latching connection). A latched
+        message arrives once per connection, and a subscriber may briefly hold two connections
+        to one publisher: the same transforms again from the same latching sender are that
+        message delivered twice, not sent twice, and are not counted."""
         with self._lock:
+            values = [(t.child_frame_id.lstrip('/'), t.header.stamp.to_nsec(),
+                       t.header.frame_id, _transform_tuple(t)) for t in transforms]
+            if latched and values and all(
+                    self._first.get(v[:2]) == (sender, v[2:]) for v in values):
+                return
             self.messages += 1
-            for t in msg.transforms:
-                key = (t.child_frame_id.lstrip('/'), t.header.stamp.to_nsec())
+            for child, stamp, parent, value in values:
+                key = (child, stamp)
                 if key not in self._first:
-                    self._first[key] = sender
-                    order = self._order[key[0]]
-                    order.append(key[1])
-                    while order and order[0] < key[1] - self._horizon_ns:
-                        self._first.pop((key[0], order.popleft()), None)
+                    self._first[key] = (sender, (parent, value))
+                    order = self._order[child]
+                    order.append(stamp)
+                    while order and order[0] < stamp - self._horizon_ns:
+                        self._first.pop((child, order.popleft()), None)
                     continue
                 self._repeats.append('%s (parent %s) at %.9f s: first from %s, again from %s'
-                                     % (key[0], t.header.frame_id, key[1] * 1e-9,
-                                        self._first[key], sender))
+                                     % (child, parent, stamp * 1e-9, self._first[key][0], sender))
 
     def repeats(self):
         """The repeated transforms seen so far (empty when none)."""
