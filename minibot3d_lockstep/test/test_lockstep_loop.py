@@ -348,6 +348,18 @@ def exploration(tmp_path, busy, rtf=0, sim_s=EXPLORE_SIM_S):
     return float(ran.split()[1])
 
 
+def assert_explorations_agree(tmp_path, a, b, ran, sim_s):
+    """The digests of explorations a and b (directories under tmp_path) agree tick for tick up to
+    the probe's end `ran` (after it, time runs on until the stack is stopped, a wall-clock moment
+    at which its nodes die one after the other), for the three participants, the probe and the
+    simulator, over at least sim_s."""
+    result = digest.compare(str(tmp_path / a / 'digest'), str(tmp_path / b / 'digest'), until=ran)
+    assert result.identical, '\n'.join(digest.report(result, a, b))
+    assert result.sections >= 5, digest.report(result, a, b)
+    reached = digest.stamp_key(result.last_stamp[1])
+    assert reached >= (int(sim_s), 0), digest.report(result, a, b)
+
+
 def test_two_explorations_agree_tick_for_tick_beside_busy_processes(tmp_path):
     """The loop that builds a map (SLAM, costmaps, frontier choice, move_base) twice, the second
     time beside two busy processes: every participant receives the same messages at the same
@@ -358,15 +370,7 @@ def test_two_explorations_agree_tick_for_tick_beside_busy_processes(tmp_path):
     ran_a = exploration(tmp_path / 'a', 0)
     ran_b = exploration(tmp_path / 'b', 2)
     assert ran_a == ran_b >= EXPLORE_SIM_S
-    # Up to the probe's end: after it, time runs on until the stack is stopped, a wall-clock
-    # moment at which its nodes die one after the other.
-    result = digest.compare(str(tmp_path / 'a' / 'digest'), str(tmp_path / 'b' / 'digest'),
-                            until=ran_a)
-    assert result.identical, '\n'.join(digest.report(result, 'a', 'b'))
-    # The three participants, the probe and the simulator, compared up to the probe's end.
-    assert result.sections >= 5, digest.report(result, 'a', 'b')
-    reached = digest.stamp_key(result.last_stamp[1])
-    assert reached >= (int(EXPLORE_SIM_S), 0), digest.report(result, 'a', 'b')
+    assert_explorations_agree(tmp_path, 'a', 'b', ran_a, EXPLORE_SIM_S)
 
 
 def test_an_exploration_paced_at_real_time_agrees_with_one_at_full_speed(tmp_path):
@@ -376,9 +380,4 @@ def test_an_exploration_paced_at_real_time_agrees_with_one_at_full_speed(tmp_pat
     ran_fast = exploration(tmp_path / 'fast', 0, sim_s=PACED_SIM_S)
     ran_paced = exploration(tmp_path / 'paced', 0, rtf=1, sim_s=PACED_SIM_S)
     assert ran_fast == ran_paced >= PACED_SIM_S
-    result = digest.compare(str(tmp_path / 'fast' / 'digest'), str(tmp_path / 'paced' / 'digest'),
-                            until=ran_fast)
-    assert result.identical, '\n'.join(digest.report(result, 'fast', 'paced'))
-    assert result.sections >= 5, digest.report(result, 'fast', 'paced')
-    reached = digest.stamp_key(result.last_stamp[1])
-    assert reached >= (int(PACED_SIM_S), 0), digest.report(result, 'fast', 'paced')
+    assert_explorations_agree(tmp_path, 'fast', 'paced', ran_fast, PACED_SIM_S)
