@@ -6,6 +6,7 @@
 #include <cstring>
 #include <typeinfo>
 
+#include <ros/names.h>
 #include <ros/param.h>
 #include <ros/subscription.h>
 #include <ros/subscription_callback_helper.h>
@@ -22,7 +23,8 @@ namespace {
 // called afterwards.
 class HashingHelper : public ros::SubscriptionCallbackHelper {
  public:
-  HashingHelper(DigestLog* log, std::string topic) : log_(log), topic_(std::move(topic)) {}
+  HashingHelper(DigestLog* log, std::string topic, std::string type)
+      : log_(log), topic_(std::move(topic)), type_(std::move(type)) {}
 
   ros::VoidConstPtr deserialize(const ros::SubscriptionCallbackHelperDeserializeParams& p) override {
     static const std::string kUnknown = "?";
@@ -31,7 +33,7 @@ class HashingHelper : public ros::SubscriptionCallbackHelper {
       auto it = p.connection_header->find("callerid");
       if (it != p.connection_header->end()) publisher = &it->second;
     }
-    log_->Received(topic_, *publisher, p.buffer, p.length);
+    log_->Received(topic_, *publisher, p.buffer, p.length, type_);
     return ros::VoidConstPtr();  // nothing to call
   }
   void call(ros::SubscriptionCallbackHelperCallParams&) override {}
@@ -42,6 +44,7 @@ class HashingHelper : public ros::SubscriptionCallbackHelper {
  private:
   DigestLog* log_;
   std::string topic_;
+  std::string type_;
 };
 
 bool Recorded(const std::string& topic) {
@@ -60,7 +63,19 @@ std::string RunId() {
 std::unique_ptr<DigestRecorder> DigestRecorder::FromEnvironment() {
   const char* dir = std::getenv(kDigestEnv);
   if (!dir || !*dir) return nullptr;
-  return std::make_unique<DigestRecorder>(dir);
+  auto recorder = std::make_unique<DigestRecorder>(dir);
+  const char* whole = std::getenv(kDigestMessagesEnv);
+  std::vector<std::string> topics;
+  for (const std::string& t : SplitTopicList(whole ? whole : "")) {
+    try {
+      topics.push_back(ros::names::resolve(t));
+    } catch (const ros::InvalidNameException& e) {
+      throw std::runtime_error(std::string(kDigestMessagesEnv) + ": '" + t +
+                               "' is not a topic name: " + e.what());
+    }
+  }
+  recorder->log_.WriteMessagesOf(topics);
+  return recorder;
 }
 
 DigestRecorder::DigestRecorder(const std::string& dir)
@@ -84,7 +99,7 @@ void DigestRecorder::Instrument() {
     in.subscription = sub;
     in.helper.reset();
     if (!Recorded(sub->getName())) continue;
-    in.helper = boost::make_shared<HashingHelper>(&log_, sub->getName());
+    in.helper = boost::make_shared<HashingHelper>(&log_, sub->getName(), sub->datatype());
     // Unbounded (0): none is dropped. A latched message already here is delivered to the new
     // callback at once.
     sub->addCallback(in.helper, "*", &queue_, 0, ros::VoidConstPtr(), false);

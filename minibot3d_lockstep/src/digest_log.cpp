@@ -1,5 +1,6 @@
 #include "minibot3d_lockstep/digest_log.h"
 
+#include <cctype>
 #include <cinttypes>
 #include <cstring>
 #include <filesystem>
@@ -17,6 +18,20 @@ std::uint32_t ChainCrc(std::uint32_t crc, const std::uint8_t* data, std::size_t 
                                    static_cast<unsigned char>(n >> 24)};
   uLong c = crc32(crc, length, 4);
   return static_cast<std::uint32_t>(crc32_z(c, data, size));
+}
+
+std::vector<std::string> SplitTopicList(const std::string& text) {
+  std::vector<std::string> out;
+  std::string word;
+  for (char ch : text + ",") {
+    if (ch == ',' || std::isspace(static_cast<unsigned char>(ch))) {
+      if (!word.empty()) out.push_back(word);
+      word.clear();
+    } else {
+      word += ch;
+    }
+  }
+  return out;
 }
 
 std::string DigestFileName(const std::string& node) {
@@ -56,11 +71,27 @@ DigestLog::~DigestLog() {
   if (file_) std::fclose(file_);
 }
 
+void DigestLog::WriteMessagesOf(const std::vector<std::string>& topics) {
+  whole_.insert(topics.begin(), topics.end());
+}
+
 void DigestLog::Received(const std::string& topic, const std::string& publisher,
-                         const std::uint8_t* data, std::size_t size) {
+                         const std::uint8_t* data, std::size_t size, const std::string& type) {
   In& in = in_[{topic, publisher}];
   in.crc = ChainCrc(in.crc, data, size);
   ++in.count;
+  if (whole_.count(topic) == 0) return;
+  static const char kHex[] = "0123456789abcdef";
+  std::string line = "M " + topic + " " + publisher + " " + std::to_string(in.count) + " " +
+                     (type.empty() ? std::string("?") : type) + " ";
+  line.reserve(line.size() + 2 * size + 1);
+  for (std::size_t i = 0; i < size; ++i) {
+    line += kHex[data[i] >> 4];
+    line += kHex[data[i] & 15];
+  }
+  if (size == 0) line += "-";
+  line += "\n";
+  pending_messages_.push_back(std::move(line));
 }
 
 void DigestLog::WriteIn() {
@@ -71,6 +102,8 @@ void DigestLog::WriteIn() {
     std::fprintf(file_, "I %s %s %" PRIu64 " %08" PRIx32 "\n", kv.first.first.c_str(),
                  kv.first.second.c_str(), in.count, in.crc);
   }
+  for (const std::string& line : pending_messages_) std::fputs(line.c_str(), file_);
+  pending_messages_.clear();
 }
 
 void DigestLog::Tick(std::uint64_t seq, std::int64_t stamp_ns) {
@@ -90,7 +123,7 @@ void DigestLog::Acknowledged(const std::vector<LinkCount>& sent, std::int64_t ne
 }
 
 void DigestLog::ReceivedBy(std::uint64_t seq, std::int64_t stamp_ns) {
-  bool any = false;
+  bool any = !pending_messages_.empty();
   for (const auto& kv : in_) any = any || kv.second.count != kv.second.written;
   if (!any) return;
   Tick(seq, stamp_ns);

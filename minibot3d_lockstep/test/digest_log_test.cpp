@@ -2,12 +2,14 @@
 
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -90,6 +92,34 @@ TEST(DigestLogTest, WritesOnlyWhatChangedAndAppendsOneSectionPerProcess) {
   const std::string sim = Slurp(dir + "/sim.digest");
   // zlib.crc32(b'\x01\x00\x00\x00v')
   EXPECT_EQ(sim.substr(sim.find('\n') + 1), "T 9 0.055000000\nI /cmd_vel /move_base 1 42240aa4\n");
+  std::filesystem::remove_all(dir);
+}
+
+TEST(DigestLogTest, WritesWholeMessagesOfTheTopicsAskedForAfterTheCounts) {
+  EXPECT_EQ(SplitTopicList(" /a,b  c,,"), (std::vector<std::string>{"/a", "b", "c"}));
+  const std::string dir = TempDir();
+  {
+    DigestLog log(dir, "/move_base", "run-1", 42, 1.5);
+    log.WriteMessagesOf({"/move_base/goal"});
+    EXPECT_TRUE(log.WritesMessagesOf("/move_base/goal"));
+    EXPECT_FALSE(log.WritesMessagesOf("/map"));
+    log.Received("/move_base/goal", "/explore", Bytes("\x01\xab"), 2, "m/Goal");
+    log.Received("/map", "/slam", Bytes("abc"), 3, "nav_msgs/OccupancyGrid");
+    log.Received("/move_base/goal", "/explore", Bytes(""), 0, "");
+    log.Tick(7, 5000000);
+    log.Acknowledged({}, 0);
+  }
+  const std::string text = Slurp(dir + "/move_base.digest");
+  const std::string body = text.substr(text.find('\n') + 1);
+  char crc[16];
+  std::snprintf(crc, sizeof(crc), "%08x",
+                static_cast<unsigned>(ChainCrc(ChainCrc(0, Bytes("\x01\xab"), 2), Bytes(""), 0)));
+  EXPECT_EQ(body.substr(0, body.find("A ")),
+            "T 7 0.005000000\n"
+            "I /map /slam 1 66e15d33\n"
+            "I /move_base/goal /explore 2 " + std::string(crc) + "\n"
+            "M /move_base/goal /explore 1 m/Goal 01ab\n"
+            "M /move_base/goal /explore 2 ? -\n");
   std::filesystem::remove_all(dir);
 }
 

@@ -160,3 +160,55 @@ def test_the_tool_exits_0_1_2_and_prints_the_first_difference(tmp_path):
     assert ignored.returncode == 0, ignored.stdout
     missing = run('compare', str(tmp_path / 'a'), str(tmp_path / 'nowhere'))
     assert missing.returncode == 2 and 'not a directory' in missing.stdout
+
+
+def write_goal_run(directory, stamp, whole=True, msg_type='std_msgs/Header'):
+    """/move_base receives one message on /move_base/goal from /explore (a std_msgs/Header, for
+    brevity), written whole when `whole`."""
+    from std_msgs.msg import Header
+    import io
+    buf = io.BytesIO()
+    Header(seq=5, stamp=Stamp(stamp), frame_id='map').serialize(buf)
+    data = buf.getvalue()
+    ex = digest.DigestWriter(str(directory), '/explore', 'run-1', pid=1, wall=100.0)
+    ex.tick(1, '10.000000000', {})
+    ex.acknowledged([('/move_base/goal', '/move_base', 1)], '0.000000000')
+    ex.close()
+    mb = digest.DigestWriter(str(directory), '/move_base', 'run-1', pid=2, wall=100.1)
+    mb.tick(2, '10.001000000', {('/move_base/goal', '/explore'): (1, digest.chain_crc(0, data))},
+            [('/move_base/goal', '/explore', 1, msg_type, data)] if whole else [])
+    mb.acknowledged([], '0.000000000')
+    mb.tick(3, '10.100000000', {})  # the phase goes on after it: the tick above is compared
+    mb.acknowledged([], '0.000000000')
+    mb.close()
+
+
+def test_a_message_written_whole_is_compared_field_by_field(tmp_path):
+    # Breakage caught: M lines not read back, or the report not naming the differing field.
+    write_goal_run(tmp_path / 'a', 10.0)
+    write_goal_run(tmp_path / 'b', 10.001)
+    sections = digest.read(str(tmp_path / 'a'))
+    mb = [s for s in sections if s.node == '/move_base'][0]
+    assert list(mb.ticks[0].messages) == [('/move_base/goal', '/explore', 1)]
+    text = '\n'.join(digest.report(digest.compare(str(tmp_path / 'a'), str(tmp_path / 'b')),
+                                   'a', 'b'))
+    assert 'message 1 of /move_base/goal from /explore (std_msgs/Header)' in text, text
+    assert 'field stamp.nsecs: a 0, b 1000000' in text, text
+    assert 'field seq' not in text and 'field frame_id' not in text, text
+
+
+def test_without_whole_messages_the_report_says_how_to_get_them(tmp_path):
+    write_goal_run(tmp_path / 'a', 10.0, whole=False)
+    write_goal_run(tmp_path / 'b', 10.001, whole=False)
+    text = '\n'.join(digest.report(digest.compare(str(tmp_path / 'a'), str(tmp_path / 'b')),
+                                   'a', 'b'))
+    assert 'run both again with MINIBOT3D_LOCKSTEP_DIGEST_MESSAGES=/move_base/goal' in text, text
+
+
+def test_a_type_that_cannot_be_imported_gives_the_bytes(tmp_path):
+    write_goal_run(tmp_path / 'a', 10.0, msg_type='no_such_pkg/Goal')
+    write_goal_run(tmp_path / 'b', 10.001, msg_type='no_such_pkg/Goal')
+    text = '\n'.join(digest.report(digest.compare(str(tmp_path / 'a'), str(tmp_path / 'b')),
+                                   'a', 'b'))
+    assert 'bytes; ' in text and 'differ, from byte 8 to' in text, text
+    assert 'the message type no_such_pkg/Goal can be imported' in text, text

@@ -11,6 +11,9 @@
 //                                                       them, each as its 4-byte length and bytes
 //   O <topic> <subscriber> <count>                      queued to a subscriber by the tick's end
 //   A <next_wake>                                       the acknowledgement (0: none asked for)
+//   M <topic> <publisher> <count> <type> <hex>          message <count> of that connection, its
+//                                                       bytes in hex (only for the topics named
+//                                                       in kDigestMessagesEnv; after the I lines)
 //
 // I and O lines are written only for connections whose count changed since the last tick. The
 // CRC is chained over a connection's messages in order (zlib's crc32 with the previous value as
@@ -27,6 +30,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -37,6 +41,12 @@ namespace minibot3d_lockstep {
 
 // The environment variable naming the directory digests are written to; unset or empty: off.
 constexpr char kDigestEnv[] = "MINIBOT3D_LOCKSTEP_DIGEST";
+// Topics (comma- or space-separated) whose received messages are written whole ("M" lines), so
+// that a comparison can say which fields of a differing message differ.
+constexpr char kDigestMessagesEnv[] = "MINIBOT3D_LOCKSTEP_DIGEST_MESSAGES";
+
+// "a, /b c" -> {"a", "/b", "c"}.
+std::vector<std::string> SplitTopicList(const std::string& text);
 
 // CRC-32 (zlib's) of a message as it travels on a TCPROS connection: its length as 4 bytes,
 // little-endian, then its bytes; `crc` is the value so far on the connection (0 at the start).
@@ -54,15 +64,19 @@ class DigestLog {
   // std::runtime_error naming the file when it cannot be opened.
   DigestLog(const std::string& dir, const std::string& node, const std::string& run_id, long pid,
             double wall);
+  // Topics whose messages are written whole from now on (resolved names).
+  void WriteMessagesOf(const std::vector<std::string>& topics);
+  bool WritesMessagesOf(const std::string& topic) const { return whole_.count(topic) > 0; }
   ~DigestLog();
   DigestLog(const DigestLog&) = delete;
   DigestLog& operator=(const DigestLog&) = delete;
 
   const std::string& path() const { return path_; }
 
-  // One message received from `publisher` on `topic`.
+  // One message received from `publisher` on `topic`; `type` (say "std_msgs/String") is written
+  // with the message's bytes when the topic is one of WriteMessagesOf's.
   void Received(const std::string& topic, const std::string& publisher, const std::uint8_t* data,
-                std::size_t size);
+                std::size_t size, const std::string& type = "");
   // A tick begins: "T", then an "I" line per connection that received since the last tick.
   void Tick(std::uint64_t seq, std::int64_t stamp_ns);
   // The tick ends: an "O" line per connection whose sent count changed, then "A"; flushed.
@@ -83,6 +97,8 @@ class DigestLog {
   std::FILE* file_ = nullptr;
   std::map<std::pair<std::string, std::string>, In> in_;
   std::map<std::pair<std::string, std::string>, std::uint64_t> out_;
+  std::set<std::string> whole_;
+  std::vector<std::string> pending_messages_;  // M lines written with the next I lines
 };
 
 }  // namespace minibot3d_lockstep

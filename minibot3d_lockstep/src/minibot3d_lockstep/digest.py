@@ -27,6 +27,8 @@ DIGEST_ENV = 'MINIBOT3D_LOCKSTEP_DIGEST'
 # Topics whose messages depend on the wall clock by design: /clock's count (published at most
 # ~pub_clock_frequency times a wall second between rounds), log messages (wall-clock throttling,
 # wall times in their text), the simulator's status (its measured and target real-time factors).
+DIGEST_MESSAGES_ENV = 'MINIBOT3D_LOCKSTEP_DIGEST_MESSAGES'
+
 DEFAULT_IGNORED = ('/clock', '/rosout', '/rosout_agg', '/minibot3d_sim/status')
 
 SIMULATOR = '/minibot3d_sim'
@@ -36,6 +38,11 @@ def chain_crc(crc, data):
     """The CRC-32 on a connection after one more message: its length as 4 bytes little-endian,
     then its bytes (as the C++ ChainCrc)."""
     return zlib.crc32(data, zlib.crc32(struct.pack('<I', len(data)), crc))
+
+
+def split_topic_list(text):
+    """'a, /b c' -> ['a', '/b', 'c'] (the topics of DIGEST_MESSAGES_ENV)."""
+    return [t for t in text.replace(',', ' ').split() if t]
 
 
 def file_name(node):
@@ -66,14 +73,18 @@ class DigestWriter(object):
             time.time() if wall is None else wall))
         self._f.flush()
 
-    def tick(self, seq, stamp, received):
-        """received: {(topic, publisher): (count, crc)} for every connection so far."""
+    def tick(self, seq, stamp, received, whole=()):
+        """received: {(topic, publisher): (count, crc)} for every connection so far; whole:
+        [(topic, publisher, number, type, bytes)] messages written whole."""
         lines = ['T %d %s\n' % (seq, stamp)]
         for key in sorted(received):
             count, crc = received[key]
             if self._written.get(key) != count:
                 self._written[key] = count
                 lines.append('I %s %s %d %08x\n' % (key[0], key[1], count, crc))
+        for topic, publisher, number, msg_type, data in whole:
+            lines.append('M %s %s %d %s %s\n' % (topic, publisher, number, msg_type or '?',
+                                                  data.hex() or '-'))
         self._f.write(''.join(lines))
 
     def acknowledged(self, sent, next_wake):
@@ -94,8 +105,9 @@ class DigestWriter(object):
 
 # -- reading -------------------------------------------------------------------------------------
 
-Tick = collections.namedtuple('Tick', 'seq stamp received sent wake line')
+Tick = collections.namedtuple('Tick', 'seq stamp received sent wake line messages')
 # received: {(topic, publisher): (count, crc)} as written at this tick (changed connections only);
+# messages: {(topic, publisher, number): (type, bytes)} written whole at this tick;
 # sent: {(topic, subscriber): count}; wake: the acknowledgement's next wake (None: not acknowledged,
 # or a node that is not ticked); line: where the tick starts in its file.
 
@@ -138,10 +150,13 @@ def read_file(path):
                                         int(fields.get('pid', 0)), float(fields.get('wall', 0))))
                 tick = None
             elif kind == 'T':
-                tick = Tick(int(parts[1]), parts[2], {}, {}, [None], n)
+                tick = Tick(int(parts[1]), parts[2], {}, {}, [None], n, {})
                 sections[-1].ticks.append(tick)
             elif kind == 'I':
                 tick.received[(parts[1], parts[2])] = (int(parts[3]), parts[4])
+            elif kind == 'M':
+                data = b'' if parts[5] == '-' else bytes.fromhex(parts[5])
+                tick.messages[(parts[1], parts[2], int(parts[3]))] = (parts[4], data)
             elif kind == 'O':
                 tick.sent[(parts[1], parts[2])] = int(parts[3])
             elif kind == 'A':
@@ -339,7 +354,80 @@ def compare(dir_a, dir_b, ignored=DEFAULT_IGNORED, all_nodes=False, until=None):
             note = _publisher_note(first, peer, topic, by_a)
             if note:
                 first.details.append(note)
+            first.details += _message_note(first, topic, peer)
     return result
+
+
+def _message_note(first, topic, peer):
+    """Which bytes and fields of the differing message differ, when both runs wrote it whole."""
+    if first.a is None or first.b is None:
+        return []
+    ma = {k[2]: v for k, v in first.a.messages.items() if k[:2] == (topic, peer)}
+    mb = {k[2]: v for k, v in first.b.messages.items() if k[:2] == (topic, peer)}
+    if not ma or not mb:
+        return ['to see which fields differ, run both again with %s=%s'
+                % (DIGEST_MESSAGES_ENV, topic)]
+    for number in sorted(set(ma) & set(mb)):
+        (type_a, a), (_, b) = ma[number], mb[number]
+        if a == b:
+            continue
+        lines = ['message %d of %s from %s (%s): %s' % (number, topic, peer, type_a,
+                                                        describe_bytes(a, b))]
+        fields = field_differences(type_a, a, b)
+        if fields is None:
+            lines.append('  (its fields are named where the message type %s can be imported: '
+                         'source the workspace)' % type_a)
+        for name, va, vb in fields or []:
+            lines.append('  field %s: a %s, b %s' % (name, va, vb))
+        return lines
+    return []
+
+
+def describe_bytes(a, b):
+    """Where two byte strings differ, briefly."""
+    n = min(len(a), len(b))
+    diff = [i for i in range(n) if a[i] != b[i]]
+    if len(a) != len(b):
+        return '%d bytes in run a, %d in run b; first difference at byte %d' % (
+            len(a), len(b), diff[0] if diff else n)
+    return '%d bytes; %d differ, from byte %d to %d' % (len(a), len(diff), diff[0], diff[-1])
+
+
+def field_differences(msg_type, a, b):
+    """[(field path, value in a, value in b)] of two serialized messages of msg_type, or None when
+    the type cannot be imported here (no ROS Python on the path)."""
+    try:
+        import roslib.message
+        cls = roslib.message.get_message_class(msg_type)
+    except Exception:  # noqa: BLE001 - any import or lookup failure: bytes only
+        return None
+    if cls is None:
+        return None
+    try:
+        ma, mb = cls().deserialize(a), cls().deserialize(b)
+    except Exception as e:  # noqa: BLE001 - genpy raises several kinds
+        return [('(not a %s)' % msg_type, str(e), '')]
+    out = []
+
+    def walk(path, x, y):
+        slots = getattr(x, '__slots__', None)
+        if slots and type(x) is type(y):
+            for name in slots:
+                walk(path + '.' + name if path else name, getattr(x, name), getattr(y, name))
+        elif isinstance(x, (list, tuple)) and isinstance(y, (list, tuple)) and len(x) == len(y):
+            for i, (u, v) in enumerate(zip(x, y)):
+                walk('%s[%d]' % (path, i), u, v)
+        elif x != y:
+            out.append((path, _show(x), _show(y)))
+    walk('', ma, mb)
+    return out
+
+
+def _show(v):
+    if isinstance(v, float):
+        return repr(v)
+    text = str(v)
+    return text if len(text) <= 80 else text[:77] + '...'
 
 
 def _last_tick_before(section, tick):

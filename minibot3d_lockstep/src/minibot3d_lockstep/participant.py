@@ -46,7 +46,8 @@ import rospy.impl.registration
 import rospy.impl.tcpros_base
 import rospy.impl.tcpros_pubsub
 import rospy.topics
-from minibot3d_lockstep.digest import DIGEST_ENV, DigestWriter, chain_crc, format_stamp
+from minibot3d_lockstep.digest import (DIGEST_ENV, DIGEST_MESSAGES_ENV, DigestWriter, chain_crc,
+                                      format_stamp, split_topic_list)
 from minibot3d_lockstep.msg import Ack, Link, Participants, Tick
 from minibot3d_lockstep.srv import Register, Unregister
 
@@ -65,6 +66,8 @@ _keep_all = False
 # The digest's directory (see minibot3d_lockstep.digest), read once: the CRCs of received messages
 # are chained as rospy reads them, on every connection made after this module's import.
 _digest_dir = os.environ.get(DIGEST_ENV) or None
+# Topics whose received messages the digest writes whole (resolved when the Participant starts).
+_digest_whole = set()
 
 
 def _recorded(topic):
@@ -84,6 +87,9 @@ class _Hashed(object):
     def deserialize(self, data):
         n, crc = self._proto.__dict__.get('_lockstep_digest', (0, 0))
         self._proto.__dict__['_lockstep_digest'] = (n + 1, chain_crc(crc, data))
+        if _digest_whole and getattr(self._proto, 'resolved_name', None) in _digest_whole:
+            self._proto.__dict__.setdefault('_lockstep_whole', []).append(
+                (n + 1, getattr(self._msg, '_type', '?'), bytes(data)))
         return self._msg.deserialize(data)
 
 
@@ -199,8 +205,10 @@ def handled_counts():
     return out
 
 
-def received_digests():
-    """{(topic, publisher caller id): (messages, CRC)} read so far on each recorded connection."""
+def received_digests(whole=None):
+    """{(topic, publisher caller id): (messages, CRC)} read so far on each recorded connection.
+    whole: a list that gets (topic, publisher, number, type, bytes) for each message read since the
+    last call on the topics the digest writes whole."""
     out = {}
     tm = rospy.impl.registration.get_topic_manager()
     for topic, impl in list(tm.subs.items()):
@@ -211,6 +219,10 @@ def received_digests():
             d = proto.__dict__.get('_lockstep_digest') if proto is not None else None
             if d is not None:
                 out[(topic, getattr(c, 'callerid_pub', ''))] = d
+            if whole is not None and proto is not None and proto.__dict__.get('_lockstep_whole'):
+                pending = proto.__dict__.pop('_lockstep_whole')
+                whole.extend((topic, getattr(c, 'callerid_pub', ''), n, t, b)
+                             for n, t, b in pending)
     return out
 
 
@@ -329,6 +341,8 @@ class Participant(object):
             return
         if _digest_dir:
             self._digest = DigestWriter(_digest_dir, self.name, rospy.get_param('/run_id', ''))
+            _digest_whole.update(rospy.resolve_name(t) for t in
+                                 split_topic_list(os.environ.get(DIGEST_MESSAGES_ENV, '')))
         global _keep_all
         _keep_all = True
         self._ack_pub = rospy.Publisher(ACK_TOPIC, Ack, queue_size=100, tcp_nodelay=True)
@@ -533,7 +547,9 @@ class Participant(object):
         self._settle_connections()
         self._wait_for_delivery(tick)
         if self._digest is not None:
-            self._digest.tick(tick.seq, format_stamp(tick.stamp), received_digests())
+            whole = []
+            received = received_digests(whole)
+            self._digest.tick(tick.seq, format_stamp(tick.stamp), received, whole)
         self._wait_for_clock(tick.stamp)
         return tick
 
