@@ -212,3 +212,17 @@ def test_a_type_that_cannot_be_imported_gives_the_bytes(tmp_path):
                                    'a', 'b'))
     assert 'bytes; ' in text and 'differ, from byte 8 to' in text, text
     assert 'the message type no_such_pkg/Goal can be imported' in text, text
+
+
+def test_closing_writes_the_last_tick_and_later_calls_write_nothing(tmp_path):
+    # A participant closes its digest when it leaves, after a tick it may not acknowledge (a
+    # script whose result came): that tick's lines are on disk. Breakage caught: the tick lost
+    # by close(), or a later call raising on the closed file.
+    w = digest.DigestWriter(str(tmp_path), '/script', 'run-1', pid=1, wall=1.0)
+    w.tick(7, '1.000000000', {('/result', '/server'): (1, 0xabcdef01)})
+    w.close()
+    w.tick(8, '1.100000000', {})
+    w.acknowledged([], '0.000000000')
+    ticks = digest.read_file(str(tmp_path / 'script.digest'))[0].ticks
+    assert [(t.seq, t.received) for t in ticks] == [
+        (7, {('/result', '/server'): (1, 'abcdef01')})]

@@ -75,7 +75,9 @@ class DigestWriter(object):
 
     def tick(self, seq, stamp, received, whole=()):
         """received: {(topic, publisher): (count, crc)} for every connection so far; whole:
-        [(topic, publisher, number, type, bytes)] messages written whole."""
+        [(topic, publisher, number, type, bytes)] messages written whole. Nothing once closed."""
+        if self._f.closed:
+            return
         lines = ['T %d %s\n' % (seq, stamp)]
         for key in sorted(received):
             count, crc = received[key]
@@ -88,7 +90,9 @@ class DigestWriter(object):
         self._f.write(''.join(lines))
 
     def acknowledged(self, sent, next_wake):
-        """sent: [(topic, subscriber, count)]; next_wake: seconds.nanoseconds."""
+        """sent: [(topic, subscriber, count)]; next_wake: seconds.nanoseconds. Nothing once closed."""
+        if self._f.closed:
+            return
         lines = []
         for topic, peer, count in sorted(sent):
             if self._sent.get((topic, peer)) != count:

@@ -465,6 +465,10 @@ class Participant(object):
 
     def close(self):
         """Acknowledge the tick in hand and leave the loop (also done on shutdown)."""
+        if self._digest is not None:
+            # The last tick's lines are written now, not left to the interpreter's exit (which
+            # may not flush an open file).
+            self._digest.close()
         if not self._registered:
             return
         self._registered = False
