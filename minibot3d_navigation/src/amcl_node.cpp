@@ -38,9 +38,9 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/message_filter.h>
 #include <tf2_ros/transform_broadcaster.h>
-#include <tf2_ros/transform_listener.h>
 
 #include "minibot3d_lockstep/participant.h"
+#include "minibot3d_lockstep/transform_listener.h"
 #include "minibot3d_navigation/amcl/amcl_filter.h"
 #include "minibot3d_navigation/amcl/amcl_options.h"
 #include "minibot3d_ros/conversions.h"
@@ -60,7 +60,7 @@ class AmclNode {
   AmclNode()
       : pnh_("~"),
         lockstep_(nh_, LockstepOptions()),
-        tf_listener_(tf_buffer_, lockstep_.tf_node_handle(), !lockstep_.enabled()) {}
+        tf_listener_(tf_buffer_, lockstep_) {}
 
   // Woken by scans, pose resets and maps; amcl has no periodic work of its own.
   static minibot3d_lockstep::ParticipantOptions LockstepOptions() {
@@ -465,7 +465,7 @@ class AmclNode {
   ros::NodeHandle pnh_;
   minibot3d_lockstep::Participant lockstep_;
   tf2_ros::Buffer tf_buffer_;
-  tf2_ros::TransformListener tf_listener_;
+  minibot3d_lockstep::TransformListener tf_listener_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
 
   amcl::AmclOptions options_;

@@ -31,9 +31,9 @@
 #include <ros/topic_manager.h>
 
 #include "minibot3d_lockstep/participant.h"
+#include "minibot3d_lockstep/transform_listener.h"
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 #include <tf2_ros/buffer.h>
-#include <tf2_ros/transform_listener.h>
 
 #include "minibot3d_navigation/explore/explore_node_options.h"
 #include "minibot3d_navigation/explore/frontier_search.h"
@@ -54,7 +54,7 @@ class ExploreNode {
   ExploreNode()
       : pnh_("~"),
         lockstep_(nh_, LockstepOptions()),
-        tf_listener_(tf_, lockstep_.tf_node_handle(), !lockstep_.enabled()),
+        tf_listener_(tf_, lockstep_),
         client_(nh_, "move_base", /*spin_thread=*/!lockstep_.enabled()) {}
 
   // Woken by new maps and by move_base's results as well as by its planning period.
@@ -301,7 +301,7 @@ class ExploreNode {
   ros::NodeHandle nh_, pnh_;
   minibot3d_lockstep::Participant lockstep_;
   tf2_ros::Buffer tf_;
-  tf2_ros::TransformListener tf_listener_;
+  minibot3d_lockstep::TransformListener tf_listener_;
   Client client_;
   nav::ExploreOptions o_;
   nav::ExploreNodeOptions node_;

@@ -25,11 +25,11 @@
 #include <ros/ros.h>
 
 #include "minibot3d_lockstep/participant.h"
+#include "minibot3d_lockstep/transform_listener.h"
 #include <std_srvs/Empty.h>
 #include <tf2/utils.h>
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 #include <tf2_ros/buffer.h>
-#include <tf2_ros/transform_listener.h>
 
 #include "costmap_ros.h"
 #include "minibot3d_navigation/costmap/costmap_options.h"
@@ -66,7 +66,7 @@ class MoveBaseNode {
   MoveBaseNode()
       : pnh_("~"),
         lockstep_(nh_, LockstepOptions()),
-        tf_listener_(tf_, lockstep_.tf_node_handle(), !lockstep_.enabled()),
+        tf_listener_(tf_, lockstep_),
         global_costmap_("global_costmap", &tf_),
         local_costmap_("local_costmap", &tf_) {}
 
@@ -479,7 +479,7 @@ class MoveBaseNode {
   ros::NodeHandle nh_, pnh_;
   minibot3d_lockstep::Participant lockstep_;
   tf2_ros::Buffer tf_;
-  tf2_ros::TransformListener tf_listener_;
+  minibot3d_lockstep::TransformListener tf_listener_;
   CostmapRos global_costmap_, local_costmap_;
   nav::MoveBaseOptions mb_;
   nav::dwa::DwaOptions dwa_;

@@ -19,13 +19,13 @@
 #include <ros/ros.h>
 
 #include "minibot3d_lockstep/participant.h"
+#include "minibot3d_lockstep/transform_listener.h"
 #include <sensor_msgs/LaserScan.h>
 #include <std_msgs/Float64.h>
 #include <tf2/utils.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/message_filter.h>
 #include <tf2_ros/transform_broadcaster.h>
-#include <tf2_ros/transform_listener.h>
 
 #include "minibot3d_ros/conversions.h"
 #include "minibot3d_ros/frames.h"
@@ -45,7 +45,7 @@ class SlamGmappingNode {
   SlamGmappingNode()
       : pnh_("~"),
         lockstep_(nh_, LockstepOptions()),
-        tf_listener_(tf_buffer_, lockstep_.tf_node_handle(), !lockstep_.enabled()) {}
+        tf_listener_(tf_buffer_, lockstep_) {}
 
   // Woken by scans; the map -> odom broadcast is its periodic job.
   static minibot3d_lockstep::ParticipantOptions LockstepOptions() {
@@ -251,7 +251,7 @@ class SlamGmappingNode {
   std::unique_ptr<RbpfSlam> slam_;
   int published_closures_ = 0;  // loop closures already reflected in the published map
   tf2_ros::Buffer tf_buffer_;
-  tf2_ros::TransformListener tf_listener_;
+  minibot3d_lockstep::TransformListener tf_listener_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   message_filters::Subscriber<sensor_msgs::LaserScan> scan_sub_;
   std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::LaserScan>> scan_filter_;

@@ -1,7 +1,7 @@
 // Makes a roscpp node a lock-step participant of minibot3d_sim in a few lines:
 //
 //   minibot3d_lockstep::Participant lockstep(nh, {/*wake_topics=*/{"scan"}});
-//   tf2_ros::TransformListener tf(buffer, lockstep.tf_node_handle(), !lockstep.enabled());
+//   minibot3d_lockstep::TransformListener tf(buffer, lockstep);  // transform_listener.h
 //   lockstep.AddPeriodic(0.05, [&](const ros::Time& now) { Control(now); });  // not ros::Timer
 //   lockstep.Spin();                                                          // not ros::spin()
 //
@@ -60,7 +60,7 @@ class Participant {
   Participant& operator=(const Participant&) = delete;
 
   bool enabled() const { return enabled_; }
-  // For tf2_ros::TransformListener(buffer, tf_node_handle(), /*spin_thread=*/!enabled()).
+  // The node handle whose callbacks run first at each tick (TransformListener subscribes on it).
   ros::NodeHandle& tf_node_handle() { return tf_nh_; }
   // A tf lookup that may wait `seconds` for data when free-running. Under lock-step sim time
   // stands still while this node works and every transform it can get is already in the buffer:
