@@ -16,6 +16,9 @@
   lockstep_probe.py run_for SIM_S        joins, lets SIM_S of sim time pass, prints "ran T" and
                                          leaves (holds sim time for a stack's participants, then
                                          lets go)
+  lockstep_probe.py zigzag SIM_S         publishes probe_parent -> probe_zigzag on /tf every 10 ms
+                                         of sim time for SIM_S, at x = +1 and -1 in turn (+1 at
+                                         even hundredths of a second), then leaves
   lockstep_probe.py route OUT.json [FRAME X,Y,YAW ...]
                                          move_base goals one after the other (by default two
                                          across the default world, in map); writes the goal
@@ -95,6 +98,24 @@ def run_for(seconds):
     lockstep.close()
 
 
+def zigzag(seconds):
+    from geometry_msgs.msg import TransformStamped
+    from tf2_msgs.msg import TFMessage
+    pub = rospy.Publisher('/tf', TFMessage, queue_size=1000)
+    lockstep = Participant()
+
+    def send(now):
+        t = TransformStamped()
+        t.header.frame_id, t.header.stamp, t.child_frame_id = 'probe_parent', now, 'probe_zigzag'
+        t.transform.translation.x = 1.0 if round(now.to_sec() * 100) % 2 == 0 else -1.0
+        t.transform.rotation.w = 1.0
+        pub.publish(TFMessage(transforms=[t]))
+    lockstep.add_periodic(0.01, send)
+    lockstep.sleep(seconds)
+    print('zigzag done %.3f' % rospy.get_rostime().to_sec(), flush=True)
+    lockstep.close()
+
+
 DEFAULT_ROUTE = ('map', [(-2.1, 0.6, 1.57), (-0.3, 2.0, 0.0)])
 
 
@@ -142,6 +163,9 @@ def main():
         return 0
     if mode == 'poll':
         return poll()
+    if mode == 'zigzag':
+        zigzag(float(sys.argv[2]))
+        return 0
     if mode == 'run_for':
         run_for(float(sys.argv[2]))
         return 0

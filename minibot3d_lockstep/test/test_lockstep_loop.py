@@ -6,6 +6,8 @@
 - by default a participant stopped (SIGSTOP, as in a debugger) for 12 s wall is waited for, and
   goes on where it stopped;
 - a participant killed while it holds a tick is dropped and the loop goes on;
+- a C++ participant ticked every 2 s has every /tf message of those 2 s in its tf buffer (lock-step's
+  tf listener; tf2_ros's, which keeps 100, is shown to lose some);
 - participants of several robots (/robot1/..., /robot2/...): a stalled one is dropped by its full
   name, and the other robot's go on;
 - the closed loop (simulator + amcl + move_base + a goal client) gives the same trajectory and
@@ -185,6 +187,30 @@ def test_a_wait_with_poll_sees_a_non_wake_topic_within_one_poll(tmp_path):
         assert probe.wait(30) == 0
     finally:
         stack.stop()
+
+
+def test_a_participant_ticked_every_2_s_has_every_tf_message_in_its_buffer(tmp_path):
+    """A C++ participant ticked every 2 s of sim time receives ~400 /tf messages in between (a
+    transform every 10 ms from a probe, the simulator's odometry): with lock-step's tf listener
+    every 10 ms sample is in its buffer; tf2_ros's listener (100 messages kept) lost some, which
+    the same check finds (so the check can fail)."""
+    results = {}
+    for mode in ('lockstep', 'tf2_ros'):
+        stack = sim_stack(tmp_path, '/probe_zigzag /tf_listener_probe', 30.0)
+        try:
+            zig = stack.probe('zigzag', '12')
+            probe = stack.start(['rosrun', 'minibot3d_lockstep', 'tf_listener_probe', mode, '3'],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                universal_newlines=True).proc
+            line = read_line(probe, 'tf_probe', 120)
+            assert line, stack.log(3000)
+            _, _, _, checked, _, wrong = line.split()
+            results[mode] = (int(checked), int(wrong))
+            assert read_line(zig, 'zigzag done', 60), stack.log(3000)
+        finally:
+            stack.stop()
+    assert results['lockstep'] == (3 * 191, 0), results
+    assert results['tf2_ros'][1] > 0, results
 
 
 def test_a_killed_participant_is_dropped_and_the_loop_goes_on(tmp_path):
