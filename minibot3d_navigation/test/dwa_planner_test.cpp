@@ -776,6 +776,39 @@ TEST(DwaTightSpacesTest, BetweenTableLegsFortyTwoCentimetresApart) {
                     "table legs 0.42 m apart");
 }
 
+// A table on four legs whose faces stand 0.45 m apart on every side, centred on (3.025, 3.025),
+// as a costmap sees it: each leg a cell, reaching up to a cell inside its faces (the cell of a
+// face's laser hits), 0.35 m apart (x and y in [2.80, 2.85] and [3.20, 3.25]).
+Costmap2D UnderATable() {
+  Costmap2D map = EmptyMap(6.0, 6.0);
+  for (double x : {2.825, 3.225}) {
+    for (double y : {2.825, 3.225}) AddBox(&map, x - 0.01, y - 0.01, x + 0.01, y + 0.01);
+  }
+  Inflate(&map);
+  return map;
+}
+
+TEST(DwaTightSpacesTest, UnderATableFacingTheWayItCame) {
+  // The goal is under the table's centre, facing back the way the robot drives in. Within
+  // xy_goal_tolerance (0.15 m) of it the robot is still between two legs, where turning on the
+  // spot sweeps its corners into them: it stopped there, 0.14 m short, and gave up ("cannot
+  // rotate in place to the goal yaw ... nearest obstacle 0.03 m"). It must go on to where the
+  // turn is possible.
+  const Costmap2D map = UnderATable();
+  for (double v : {0.1, 0.25, 0.5, 1.0}) {
+    SCOPED_TRACE("max_vel_x " + std::to_string(v));
+    const DwaOptions o = ShippedOptions(v);
+    DwaPlanner planner(o, kFootprint);
+    const Path plan = PolylinePlan({{3.025, 1.0}, {3.025, 3.025}}, -kPi / 2);
+    const SimResult r = Simulate(&planner, map, {3.025, 1.0, kPi / 2}, plan, 60.0);
+    EXPECT_TRUE(r.reached) << r.error << " at (" << r.pose.x << ", " << r.pose.y << ", "
+                           << r.pose.yaw << ") after " << r.time << " s";
+    EXPECT_LT(r.max_cost, kLethalObstacle) << "the footprint touched a leg";
+    EXPECT_LE(std::hypot(r.pose.x - 3.025, r.pose.y - 3.025), o.xy_goal_tolerance);
+    EXPECT_LE(std::fabs(AngleDiff(r.pose.yaw, -kPi / 2)), o.yaw_goal_tolerance);
+  }
+}
+
 TEST(DwaTightSpacesTest, ThroughAGapBetweenPostsFasterThanCreeping) {
   // A row of thin posts (0.05 m cells) across y = 3 with a 0.40 m gap at
   // x in [2.80, 3.20]: narrower than the robot (0.25 m) plus two inscribed

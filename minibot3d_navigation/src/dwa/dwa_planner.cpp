@@ -65,6 +65,8 @@ const char* DwaModeName(DwaPlanner::Mode mode) {
       return "escape";
     case DwaPlanner::Mode::kRotateToPath:
       return "rotate to path";
+    case DwaPlanner::Mode::kApproachGoal:
+      return "approach goal";
     case DwaPlanner::Mode::kStopAtGoal:
       return "stop at goal";
     case DwaPlanner::Mode::kRotateToGoal:
@@ -249,6 +251,26 @@ bool DwaPlanner::RotateTowards(const Pose2& pose, const Twist2& velocity,
   ++stats_.evaluated;
   if (best_.cost < 0.0) ++stats_.rejected[3];
   return best_.cost >= 0.0;
+}
+
+bool DwaPlanner::TurnIsClear(const Pose2& pose, double target_yaw, const Costmap2D& costmap) {
+  // The turn on the spot from a standstill, pose by pose, scored as the
+  // rotation itself would be (lethal cells only at turning speed).
+  const double diff = AngleDiff(target_yaw, pose.yaw);
+  const double step = EffectiveAngularSimGranularity(options_);
+  const int n = std::max(1, static_cast<int>(std::ceil(std::fabs(diff) / step)));
+  Trajectory& turn = candidate_;
+  turn.Clear();
+  turn.kind = TrajectoryKind::kInPlace;
+  turn.command = Twist2();
+  turn.command.wz = diff >= 0.0 ? options_.min_in_place_vel_theta
+                                : -options_.min_in_place_vel_theta;
+  turn.start_vx = 0.0;
+  for (int i = 0; i <= n; ++i) {
+    turn.poses.push_back({pose.x, pose.y, NormalizeAngle(pose.yaw + diff * i / n)});
+  }
+  obstacle_critic_.SetCostmap(costmap);
+  return obstacle_critic_.Score(turn) >= 0.0;
 }
 
 double DwaPlanner::PathHeadingError(const Pose2& pose,
@@ -686,6 +708,25 @@ Twist2 DwaPlanner::ComputeVelocity(const Pose2& pose, const Twist2& velocity,
       stats_.mode = Mode::kAtGoal;
       return Twist2();
     }
+    const std::string cannot_turn =
+        "DWA local planner: cannot rotate in place to the goal yaw " +
+        Fixed(goal.yaw * 180.0 / kPi, 1) + " deg (now " + Fixed(pose.yaw * 180.0 / kPi, 1) +
+        " deg): turning, the footprint would touch an obstacle (";
+    // Where the robot reached the tolerance it may not be able to turn; the
+    // goal itself may leave room: go on towards it until the turn is clear.
+    if (!rotating_to_goal_ &&
+        std::hypot(goal.x - pose.x, goal.y - pose.y) > costmap.resolution() &&
+        !TurnIsClear(pose, goal.yaw, costmap)) {
+      const std::string here = NearestObstacle(pose, costmap);
+      try {
+        const Twist2 cmd = FollowPath(pose, velocity, costmap);
+        stats_.mode = Mode::kApproachGoal;
+        return cmd;
+      } catch (const ControlError& e) {
+        throw ControlError(cannot_turn + here + ") and it cannot go on towards the goal: " +
+                           e.what());
+      }
+    }
     if (!rotating_to_goal_ && !Stopped(velocity)) {
       return Brake(pose, velocity, Mode::kStopAtGoal, costmap);
     }
@@ -694,13 +735,8 @@ Twist2 DwaPlanner::ComputeVelocity(const Pose2& pose, const Twist2& velocity,
     Twist2 cmd;
     if (!RotateTowards(pose, velocity, goal.yaw, options_.yaw_goal_tolerance,
                        costmap, &cmd)) {
-      throw ControlError(
-          "DWA local planner: cannot rotate in place to the goal yaw " +
-          Fixed(goal.yaw * 180.0 / kPi, 1) + " deg (now " +
-          Fixed(pose.yaw * 180.0 / kPi, 1) +
-          " deg): turning, the footprint would touch an obstacle (" +
-          NearestObstacle(pose, costmap) +
-          "); the goal is too close to obstacles to turn there");
+      throw ControlError(cannot_turn + NearestObstacle(pose, costmap) +
+                         "); the goal is too close to obstacles to turn there");
     }
     return cmd;
   }

@@ -8,7 +8,12 @@
 //  2. Goal: within xy_goal_tolerance (latched if latch_xy_goal_tolerance),
 //     brake to a stop, then rotate in place to the goal yaw at
 //     [min_in_place_vel_theta, max_vel_theta], slowing at acc_lim_theta so
-//     that it stops inside yaw_goal_tolerance; zero once within it.
+//     that it stops inside yaw_goal_tolerance; zero once within it.  If that
+//     turn, from where the robot is, would put the footprint on a lethal cell
+//     (the robot reached the tolerance between two table legs, say), it first
+//     goes on following the plan towards the goal itself (step 4), checking
+//     again every cycle, and turns as soon as the turn is clear; it gives up
+//     only when the turn is blocked within a cell of the goal.
 //  3. If the plan ahead (the first plan pose heading_lookahead or more from
 //     the robot) is more than rotate_to_path_angle off the heading (a quarter
 //     of it when the robot is at creeping speed, max(min_vel_x, |escape_vel|),
@@ -83,6 +88,7 @@ class DwaPlanner : public LocalPlanner {
     kFollowPath,    // best sampled / in-place / braking trajectory
     kEscape,        // backing up at escape_vel
     kRotateToPath,  // plan far off the heading: braking / turning on the spot
+    kApproachGoal,  // in xy tolerance, going on towards the goal, where it can turn
     kStopAtGoal,    // in xy tolerance, braking before the final rotation
     kRotateToGoal,  // in xy tolerance, turning to the goal yaw
     kAtGoal,        // in xy and yaw tolerance: zero command
@@ -145,6 +151,9 @@ class DwaPlanner : public LocalPlanner {
   bool RotateTowards(const Pose2& pose, const Twist2& velocity,
                      double target_yaw, double tolerance,
                      const Costmap2D& costmap, Twist2* command);
+  // Whether turning on the spot from `pose` to `target_yaw` (the shorter way)
+  // keeps the footprint off lethal cells.
+  bool TurnIsClear(const Pose2& pose, double target_yaw, const Costmap2D& costmap);
   // Angle from the heading to the first plan pose heading_lookahead or more
   // from the robot; NaN if that pose is off the costmap.
   double PathHeadingError(const Pose2& pose, const Costmap2D& costmap) const;
