@@ -209,59 +209,14 @@ def localize(lockstep, rec, cmd_pub, spawn, timeout=300.0):
     return err
 
 
-def sample_goals(map_yaml, spawn, count=4, clearance=0.4, seed=1):
-    """Goals (world frame) for a world without a goal list: free cells of the saved map at least
-    `clearance` from walls, reachable from the map's origin (where exploration started), spread
-    out by farthest-point sampling from a fixed seed."""
-    import random
-    from collections import deque
-
-    import numpy as np
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    from demo_report import load_trinary, route_driver
-    free, occ, res, origin = load_trinary(map_yaml)
-    ok = free & ~route_driver().inflate(occ | ~free, int(math.ceil(clearance / res)))
-    h, w = ok.shape
-    sx, sy = int(-origin[0] / res), int(-origin[1] / res)
-    seen = np.zeros_like(ok)
-    q = deque([(sy, sx)]) if 0 <= sx < w and 0 <= sy < h else deque()
-    # The start cell may be close to a wall: start from free cells around it.
-    for dy in range(-8, 9):
-        for dx in range(-8, 9):
-            y, x = sy + dy, sx + dx
-            if 0 <= y < h and 0 <= x < w and ok[y, x] and not seen[y, x]:
-                seen[y, x] = True
-                q.append((y, x))
-    while q:
-        y, x = q.popleft()
-        for dy, dx in ((1, 0), (-1, 0), (0, 1), (0, -1)):
-            yy, xx = y + dy, x + dx
-            if 0 <= yy < h and 0 <= xx < w and ok[yy, xx] and not seen[yy, xx]:
-                seen[yy, xx] = True
-                q.append((yy, xx))
-    cells = np.argwhere(seen)
-    if len(cells) == 0:
-        raise RuntimeError('no reachable free cell in %s to send goals to' % map_yaml)
-    rng = random.Random(seed)
-    chosen = [cells[rng.randrange(len(cells))]]
-    while len(chosen) < count:
-        d = np.min([np.hypot(*(cells - c).T) for c in chosen], axis=0)
-        chosen.append(cells[int(np.argmax(d))])
-    goals = []
-    c, s = math.cos(spawn[2]), math.sin(spawn[2])
-    for y, x in chosen:
-        mx, my = origin[0] + (x + 0.5) * res, origin[1] + (y + 0.5) * res
-        goals.append((spawn[0] + c * mx - s * my, spawn[1] + s * mx + c * my,
-                      rng.uniform(-math.pi, math.pi)))
-    return goals
-
-
 def navigate(args, lockstep, rec, cmd_pub):
     spawn = tuple(float(v) for v in args.spawn.split(','))
     if args.goals.strip():
         goals = [tuple(float(v) for v in g.split(',')) for g in args.goals.split()]
     else:
-        goals = sample_goals(os.path.join(args.out, 'demo_map.yaml'), spawn)
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        from demo_goals import sample_goals
+        goals = sample_goals(os.path.join(args.out, 'demo_map.yaml'), spawn, args.config_dir)
         print('demo: goals sampled from the saved map: %s' % ' '.join(
             '%.2f,%.2f' % g[:2] for g in goals), flush=True)
     wait_for(lockstep, lambda: rec.truth is not None, 60, '/ground_truth/odom')
