@@ -35,7 +35,7 @@ from demo_report import load_trinary, reach_clearance  # noqa: E402
 
 GOAL_CLEARANCE = 0.4   # m from walls for a goal
 ROOM_CLEARANCE = 0.5   # m: openings narrower than twice this separate rooms
-MIN_ROOM_AREA = 1.0    # m^2 of roomy space for a part to count as a room
+MIN_ROOM_AREA = 0.25   # m^2 of roomy space for a part to count as a room
 START_RADIUS = 0.4     # m: the free cells this near the start start the search
 
 
