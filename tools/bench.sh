@@ -168,6 +168,15 @@ for spec in "default||" "arena|minibot3d_sim/worlds/arena.world|" \
   sed -n '/== make demo summary/,$p' "build/bench/demo_$name.txt" | grep -v "^== make demo summary"
 done
 
+echo "== make demo on the 12 generated houses (tools/generators/house_world.py; rooms behind doors"
+echo "   0.40-0.90 m wide, pockets behind shelves): share of the reachable free area mapped,"
+echo "   exploration sim time, goals reached, rooms holding a reached goal, map accuracy"
+for w in minibot3d_sim/worlds/houses/house_*.world; do
+  name="$(basename "$w" .world)"
+  DEMO_OUT="build/bench/demo_$name" tools/demo.sh "$w" > "build/bench/demo_$name.txt" 2>&1 || true
+done
+/usr/bin/python3 tools/bench/house_table.py minibot3d_sim/worlds/houses build/bench
+
 echo "== lock-step determinism over 300 s of sim time: an exploration (SLAM, move_base, explore) at"
 echo "   real_time_factor 1 against one at 0, and two at 0, one beside two busy processes; digests"
 echo "   compared tick for tick (test_lockstep_loop.py at full length)"
