@@ -143,13 +143,13 @@ class ExploreNode {
   void GoalReached() {
     have_goal_ = false;
     memory_->Reached(goal_);
-    to_judge_.push_back({goal_, goal_view_radius_, map_count_});
+    to_judge_.push_back({goal_, map_count_});
   }
 
-  void Judge(const nav::Point2& viewpoint, double view_radius, const nav::OccupancyGrid& grid) {
+  void Judge(const nav::Point2& viewpoint, const nav::OccupancyGrid& grid) {
     std::vector<nav::Point2> in_sight;
     try {
-      in_sight = search_->InSight(grid, viewpoint, view_radius);
+      in_sight = search_->InSight(grid, viewpoint);
     } catch (const std::invalid_argument& e) {
       ROS_WARN_THROTTLE(5.0, "explore: %s", e.what());
     }
@@ -207,8 +207,8 @@ class ExploreNode {
       }
     }
     for (auto it = to_judge_.begin(); it != to_judge_.end();) {
-      if (map_count_ > it->map_count) {
-        Judge(it->viewpoint, it->view_radius, grid);
+      if (map_count_ > it->second) {
+        Judge(it->first, grid);
         it = to_judge_.erase(it);
       } else {
         ++it;
@@ -266,12 +266,8 @@ class ExploreNode {
     g.target_pose.pose.position.y = f.goal.y;
     // Arrive heading the way the robot comes, not facing the frontier: the lidar sees all
     // round, and a turn on the spot at a goal beside furniture is where a robot gets wedged.
-    // A goal from which a frontier is looked into from off faces the frontier (a roomy cell:
-    // the turn is safe), so that a lidar with a narrower field of view sees it too.
     double yaw = robot.yaw;
-    if (f.view_radius > 0.0) {
-      yaw = std::atan2(f.centroid.y - f.goal.y, f.centroid.x - f.goal.x);
-    } else if (std::hypot(f.goal.y - robot.y, f.goal.x - robot.x) > 0.3) {
+    if (std::hypot(f.goal.y - robot.y, f.goal.x - robot.x) > 0.3) {
       yaw = std::atan2(f.goal.y - robot.y, f.goal.x - robot.x);
     }
     g.target_pose.pose.orientation.z = std::sin(yaw / 2.0);
@@ -279,19 +275,12 @@ class ExploreNode {
     client_.sendGoal(g);
     ++goals_sent_;
     goal_ = f.goal;
-    goal_view_radius_ = f.view_radius;
     have_goal_ = true;
     best_distance_ = std::hypot(goal_.x - robot.x, goal_.y - robot.y);
     progress_pose_ = robot;
     last_progress_ = now;
-    if (f.view_radius > 0.0) {
-      ROS_INFO("explore: going to look at frontier at (%.2f, %.2f), %.1f m long, from (%.2f, "
-               "%.2f), %.1f m away (no room to go nearer)", f.centroid.x, f.centroid.y, f.size,
-               f.goal.x, f.goal.y, f.distance);
-    } else {
-      ROS_INFO("explore: going to frontier at (%.2f, %.2f), %.1f m long, %.1f m away",
-               f.centroid.x, f.centroid.y, f.size, f.distance);
-    }
+    ROS_INFO("explore: going to frontier at (%.2f, %.2f), %.1f m long, %.1f m away",
+             f.centroid.x, f.centroid.y, f.size, f.distance);
   }
 
   void PublishFrontiers(const nav::FrontierSearchResult& r) {
@@ -323,14 +312,8 @@ class ExploreNode {
   nav_msgs::OccupancyGrid::ConstPtr map_;
   int map_count_ = 0, empty_at_map_ = 0;
   bool have_goal_ = false;
-  struct ToJudge {
-    nav::Point2 viewpoint;
-    double view_radius;  // Frontier::view_radius of the goal
-    int map_count;       // maps received when it was reached
-  };
-  std::vector<ToJudge> to_judge_;  // reached viewpoints
+  std::vector<std::pair<nav::Point2, int>> to_judge_;  // reached viewpoints, map count then
   nav::Point2 goal_;
-  double goal_view_radius_ = 0.0;
   double best_distance_ = 0.0;
   nav::Pose2 progress_pose_;
   ros::Time last_progress_, start_time_, empty_since_;

@@ -1,8 +1,6 @@
 // Frontier search on small inline maps: frontier detection and clustering, the
 // goal on the robot's side and in sight of its frontier, unreachable frontiers
-// dropped, excluded viewpoints, goals clear of walls and of unknown space,
-// "nothing left" once a room is closed, a pocket
-// too narrow to stand in looked into from off and done once seen; and the
+// dropped, excluded viewpoints, "nothing left" once a room is closed; and the
 // exploration memory (reached viewpoints never again, unreachable goals retried
 // once the map round them changes, a limit on attempts); the explore node's
 // options.
@@ -46,7 +44,6 @@ ExploreOptions Options() {
   o.goal_clearance = 0.1;
   o.min_frontier_size = 0.2;
   o.goal_search_radius = 0.2;
-  o.view_range = 0.0;  // near viewpoints only; the tests of looking from off set it
   return o;
 }
 
@@ -145,30 +142,6 @@ ExploreOptions ThinShelfOptions(double goal_search_radius) {
   return o;
 }
 
-TEST(FrontierSearch, TheGoalKeepsGoalClearanceFromUnknownSpace) {
-  // The robot stands right at the frontier (column 8 unknown).  Unknown space may hide
-  // an obstacle (a shelf's unseen face), so the goal keeps goal_clearance from it as
-  // from a wall: at most column 4 (0.4 m from column 8), not the robot's own cell.
-  const auto grid = Grid({
-      "#########",
-      "#.......?",
-      "#.......?",
-      "#.......?",
-      "#.......?",
-      "#.......?",
-      "#.......?",
-      "#.......?",
-      "#########",
-  });
-  ExploreOptions o = Options();
-  o.goal_clearance = 0.3;
-  o.goal_search_radius = 0.6;
-  const auto r = FrontierSearch(o).Find(grid, At(7, 4), {});
-  ASSERT_EQ(r.frontiers.size(), 1u);
-  EXPECT_LE(r.frontiers[0].goal.x, At(4, 4).x + 1e-9)
-      << "goal (" << r.frontiers[0].goal.x << ", " << r.frontiers[0].goal.y << ")";
-}
-
 TEST(FrontierSearch, TheViewpointSeesItsFrontier) {
   // A gap behind a thin shelf (column 6), open to unknown space at its far end
   // (top right).  The cells just left of the shelf are within reach of the
@@ -261,102 +234,6 @@ TEST(FrontierSearch, NoGoalInAPocketTooNarrowToTurnIn) {
   o.goal_search_radius = 0.2;  // nothing roomy within reach of the frontier
   r = FrontierSearch(o).Find(grid, At(2, 2), {});
   EXPECT_TRUE(r.frontiers.empty());
-  EXPECT_EQ(r.unreachable, 1);
-}
-
-// A room with a 0.3 m slot 1.4 m deep off its right side (text rows 3-5), the
-// slot's far end unknown: too narrow for a goal (goal_clearance 0.2 m) and no
-// roomy cell within goal_search_radius of its frontier.
-OccupancyGrid RoomWithADeepSlot() {
-  return Grid({
-      "######################",
-      "#.......##############",
-      "#.......##############",
-      "#..............???####",
-      "#..............???####",
-      "#..............???####",
-      "#.......##############",
-      "#.......##############",
-      "######################",
-  });
-}
-
-ExploreOptions SlotOptions(double view_range) {
-  ExploreOptions o = Options();
-  o.goal_clearance = 0.2;
-  o.goal_search_radius = 0.2;
-  o.look_radius = 0.2;
-  o.view_range = view_range;
-  return o;
-}
-
-TEST(FrontierSearch, APocketTooNarrowToStandInIsLookedIntoFromOff) {
-  const auto grid = RoomWithADeepSlot();
-  // Near viewpoints only: the slot's frontier has none and is dropped.
-  auto r = FrontierSearch(SlotOptions(0.0)).Find(grid, At(2, 4), {});
-  EXPECT_TRUE(r.frontiers.empty());
-  // Looking from off: a goal in the room, roomy, in line with the slot (it sees down it).
-  const FrontierSearch search(SlotOptions(1.5));
-  r = search.Find(grid, At(2, 4), {});
-  ASSERT_EQ(r.frontiers.size(), 1u);
-  const Frontier& f = r.frontiers[0];
-  EXPECT_LT(f.goal.x, 0.8) << "goal (" << f.goal.x << ", " << f.goal.y << ")";
-  EXPECT_NEAR(f.goal.y, At(0, 4).y, 0.11) << "goal (" << f.goal.x << ", " << f.goal.y << ")";
-  EXPECT_GT(f.view_radius, 0.2);
-  EXPECT_LE(f.view_radius, 1.5 + kRes);
-  // The goal's sight reaches the frontier at the slot's end, the look radius alone does not.
-  EXPECT_TRUE(search.InSight(grid, f.goal).empty());
-  const auto cells = search.InSight(grid, f.goal, f.view_radius);
-  EXPECT_FALSE(cells.empty());
-  // Reached, with the slot's end still unknown (a grazing view): it counts as explored.
-  ExplorationMemory memory(SlotOptions(1.5));
-  memory.Reached(f.goal);
-  memory.LookedAt(cells);
-  r = search.Find(grid, At(2, 4), memory.Excluded(), memory.looked_at());
-  EXPECT_TRUE(r.frontiers.empty()) << "the slot's frontier still chased from ("
-                                   << r.frontiers[0].goal.x << ", " << r.frontiers[0].goal.y
-                                   << ")";
-}
-
-TEST(FrontierSearch, APocketBeyondTheViewRangeIsNotChased) {
-  // The slot's frontier is 0.7-0.9 m from the nearest roomy cell that sees it.
-  const auto grid = RoomWithADeepSlot();
-  auto r = FrontierSearch(SlotOptions(0.5)).Find(grid, At(2, 4), {});
-  EXPECT_TRUE(r.frontiers.empty());
-  r = FrontierSearch(SlotOptions(1.0)).Find(grid, At(2, 4), {});
-  EXPECT_EQ(r.frontiers.size(), 1u);
-}
-
-TEST(FrontierSearch, AViewpointFromOffHasTheFrontierInSight) {
-  // The robot in the room's top left corner: the roomy cells nearest to it within
-  // range of the slot's frontier (the room's top right) have the slot's wall in
-  // the way; the goal is the nearest one that sees down the slot.
-  const auto grid = RoomWithADeepSlot();
-  const auto r = FrontierSearch(SlotOptions(1.5)).Find(grid, At(1, 7), {});
-  ASSERT_EQ(r.frontiers.size(), 1u);
-  const Frontier& f = r.frontiers[0];
-  EXPECT_NEAR(f.goal.y, At(0, 4).y, 0.11) << "goal (" << f.goal.x << ", " << f.goal.y << ")";
-}
-
-TEST(FrontierSearch, FreeCellsSeenThroughAChinkAreNotLookedInto) {
-  // The room's right wall has a one-cell chink; beyond it, free cells the lidar
-  // saw through it and unknown space: not a pocket of the room (the chink is
-  // narrower than clearance), so no viewpoint from off is sent for them.
-  const auto grid = Grid({
-      "##############??",
-      "#.........#...??",
-      "#.........#...??",
-      "#..............?",
-      "#.........#...??",
-      "#.........#...??",
-      "##############??",
-  });
-  ExploreOptions o = SlotOptions(2.5);
-  o.clearance = 0.2;
-  o.goal_clearance = 0.2;
-  const auto r = FrontierSearch(o).Find(grid, At(3, 3), {});
-  EXPECT_TRUE(r.frontiers.empty()) << "goal (" << r.frontiers[0].goal.x << ", "
-                                   << r.frontiers[0].goal.y << ")";
   EXPECT_EQ(r.unreachable, 1);
 }
 
@@ -483,14 +360,6 @@ TEST(FrontierSearch, BadInputIsRejectedSayingWhy) {
   o = ExploreOptions();
   o.look_radius = 0.2;  // below goal_search_radius 0.4
   EXPECT_THROW(FrontierSearch{o}, std::invalid_argument);
-  o = ExploreOptions();
-  o.view_range = 0.3;  // neither 0 nor at least goal_search_radius
-  try {
-    FrontierSearch{o};
-    FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("view_range=0.3"), std::string::npos) << e.what();
-  }
 }
 
 TEST(ExploreNodeOptionsTest, ValidationNamesEveryBadValue) {

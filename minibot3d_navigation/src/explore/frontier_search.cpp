@@ -148,36 +148,6 @@ std::vector<uint8_t> NearOccupied(const std::vector<uint8_t>& kind, int w, int h
   return near;
 }
 
-// 1 for the cells within `radius` of an unknown cell that borders a known-free one.
-std::vector<uint8_t> NearUnknown(const std::vector<uint8_t>& kind, int w, int h, double radius,
-                                 double res) {
-  static const int dxs[4] = {1, -1, 0, 0};
-  static const int dys[4] = {0, 0, 1, -1};
-  const int r = static_cast<int>(std::ceil(radius / res));
-  std::vector<std::pair<int, int>> disc;
-  for (int dy = -r; dy <= r; ++dy) {
-    for (int dx = -r; dx <= r; ++dx) {
-      if ((dx * dx + dy * dy) * res * res <= radius * radius + 1e-12) disc.emplace_back(dx, dy);
-    }
-  }
-  std::vector<uint8_t> near(kind.size(), 0);
-  for (int i = 0; i < w * h; ++i) {
-    if (kind[i] != 1) continue;
-    const int x = i % w, y = i / w;
-    bool borders_free = false;
-    for (int k = 0; k < 4 && !borders_free; ++k) {
-      const int xx = x + dxs[k], yy = y + dys[k];
-      borders_free = xx >= 0 && yy >= 0 && xx < w && yy < h && kind[yy * w + xx] == 0;
-    }
-    if (!borders_free) continue;
-    for (const auto& [dx, dy] : disc) {
-      const int xx = x + dx, yy = y + dy;
-      if (xx >= 0 && yy >= 0 && xx < w && yy < h) near[yy * w + xx] = 1;
-    }
-  }
-  return near;
-}
-
 // True when cell v has a line of sight to an unknown 4-neighbour of frontier
 // cell i: a ray from v reaches the unknown side.
 bool SeesUnknownSide(int v, int i, int w, int h, const std::vector<uint8_t>& kind) {
@@ -190,90 +160,6 @@ bool SeesUnknownSide(int v, int i, int w, int h, const std::vector<uint8_t>& kin
     if (LineOfSight(v, uy * w + ux, w, kind)) return true;
   }
   return false;
-}
-
-// Free cells joined to the reachable ones (dist < inf) through free cells farther than
-// `gap` from any occupied cell (8-connected): the pockets off the robot's space, but not
-// free cells seen through a chink in a wall (outside the building).
-std::vector<uint8_t> JoinedToReachable(const std::vector<uint8_t>& kind,
-                                       const std::vector<double>& dist, int w, int h,
-                                       double gap, double res) {
-  const std::vector<uint8_t> near = NearOccupied(kind, w, h, gap, gap, res);
-  std::vector<uint8_t> joined(kind.size(), 0);
-  std::vector<int> stack;
-  for (int i = 0; i < w * h; ++i) {
-    if (dist[i] < kInf) {
-      joined[i] = 1;
-      stack.push_back(i);
-    }
-  }
-  while (!stack.empty()) {
-    const int i = stack.back();
-    stack.pop_back();
-    const int x = i % w, y = i / w;
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dx = -1; dx <= 1; ++dx) {
-        const int xx = x + dx, yy = y + dy;
-        if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-        const int j = yy * w + xx;
-        if (joined[j] || kind[j] != 0 || near[j] >= 2) continue;
-        joined[j] = 1;
-        stack.push_back(j);
-      }
-    }
-  }
-  return joined;
-}
-
-// A viewpoint from off for a frontier without a near one: among the reachable cells that
-// `roomy` accepts and that are not excluded, within view_range of some cell of the cluster,
-// the one with the shortest path from the robot that has a line of sight to the unknown side
-// of a cluster cell within view_range that is `joined` to the robot's space.  Sets
-// *view_radius to the distance to the farthest such cell it sees; returns -1 when there is
-// none.
-template <typename Roomy>
-int FarViewpointImpl(const std::vector<int>& cluster, const std::vector<uint8_t>& kind,
-                     const std::vector<double>& dist, const std::vector<uint8_t>& is_excluded,
-                     const std::vector<uint8_t>& joined, int w, int h, double res,
-                     double view_range, const Roomy& roomy, double* view_radius) {
-  const int r = static_cast<int>(std::ceil(view_range / res));
-  std::vector<int> cells;
-  for (int i : cluster) {
-    if (joined[i]) cells.push_back(i);
-  }
-  if (cells.empty()) return -1;
-  int x0 = w, y0 = h, x1 = -1, y1 = -1;
-  for (int i : cells) {
-    x0 = std::min(x0, i % w);
-    x1 = std::max(x1, i % w);
-    y0 = std::min(y0, i / w);
-    y1 = std::max(y1, i / w);
-  }
-  std::vector<std::pair<double, int>> candidates;
-  for (int y = std::max(0, y0 - r); y <= std::min(h - 1, y1 + r); ++y) {
-    for (int x = std::max(0, x0 - r); x <= std::min(w - 1, x1 + r); ++x) {
-      const int j = y * w + x;
-      if (dist[j] < kInf && roomy(j) && !is_excluded[j]) candidates.emplace_back(dist[j], j);
-    }
-  }
-  std::sort(candidates.begin(), candidates.end());
-  const double range2 = view_range * view_range / (res * res) + 1e-9;  // in cells^2
-  for (const auto& candidate : candidates) {
-    const int j = candidate.second;
-    const int jx = j % w, jy = j / w;
-    double farthest = -1.0;
-    for (int i : cells) {
-      const double d2 = static_cast<double>((i % w - jx) * (i % w - jx) +
-                                            (i / w - jy) * (i / w - jy));
-      if (d2 > range2 || std::sqrt(d2) * res <= farthest) continue;
-      if (SeesUnknownSide(j, i, w, h, kind)) farthest = std::sqrt(d2) * res;
-    }
-    if (farthest >= 0.0) {
-      *view_radius = farthest + res;
-      return j;
-    }
-  }
-  return -1;
 }
 
 }  // namespace
@@ -302,10 +188,6 @@ void ValidateExploreOptions(const ExploreOptions& o) {
             "retry_map_change=" + Num(o.retry_map_change) + " must be > 0");
   p.Require(std::isfinite(o.start_search_radius) && o.start_search_radius >= 0.0,
             "start_search_radius=" + Num(o.start_search_radius) + " must be >= 0");
-  p.Require(std::isfinite(o.view_range) &&
-                (o.view_range == 0.0 || o.view_range >= o.goal_search_radius),
-            "view_range=" + Num(o.view_range) + " must be 0 (off) or >= goal_search_radius=" +
-                Num(o.goal_search_radius));
   p.Require(o.max_goal_attempts >= 1,
             "max_goal_attempts=" + std::to_string(o.max_goal_attempts) + " must be >= 1");
   p.ThrowIfAny();
@@ -343,13 +225,7 @@ const options::OptionTable<ExploreOptions>& ExploreOptionTable() {
        Field("start_search_radius", &O::start_search_radius,
              "When the robot's own cell is not known free (lasers at its ends do not see under "
              "it), the search starts from the nearest known-free cell within this distance (m), "
-             "reached through cells that are not occupied."),
-       Field("view_range", &O::view_range,
-             "A frontier with no goal within goal_search_radius (a pocket too narrow to stand "
-             "in, or its near viewpoints used up) is looked into from the nearest roomy cell "
-             "within this distance (m) that has it in sight; reaching it, what stays unknown "
-             "in sight there is not chased again. Keep it within the lidar's reliable range; "
-             "0 disables.")});
+             "reached through cells that are not occupied.")});
   return table;
 }
 
@@ -391,10 +267,7 @@ FrontierSearchResult FrontierSearch::Find(const OccupancyGrid& grid, const Pose2
   const std::vector<uint8_t> near =
       NearOccupied(kind, w, h, options_.clearance, options_.goal_clearance, res);
   auto traversable = [&](int i) { return kind[i] == 0 && near[i] < 2; };
-  // Goals keep goal_clearance from unknown space too: an unseen face of a shelf may be there,
-  // and a goal that looked roomy would be in a pocket the robot cannot turn round in.
-  const std::vector<uint8_t> near_unknown = NearUnknown(kind, w, h, options_.goal_clearance, res);
-  auto cramped = [&](int i) { return near[i] >= 1 || near_unknown[i]; };
+  auto cramped = [&](int i) { return near[i] >= 1; };
 
   // Dijkstra from the robot; non-traversable free cells only while escaping
   // from a start that is itself not traversable.
@@ -452,7 +325,6 @@ FrontierSearchResult FrontierSearch::Find(const OccupancyGrid& grid, const Pose2
     }
   }
   std::unordered_map<int, bool> candidate_los;  // this frontier's cells seen from a candidate
-  std::vector<uint8_t> joined;  // JoinedToReachable, made when a frontier first needs it
   std::vector<uint8_t> seen(n, 0);
   std::vector<int> stack, cluster;
   for (int s = 0; s < n; ++s) {
@@ -513,23 +385,12 @@ FrontierSearchResult FrontierSearch::Find(const OccupancyGrid& grid, const Pose2
         }
       }
     }
-    double view_radius = 0.0;
-    if (best < 0 && options_.view_range > 0.0) {
-      if (joined.empty()) {
-        joined = JoinedToReachable(kind, dist, w, h, options_.clearance / 2.0, res);
-      }
-      best = FarViewpointImpl(cluster, kind, dist, is_excluded, joined, w, h, res,
-                              options_.view_range,
-                              [&](int j) { return traversable(j) && !cramped(j); },
-                              &view_radius);
-    }
     if (best < 0) {
       ++(any_reachable ? result.blacklisted : result.unreachable);
       continue;
     }
     f.goal = to_world(best);
     f.distance = dist[best];
-    f.view_radius = view_radius;
     result.frontiers.push_back(f);
   }
   std::sort(result.frontiers.begin(), result.frontiers.end(),
@@ -537,8 +398,8 @@ FrontierSearchResult FrontierSearch::Find(const OccupancyGrid& grid, const Pose2
   return result;
 }
 
-std::vector<Point2> FrontierSearch::InSight(const OccupancyGrid& grid, const Point2& viewpoint,
-                                             double radius) const {
+std::vector<Point2> FrontierSearch::InSight(const OccupancyGrid& grid,
+                                             const Point2& viewpoint) const {
   CheckGrid(grid);
   const int w = grid.width, h = grid.height;
   const double res = grid.resolution;
@@ -548,9 +409,8 @@ std::vector<Point2> FrontierSearch::InSight(const OccupancyGrid& grid, const Poi
   if (vx < 0 || vy < 0 || vx >= w || vy >= h) return cells;
   const std::vector<uint8_t> kind = Kinds(grid, options_.free_threshold);
   const std::vector<uint8_t> is_frontier = FrontierCells(kind, w, h);
-  const double look = std::max(options_.look_radius, radius);
-  const int r = static_cast<int>(std::ceil(look / res));
-  const double r2 = look * look + 1e-12;
+  const int r = static_cast<int>(std::ceil(options_.look_radius / res));
+  const double r2 = options_.look_radius * options_.look_radius + 1e-12;
   const int v = vy * w + vx;
   for (int dy = -r; dy <= r; ++dy) {
     for (int dx = -r; dx <= r; ++dx) {

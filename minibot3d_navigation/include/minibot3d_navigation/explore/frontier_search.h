@@ -8,8 +8,7 @@
 // cells within goal_search_radius of a frontier cell and with a line of sight
 // through known-free cells to that cell's unknown side, with the shortest path
 // from the robot (a cell beside a frontier but behind a shelf's end sees
-// nothing of it).  A goal must be goal_clearance from occupied cells, and from
-// unknown cells bordering known-free ones (an unseen face of a shelf may be there): a robot
+// nothing of it).  A goal must be goal_clearance from occupied cells: a robot
 // stopping anywhere within its goal tolerance can still turn there, and it is
 // not sent into a pocket it cannot turn round in (paths still pass through
 // anything `clearance` wide, such as a 0.40 m door).  Paths are a
@@ -19,17 +18,8 @@
 // whose own cell is not known free (lasers at its ends do not see under it)
 // starts from the nearest known-free cell within start_search_radius, reached
 // through cells that are not occupied (explore_lite's nearest free cell).
-// A frontier with no such goal near it — a pocket too narrow to stand in with
-// goal_clearance, such as a gap behind a shelf, or one whose near viewpoints are all
-// used up — is looked into from farther off: the nearest (by path) roomy reachable
-// cell within view_range of a frontier cell that has a line of sight to its unknown
-// side (the lidar maps what it sees within that range); reaching it, the frontier
-// cells in its sight up to that distance count as looked at, like a near goal's.
-// Only frontier cells joined to the robot's space through free cells farther than
-// clearance / 2 from occupied ones are looked into so: a pocket, not free cells
-// seen through a chink in a wall (outside the building, or a SLAM wall's gap).
-// Frontiers without any goal — behind walls, outside the building — are dropped,
-// so "no frontier left" means the reachable space is mapped or has been seen.
+// Frontiers whose goal cannot be reached — behind walls, outside the building —
+// are dropped, so "no frontier left" means the reachable space is mapped.
 //
 // ExplorationMemory is explore's blacklist.  When the robot reaches a
 // viewpoint, a frontier cell within look_radius whose unknown side it has in
@@ -70,8 +60,6 @@ struct ExploreOptions {
   int max_goal_attempts = 3;       // goals sent near one place before it is given up for good
   double start_search_radius = 1.0;  // m: the nearest free cell within this starts the search
                                      // when the robot's own cell is not known free
-  double view_range = 2.5;  // m: a frontier with no goal within goal_search_radius is looked
-                            // at from a viewpoint this far off at most; 0 disables
 };
 
 // Throws std::invalid_argument listing every offending value.
@@ -88,9 +76,6 @@ struct Frontier {
   double size = 0.0;       // m (cells x resolution)
   double distance = 0.0;   // path length from the robot to the goal, m
   int cells = 0;
-  // For a goal farther than goal_search_radius from the frontier (looked into from off):
-  // the distance from the goal to the farthest of its cells in sight; 0 for a near goal.
-  double view_radius = 0.0;
 };
 
 struct FrontierSearchResult {
@@ -113,11 +98,9 @@ class FrontierSearch {
                             const std::vector<Point2>& excluded,
                             const std::vector<Point2>& looked_at = {}) const;
 
-  // The frontier cells (centres) within max(look_radius, radius) of `viewpoint`
-  // with an unknown 4-neighbour in its line of sight (`radius`: the reached
-  // goal's Frontier::view_radius).  Throws like Find.
-  std::vector<Point2> InSight(const OccupancyGrid& grid, const Point2& viewpoint,
-                              double radius = 0.0) const;
+  // The frontier cells (centres) within look_radius of `viewpoint` with an
+  // unknown 4-neighbour in its line of sight.  Throws like Find.
+  std::vector<Point2> InSight(const OccupancyGrid& grid, const Point2& viewpoint) const;
 
  private:
   ExploreOptions options_;
