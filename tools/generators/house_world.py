@@ -32,6 +32,8 @@ import random
 import subprocess
 import sys
 
+from minibot3d_map_io import write_atomically
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 DEFAULT_RENDERER = os.path.join(ROOT, 'devel', 'lib', 'minibot3d_sim', 'render_world_map')
 SHIPPED_DIR = os.path.join(ROOT, 'minibot3d_sim', 'worlds', 'houses')
@@ -311,18 +313,11 @@ def world_sdf(house, name, seed, size, spawn):
     return '\n'.join(lines)
 
 
-def _write(path, text):
-    tmp = path + '.tmp'
-    with open(tmp, 'w') as fh:
-        fh.write(text)
-    os.replace(tmp, path)
-
-
 def write_house(seed, out, name, renderer):
     house, size, spawn, cut = generate(seed)
     os.makedirs(out, exist_ok=True)
     world = os.path.join(out, name + '.world')
-    _write(world, world_sdf(house, name, seed, size, spawn))
+    write_atomically(world, world_sdf(house, name, seed, size, spawn))
     base = os.path.join(out, name)
     res = subprocess.run([renderer, world, base, '--resolution', '0.05'],
                          capture_output=True, text=True)
@@ -335,7 +330,7 @@ def write_house(seed, out, name, renderer):
                       for a, b, c, d in house.rooms],
             'doors': [dict(d, x=_r(d['x'] - ox), y=_r(d['y'] - oy)) for d in house.doors],
             'diagonal_wall_room': cut}
-    _write(base + '.json', json.dumps(desc, indent=1, sort_keys=True) + '\n')
+    write_atomically(base + '.json', json.dumps(desc, indent=1, sort_keys=True) + '\n')
     return world, desc
 
 
