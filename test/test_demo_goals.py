@@ -14,6 +14,7 @@ import pytest
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, 'tools'))
 import demo_goals  # noqa: E402
+from minibot3d_map_io import OccupancyGrid, save_map  # noqa: E402
 
 RES = 0.05
 # Exploration started at SPAWN (world frame) in the first room: the saved map's frame is the world
@@ -22,19 +23,11 @@ SPAWN = (1.5, 1.7, 0.0)
 SPAWN_ORIGIN = (-1.5, -1.7)
 
 
-def write_map(tmp_path, occupied, origin=(0.0, 0.0), known=None, name='m'):
-    """A map_server map whose cell (row 0 = lowest y) is occupied where `occupied`, free where
-    known and not occupied, unknown elsewhere; `origin` is its lower left corner."""
-    h, w = occupied.shape
-    known = np.ones_like(occupied) if known is None else known
-    img = np.where(occupied, 0, np.where(known, 254, 205)).astype(np.uint8)[::-1]
-    pgm = tmp_path / (name + '.pgm')
-    pgm.write_bytes(b'P5\n%d %d\n255\n' % (w, h) + img.tobytes())
-    yaml_path = tmp_path / (name + '.yaml')
-    yaml_path.write_text('image: %s.pgm\nresolution: %g\norigin: [%g, %g, 0.0]\n'
-                         'negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n' %
-                         (name, RES, origin[0], origin[1]))
-    return str(yaml_path)
+def write_map(tmp_path, occupied, origin=(0.0, 0.0), name='m'):
+    """A map_server map (minibot3d_map_io.save_map) whose cell (row 0 = lowest y) is occupied
+    where `occupied`, free elsewhere; `origin` is its lower left corner."""
+    save_map(OccupancyGrid(np.where(occupied, 100, 0), RES, origin), str(tmp_path / name))
+    return str(tmp_path / (name + '.yaml'))
 
 
 def two_rooms(door):

@@ -101,25 +101,28 @@ def sample_goals(map_yaml, spawn, config_dir=None, count=4, clearance=GOAL_CLEAR
         for part in np.flatnonzero(sizes >= MIN_ROOM_AREA) + 1:
             cells = np.flatnonzero(labels.ravel() == part)
             chosen.append(int(node.flat[cells[int(np.argmax(room.flat[cells]))]]))
-    # Then farthest-point sampling on path distance up to `count` goals.
+    # Then farthest-point sampling on path distance up to `count` goals; each goal's path
+    # distances serve the sampling and the visit order.
     cand_nodes = np.flatnonzero(candidate)
     if not chosen:
         chosen.append(int(cand_nodes[int(np.argmax(from_start[cand_nodes]))]))
-    nearest = dijkstra(graph, directed=False, indices=chosen, min_only=True)
+    from_goal = {g: dijkstra(graph, directed=False, indices=g) for g in chosen}
+    nearest = np.min([from_goal[g] for g in chosen], axis=0)
     while len(chosen) < count:
         d = nearest[cand_nodes]
-        best = int(cand_nodes[int(np.argmax(d))])
         if not d.max() > 0.0:
             break
+        best = int(cand_nodes[int(np.argmax(d))])
         chosen.append(best)
-        nearest = np.minimum(nearest, dijkstra(graph, directed=False, indices=best))
+        from_goal[best] = dijkstra(graph, directed=False, indices=best)
+        nearest = np.minimum(nearest, from_goal[best])
     # Visit order: nearest next by path distance, from the start.
     order, left, here = [], list(chosen), from_start
     while left:
         nxt = min(left, key=lambda g: (here[g], g))
         order.append(nxt)
         left.remove(nxt)
-        here = dijkstra(graph, directed=False, indices=nxt)
+        here = from_goal[nxt]
     rng = random.Random(seed)
     c, s = math.cos(spawn[2]), math.sin(spawn[2])
     goals = []

@@ -6,9 +6,9 @@ legs and a diagonal wall, for exploration and navigation benchmarks.
     tools/generators/house_world.py set [--out minibot3d_sim/worlds/houses]   # the 12 shipped
 
 A house is a rectangle 7-11 m by 5-8 m cut into 3-5 rooms by recursive splits (binary space
-partitioning; a part below the first split stays whole one time in four), each room at least MIN_ROOM m on a side. Every split wall has one door, so every
-room can be reached; door widths are drawn from 0.40-0.90 m and every house has at least one
-door of at most 0.45 m. Doors stay 0.3 m from wall junctions, and splits stay clear of the doors
+partitioning; a part below the first split stays whole one time in four), each room at least
+MIN_ROOM m on a side. Every split wall has one door, so every room can be reached; door widths
+are drawn from 0.40-0.90 m and every house has at least one door of at most 0.45 m. Doors stay 0.3 m from wall junctions, and splits stay clear of the doors
 already in the walls they end on. In each room, away from its doors (DOOR_KEEP_CLEAR):
   * often a shelf parallel to a wall with a 0.40-0.60 m gap behind it, from a corner: a pocket
     open at one end, seen only from its mouth;
@@ -257,7 +257,6 @@ def _diagonal(rng, house, rooms, spawn):
 def generate(seed):
     rng = random.Random(seed)
     width, height = round(rng.uniform(7.0, 11.0), 1), round(rng.uniform(5.0, 8.0), 1)
-    house = House()
     for _ in range(100):
         house = House()
         narrow = _split(rng, house, (0.0, 0.0, width, height), [], 3, 's', 1)
