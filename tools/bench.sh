@@ -217,6 +217,25 @@ OUT=build/bench/mapless TIMEOUT=150 tools/bench/mapless_smoke.sh $(seq 0 49) \
 /usr/bin/python3 tools/bench/mapless_bench.py build/bench/mapless \
   --picture docs/mapless_hardest.png || true
 
+echo "== navigation among people: mapless_navigation.launch through tools/generators/crowd_world.py's"
+echo "   bench worlds (50 mixed: corridor / hall with social-force pedestrians, hall with DynaBARN-style"
+echo "   scripted obstacles, 0.1-0.5 m/s; 10 corridors 2 m wide with 3 people head-on at 0.8-1.2 m/s),"
+echo "   the goal 10 m ahead, 120 s of sim time each, without and with moving_obstacles:=true (the"
+echo "   obstacle tracker and the DWA's moving-obstacle critic); robot at fault: moving at the onset"
+rm -rf build/bench/crowd_worlds build/bench/crowds_off build/bench/crowds_on
+/usr/bin/python3 tools/generators/crowd_world.py bench --out build/bench/crowd_worlds > /dev/null
+for mode in off on; do
+  echo "-- moving_obstacles $mode"
+  flag=false
+  [ "$mode" = on ] && flag=true
+  LAUNCH_ARGS="moving_obstacles:=$flag" OUT=build/bench/crowds_$mode TIMEOUT=120 \
+    tools/bench/mapless_smoke.sh build/bench/crowd_worlds/*.world > build/bench/crowds_$mode.txt 2>&1 || true
+  picture=()
+  [ "$mode" = on ] && picture=(--picture docs/crowd_hardest.png)
+  /usr/bin/python3 tools/bench/crowd_bench.py build/bench/crowds_$mode build/bench/crowd_worlds \
+    "${picture[@]}" || true
+done
+
 echo "== SLAM on a CARMEN log (slam_offline, gmapping defaults, 30 particles, loop closure on, the"
 echo "   readings between processed scans placed by odometry between the processed poses and matched"
 echo "   against the final map): 5 seeds, scored against the log's relations"

@@ -68,5 +68,18 @@ TEST(Geometry2dTest, PointInPolygon) {
   EXPECT_FALSE(PointInPolygon(std::vector<Point2>{}, 0.0, 0.0));
 }
 
+TEST(Geometry2dTest, PointPolygonDistance) {
+  const std::vector<Point2> l{{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+  EXPECT_DOUBLE_EQ(PointPolygonDistance(l, 0.5, 0.5), 0.0);   // inside
+  EXPECT_DOUBLE_EQ(PointPolygonDistance(l, 1.5, 1.5), 0.5);   // the notch: to either inner edge
+  EXPECT_DOUBLE_EQ(PointPolygonDistance(l, 3.0, 0.5), 1.0);   // beside the right edge
+  EXPECT_NEAR(PointPolygonDistance(l, 3.0, 2.0), std::hypot(1.0, 1.0), 1e-12);  // off a corner
+  EXPECT_DOUBLE_EQ(PointPolygonDistance(l, -0.25, 3.0), std::hypot(0.25, 1.0));
+  EXPECT_TRUE(std::isinf(PointPolygonDistance(std::vector<Point2>{}, 0.0, 0.0)));
+  // Signed: minus the depth inside.
+  EXPECT_DOUBLE_EQ(SignedPointPolygonDistance(l, 0.5, 0.25), -0.25);
+  EXPECT_DOUBLE_EQ(SignedPointPolygonDistance(l, 1.5, 1.5), 0.5);
+}
+
 }  // namespace
 }  // namespace minibot3d_common

@@ -175,6 +175,7 @@ void CostmapRos::OnScan(const sensor_msgs::LaserScan::ConstPtr& scan, Source* so
         nav::ObservationFromScan(s, sensor, o.marking ? o.obstacle_range : 0.0,
                                  o.clearing ? o.raytrace_range : 0.0, o.inf_is_valid);
     layered_->obstacle_layer()->AddObservation(obs);
+    if (observation_callback_) observation_callback_(scan->header.stamp.toSec(), obs);
   } catch (const std::invalid_argument& e) {
     ROS_WARN_THROTTLE(5.0, "move_base: %s: scan from %s dropped: %s", name_.c_str(),
                       o.topic.c_str(), e.what());
@@ -241,6 +242,7 @@ void CostmapRos::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud, Source
         xyz, nav::Point2{origin.x(), origin.y()}, o.min_obstacle_height, o.max_obstacle_height,
         o.marking ? o.obstacle_range : 0.0, o.clearing ? o.raytrace_range : 0.0);
     layered_->obstacle_layer()->AddObservation(obs);
+    if (observation_callback_) observation_callback_(cloud->header.stamp.toSec(), obs);
   } catch (const std::exception& e) {
     ROS_WARN_THROTTLE(5.0, "move_base: %s: cloud from %s dropped: %s", name_.c_str(),
                       o.topic.c_str(), e.what());

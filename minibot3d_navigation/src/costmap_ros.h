@@ -13,6 +13,7 @@
 #ifndef MINIBOT3D_NAVIGATION_SRC_COSTMAP_ROS_H_
 #define MINIBOT3D_NAVIGATION_SRC_COSTMAP_ROS_H_
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -53,6 +54,12 @@ class CostmapRos {
   // Forgets obstacles (clear_costmaps service).
   void Reset();
   void ClearExceptAround(const nav::Pose2& robot, double reset_distance);
+  // Called with every observation the obstacle layer takes (its stamp, s; in the costmap's
+  // frame), after the layer has it.
+  using ObservationCallback = std::function<void(double stamp, const nav::Observation&)>;
+  void set_observation_callback(ObservationCallback callback) {
+    observation_callback_ = std::move(callback);
+  }
 
   bool ready() const { return !options_.static_map || have_map_; }
   const std::string& name() const { return name_; }
@@ -86,6 +93,7 @@ class CostmapRos {
   std::vector<std::unique_ptr<Source>> sources_;
   ros::Subscriber map_sub_;
   ros::Publisher costmap_pub_, footprint_pub_;
+  ObservationCallback observation_callback_;
   bool have_map_ = false;
   ros::Time next_update_, next_publish_;
 };

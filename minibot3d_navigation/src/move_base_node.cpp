@@ -40,6 +40,7 @@
 #include "minibot3d_navigation/move_base/recovery_behavior.h"
 #include "minibot3d_navigation/planner/planner_factory.h"
 #include "minibot3d_navigation/planner/planner_options.h"
+#include "minibot3d_navigation/tracking/obstacle_tracker.h"
 #include "minibot3d_ros/conversions.h"
 #include "minibot3d_ros/frames.h"
 #include "minibot3d_ros/params.h"
@@ -80,6 +81,7 @@ class MoveBaseNode {
     for (const char* ns : kGlobalPlannerNamespaces) report.Known(ns);
     // ROS move_base's recoveries read ~<name>/; ours take theirs from move_base's own keys.
     for (const std::string& name : RecoveryNames()) report.Known(name);
+    report.Known("obstacle_tracker");
     report.WarnUnknown("move_base");
     std::vector<std::string> problems = report.problems;
     try {
@@ -108,6 +110,17 @@ class MoveBaseNode {
     local.WarnUnknown("move_base");
     problems.insert(problems.end(), local.problems.begin(), local.problems.end());
     dwa_.controller_frequency = mb_.controller_frequency;
+
+    // The moving-obstacle tracker: ~obstacle_tracker.
+    const ParamReport tracking = minibot3d_ros::LoadTable(
+        ros::NodeHandle(pnh_, "obstacle_tracker"), nav::ObstacleTrackerOptionTable(), &tracker_);
+    tracking.WarnUnknown("move_base");
+    problems.insert(problems.end(), tracking.problems.begin(), tracking.problems.end());
+    try {
+      nav::ValidateObstacleTrackerOptions(tracker_);
+    } catch (const std::invalid_argument& e) {
+      problems.push_back(e.what());
+    }
 
     // Global planner parameters: ~NavfnROS, ~GlobalPlanner, ~OmplPlanner.
     planner_.base_global_planner = mb_.base_global_planner;
@@ -145,6 +158,13 @@ class MoveBaseNode {
       local_planner_ = std::make_unique<nav::dwa::DwaPlanner>(dwa_, local_costmap_.footprint());
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(std::string("\n  ") + e.what());
+    }
+    if (tracker_.enabled) {
+      obstacle_tracker_ = std::make_unique<nav::ObstacleTracker>(tracker_);
+      local_costmap_.set_observation_callback(
+          [this](double stamp, const nav::Observation& obs) {
+            obstacle_tracker_->Update(stamp, obs.origin, obs.hits);
+          });
     }
     BuildRecoveries();
     executive_ = std::make_unique<nav::NavigationExecutive>(
@@ -391,6 +411,13 @@ class MoveBaseNode {
     // The global frame's pose in the local one: local = global_to_local (+) global.
     const nav::Pose2 global_to_local =
         nav::Compose(state.local_pose, nav::Between(state.global_pose, nav::Pose2()));
+    if (obstacle_tracker_) {
+      std::vector<nav::dwa::MovingObstacle> moving;
+      for (const nav::TrackedObstacle& t : obstacle_tracker_->MovingAt(now.toSec())) {
+        moving.push_back({t.position, t.velocity, t.radius, t.outline});
+      }
+      local_planner_->SetMovingObstacles(moving);
+    }
     const nav::CycleResult r = executive_->Step(state, global_to_local);
 
     geometry_msgs::Twist cmd;
@@ -487,6 +514,8 @@ class MoveBaseNode {
   std::string local_ns_;
   std::unique_ptr<nav::GlobalPlanner> global_planner_;
   std::unique_ptr<nav::dwa::DwaPlanner> local_planner_;
+  nav::ObstacleTrackerOptions tracker_;
+  std::unique_ptr<nav::ObstacleTracker> obstacle_tracker_;
   std::vector<std::unique_ptr<nav::RecoveryBehavior>> recoveries_;
   std::vector<nav::RecoveryBehavior*> recovery_ptrs_;
   std::unique_ptr<nav::NavigationExecutive> executive_;

@@ -9,6 +9,7 @@
 #include "minibot3d_navigation/explore/frontier_search.h"
 #include "minibot3d_navigation/move_base/move_base_options.h"
 #include "minibot3d_navigation/planner/planner_options.h"
+#include "minibot3d_navigation/tracking/obstacle_tracker.h"
 #include "minibot3d_ros/frame_names.h"
 
 namespace minibot3d_navigation {
@@ -113,6 +114,11 @@ ParameterPage MoveBasePage() {
       "`~GlobalPlanner/` and `~OmplPlanner/` ([planner](planner.md)). " +
           std::string(kReported),
       {Section("Planners, rates and recoveries", "", nav::MoveBaseOptionTable()),
+       Section("Moving obstacle tracker",
+               "`~obstacle_tracker/`: clusters in the local costmap's observations tracked at "
+               "constant velocity, whose predicted positions the DWA local planner avoids "
+               "([dwa](dwa.md): `moving_obstacle_*`, `personal_distance`).",
+               nav::ObstacleTrackerOptionTable()),
        minibot3d_ros::FrameOptionsSection(
            "both costmaps' `global_frame` and `robot_base_frame` and their sources' "
            "`sensor_frame`")}};

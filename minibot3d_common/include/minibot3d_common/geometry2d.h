@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -124,6 +125,27 @@ bool PointInPolygon(const std::vector<P>& polygon, double x, double y) {
     }
   }
   return inside;
+}
+
+// Distance from (x, y) to the polygon's outline (closed from the last vertex back to the first),
+// negative inside the polygon; infinity for an empty polygon.
+template <typename P>
+double SignedPointPolygonDistance(const std::vector<P>& polygon, double x, double y) {
+  const std::size_t n = polygon.size();
+  if (n == 0) return std::numeric_limits<double>::infinity();
+  const Point2 q{x, y};
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Point2 a{X(polygon[i]), Y(polygon[i])}, b{X(polygon[j]), Y(polygon[j])};
+    best = std::min(best, PointSegmentDistance(q, a, b));
+  }
+  return n >= 3 && PointInPolygon(polygon, x, y) ? -best : best;
+}
+
+// Distance from (x, y) to the polygon: 0 inside it, else to its nearest edge.
+template <typename P>
+double PointPolygonDistance(const std::vector<P>& polygon, double x, double y) {
+  return std::max(0.0, SignedPointPolygonDistance(polygon, x, y));
 }
 
 }  // namespace minibot3d_common

@@ -155,7 +155,23 @@ const options::OptionTable<DwaOptions>& DwaOptionTable() {
        Field("full_margin_vel", &O::full_margin_vel,
              "Speed (m/s) from which trajectories keep the footprint a whole inscribed radius "
              "from obstacles; slower, the margin shrinks to none at creeping speed "
-             "(the larger of min_vel_x and -escape_vel).")});
+             "(the larger of min_vel_x and -escape_vel)."),
+       Field("moving_obstacle_scale", &O::moving_obstacle_scale,
+             "Weight of the cost of coming within personal_distance of a moving obstacle's "
+             "predicted position (0..1, more the nearer and sooner), in the units of the path "
+             "and goal terms; 0: only the legality check."),
+       Field("moving_obstacle_horizon", &O::moving_obstacle_horizon,
+             "How far ahead (s) moving obstacles are predicted at constant velocity."),
+       Field("moving_obstacle_margin", &O::moving_obstacle_margin,
+             "A command whose way to a stop (one control period, then braking) brings the "
+             "footprint nearer than this (m) to a moving obstacle's predicted position is "
+             "illegal; the robot brakes and stands instead."),
+       Field("personal_distance", &O::personal_distance,
+             "Distance (m) from a moving obstacle's predicted position within which a trajectory "
+             "costs."),
+       Field("moving_obstacle_wait", &O::moving_obstacle_wait,
+             "Time (s) the robot stands yielding to moving obstacles before it may back away "
+             "from one that stopped within moving_obstacle_margin (a standoff).")});
   return table;
 }
 
@@ -309,6 +325,11 @@ void ValidateDwaOptions(const DwaOptions& o) {
   problems.Positive("rotate_to_path_angle", o.rotate_to_path_angle);
   problems.NonNegative("max_centripetal_acc", o.max_centripetal_acc);
   problems.Positive("full_margin_vel", o.full_margin_vel);
+  problems.NonNegative("moving_obstacle_scale", o.moving_obstacle_scale);
+  problems.Positive("moving_obstacle_horizon", o.moving_obstacle_horizon);
+  problems.NonNegative("moving_obstacle_margin", o.moving_obstacle_margin);
+  problems.Positive("personal_distance", o.personal_distance);
+  problems.NonNegative("moving_obstacle_wait", o.moving_obstacle_wait);
 
   // A rollout shorter than one control period would leave the robot
   // unchecked for the rest of the period.

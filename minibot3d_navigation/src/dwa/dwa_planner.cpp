@@ -73,6 +73,8 @@ const char* DwaModeName(DwaPlanner::Mode mode) {
       return "rotate to goal";
     case DwaPlanner::Mode::kAtGoal:
       return "at goal";
+    case DwaPlanner::Mode::kYield:
+      return "yield to a moving obstacle";
   }
   return "?";
 }
@@ -106,8 +108,10 @@ DwaPlanner::DwaPlanner(const DwaOptions& options, const Footprint& footprint)
       path_critic_(footprint_),
       goal_critic_(footprint_),
       obstacle_critic_(footprint_),
+      moving_critic_(footprint_, options_.moving_obstacle_horizon,
+                     options_.moving_obstacle_margin, options_.personal_distance),
       critics_{&oscillation_critic_, &path_critic_, &goal_critic_,
-               &obstacle_critic_} {
+               &obstacle_critic_, &moving_critic_} {
   oscillation_critic_.set_scale(0.0);
   obstacle_critic_.set_tight_speed(CreepSpeed());
   obstacle_critic_.set_full_margin_speed(std::min(options_.full_margin_vel, options_.max_vel_x));
@@ -115,6 +119,7 @@ DwaPlanner::DwaPlanner(const DwaOptions& options, const Footprint& footprint)
 
 void DwaPlanner::Reset() {
   latched_ = false;
+  yield_cycles_ = 0;
   rotating_to_goal_ = false;
   rotating_to_path_ = false;
   escaping_ = false;
@@ -247,8 +252,16 @@ bool DwaPlanner::RotateTowards(const Pose2& pose, const Twist2& velocity,
   candidate_.poses.resize(std::min(keep + 1, candidate_.poses.size()));
   obstacle_critic_.SetCostmap(costmap);
   candidate_.cost = obstacle_critic_.Score(candidate_);
-  std::swap(best_, candidate_);
   ++stats_.evaluated;
+  if (candidate_.cost >= 0.0 && moving_critic_.Score(candidate_) < 0.0) {
+    // A moving obstacle is about to touch: stand while it does (see FollowPath).
+    ++stats_.rejected[4];
+    GenerateBraking(pose, velocity, &best_);
+    *command = best_.command;
+    yielded_ = true;
+    return true;
+  }
+  std::swap(best_, candidate_);
   if (best_.cost < 0.0) ++stats_.rejected[3];
   return best_.cost >= 0.0;
 }
@@ -324,6 +337,7 @@ void DwaPlanner::PrepareCritics(const Pose2& pose, const Twist2& velocity,
   path_critic_.set_scale(options_.path_distance_bias * res);
   goal_critic_.set_scale(options_.goal_distance_bias * res);
   obstacle_critic_.set_scale(options_.occdist_scale * res);
+  moving_critic_.set_scale(options_.moving_obstacle_scale * res);
   for (TrajectoryCritic* c : critics_) {
     if (!c->Prepare(pose, velocity, pruned_, costmap)) {
       throw ControlError("DWA local planner: " + c->failure());
@@ -380,6 +394,21 @@ Twist2 DwaPlanner::FollowPath(const Pose2& pose, const Twist2& velocity,
     for (TrajectoryCritic* c : critics_) c->Debrief(best_);
     stats_.mode = Mode::kFollowPath;
     return best_.command;
+  }
+  if (stats_.rejected[4] > 0) {
+    // A moving obstacle is in every way on: brake (zero once stopped) and
+    // let it pass, if braking keeps off lethal cells and off the obstacle.
+    obstacle_critic_.set_lethal_only(true);
+    GenerateBraking(pose, velocity, &candidate_);
+    ++stats_.evaluated;
+    candidate_.cost = obstacle_critic_.Score(candidate_);
+    const bool legal = candidate_.cost >= 0.0;
+    obstacle_critic_.set_lethal_only(false);
+    if (legal) {
+      std::swap(best_, candidate_);
+      stats_.mode = Mode::kYield;
+      return best_.command;
+    }
   }
   return EscapeOrFail(pose, velocity, costmap);
 }
@@ -569,6 +598,13 @@ Twist2 DwaPlanner::EscapeOrFail(const Pose2& pose, const Twist2& velocity,
                         &candidate_);
     ++stats_.evaluated;
     candidate_.cost = obstacle_critic_.Score(candidate_);
+    if (candidate_.cost >= 0.0 && moving_critic_.Score(candidate_) < 0.0) {
+      // Backing up would meet a moving obstacle: stand and let it pass.
+      ++stats_.rejected[4];
+      GenerateBraking(pose, velocity, &best_);
+      stats_.mode = Mode::kYield;
+      return best_.command;
+    }
     if (candidate_.cost >= 0.0) {
       std::swap(best_, candidate_);
       if (!escaping_) {
@@ -661,6 +697,11 @@ std::string DwaPlanner::Diagnose(const Pose2& pose,
       os << ", " << stats_.rejected[2]
          << " enter cells with no way to the local goal";
     }
+    if (stats_.rejected[4] > 0) {
+      os << ", " << stats_.rejected[4]
+         << " come within " << Fixed(options_.moving_obstacle_margin)
+         << " m of a moving obstacle's predicted position";
+    }
     if (stats_.rejected[0] > 0) {
       os << ", " << stats_.rejected[0]
          << " would flip direction again before moving "
@@ -679,9 +720,15 @@ std::string DwaPlanner::Diagnose(const Pose2& pose,
 Twist2 DwaPlanner::ComputeVelocity(const Pose2& pose, const Twist2& velocity,
                                     const Path& plan,
                                     const Costmap2D& costmap) {
+  yield_cycles_ = stats_.mode == Mode::kYield ? yield_cycles_ + 1 : 0;
   stats_ = CycleStats();
   best_.Clear();
+  yielded_ = false;
   CheckInputs(pose, velocity, plan, costmap);
+  // The moving obstacles' critic scores turns on the spot too (RotateTowards).
+  moving_critic_.Prepare(pose, velocity, plan, costmap);
+  moving_critic_.set_backing_out(yield_cycles_ * generator_.sim_period() >=
+                                 options_.moving_obstacle_wait - 1e-9);
   // Rotation accumulated since the robot last moved oscillation_reset_dist.
   if (std::hypot(pose.x - spin_anchor_.x, pose.y - spin_anchor_.y) >
       options_.oscillation_reset_dist) {
@@ -738,6 +785,7 @@ Twist2 DwaPlanner::ComputeVelocity(const Pose2& pose, const Twist2& velocity,
       throw ControlError(cannot_turn + NearestObstacle(pose, costmap) +
                          "); the goal is too close to obstacles to turn there");
     }
+    if (yielded_) stats_.mode = Mode::kYield;
     return cmd;
   }
   rotating_to_goal_ = false;
@@ -762,7 +810,7 @@ Twist2 DwaPlanner::ComputeVelocity(const Pose2& pose, const Twist2& velocity,
       Twist2 cmd;
       if (RotateTowards(pose, velocity, pose.yaw + error,
                         0.125 * options_.rotate_to_path_angle, costmap, &cmd)) {
-        stats_.mode = Mode::kRotateToPath;
+        stats_.mode = yielded_ ? Mode::kYield : Mode::kRotateToPath;
         return cmd;
       }
       // Turning on the spot collides here: let the sampled trajectories

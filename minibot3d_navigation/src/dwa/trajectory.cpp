@@ -95,6 +95,7 @@ void TrajectoryGenerator::Generate(const Pose2& start, const Twist2& current,
                                0.5);
   steps = std::max(steps, 1);
   const double dt = t_sim / steps;
+  traj->dt = dt;
   traj->poses.reserve(steps + 1);
   Pose2 p = start;
   double v = current.vx, w = current.wz;
@@ -143,6 +144,7 @@ void TrajectoryGenerator::Generate(const Pose2& start, const Twist2& current,
     wq = w_next;
   }
   traj->braking_poses.push_back(q);
+  traj->braking_t0 = period;
   const double t_stop = std::max(std::fabs(vq) / acc_x, std::fabs(wq) / acc_th);
   if (t_stop <= 0.0) return;
   const double dist = StoppingDistance(vq, acc_x);
@@ -151,6 +153,7 @@ void TrajectoryGenerator::Generate(const Pose2& start, const Twist2& current,
       1, static_cast<int>(std::ceil(std::max(dist / options_.sim_granularity,
                                              angle / angular_granularity_))));
   const double tdt = t_stop / tail_steps;
+  traj->braking_dt = tdt;
   traj->braking_poses.reserve(tail_steps + 1);
   for (int i = 0; i < tail_steps; ++i) {
     const double v_next = Approach(vq, 0.0, acc_x * tdt);

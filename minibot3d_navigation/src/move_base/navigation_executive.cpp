@@ -308,6 +308,8 @@ CycleResult NavigationExecutive::Step(const RobotState& input, const Pose2& glob
     result.cmd = local_planner_->ComputeVelocity(state.local_pose, state.velocity, local_plan_,
                                                  *state.local_costmap);
     last_valid_control_ = t;
+    // Standing for a moving obstacle to pass is waiting, not oscillating.
+    if (local_planner_->Yielding()) last_oscillation_reset_ = t;
     if (recovery_index_ > 0 && trigger_ != Trigger::kOscillation &&
         options_.recovery_reset_distance > 0.0 &&
         std::hypot(state.global_pose.x - recovery_pose_.x,

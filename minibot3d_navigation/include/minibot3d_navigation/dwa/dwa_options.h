@@ -113,6 +113,23 @@ struct DwaOptions {
   // shows late, both of which grow with the speed actually driven, so it is
   // a speed, not a fraction of max_vel_x (min(this, max_vel_x) is used).
   double full_margin_vel = 0.5;
+
+  // --- Moving obstacles (moving_obstacle_critic.h; not in TrajectoryPlannerROS) ---
+  // Weight of the proximity cost (0..1) to the predicted obstacles, in the
+  // units of the other terms (cells, or metres with meter_scoring, times the
+  // biases); 0 keeps only the legality check.
+  double moving_obstacle_scale = 40.0;
+  // s ahead that predictions at constant velocity are trusted.
+  double moving_obstacle_horizon = 2.0;
+  // m: a trajectory whose footprint comes nearer than this to a predicted
+  // obstacle (nearer than standing still would) is illegal.
+  double moving_obstacle_margin = 0.05;
+  // m: nearer than this to a predicted obstacle costs (proxemics' intimate
+  // zone, Hall 1966, is 0.45 m).
+  double personal_distance = 0.45;
+  // s the robot stands yielding before it may back away from an obstacle
+  // that stopped within moving_obstacle_margin (a standoff).
+  double moving_obstacle_wait = 2.0;
 };
 
 // Throws std::invalid_argument whose message lists every offending parameter

@@ -35,7 +35,16 @@
 //     a full circle without moving oscillation_reset_dist.
 //     (TrajectoryPlanner takes any rotation when nothing else is legal, and
 //     can spin in front of an obstacle for ever.)
-//  5. Nothing legal: if moving, brake at the acceleration limits (always
+//     A trajectory is also scored against the moving obstacles' predicted
+//     positions (moving_obstacle_critic.h): moving_obstacle_scale * cost,
+//     illegal when its motion brings the footprint within
+//     moving_obstacle_margin of one.
+//  5. Nothing legal and some trajectory refused for a moving obstacle: brake
+//     (standing, zero) and wait for the obstacle to pass (Mode kYield), which
+//     is not a failure.  After moving_obstacle_wait s of it, the robot may
+//     back away from an obstacle that has stopped within the margin (a
+//     person facing it in a standoff).
+//     Nothing legal otherwise: if moving, brake at the acceleration limits (always
 //     admissible after an admissible command).  If stopped with the
 //     footprint already in the inscribed band (stuck), back up at escape_vel
 //     (TrajectoryPlanner's escape; forward trajectories stay off until the
@@ -74,6 +83,7 @@
 #include "minibot3d_navigation/dwa/critics.h"
 #include "minibot3d_navigation/dwa/dwa_options.h"
 #include "minibot3d_navigation/dwa/local_planner.h"
+#include "minibot3d_navigation/dwa/moving_obstacle_critic.h"
 #include "minibot3d_navigation/dwa/trajectory.h"
 
 namespace minibot3d_navigation {
@@ -92,14 +102,15 @@ class DwaPlanner : public LocalPlanner {
     kStopAtGoal,    // in xy tolerance, braking before the final rotation
     kRotateToGoal,  // in xy tolerance, turning to the goal yaw
     kAtGoal,        // in xy and yaw tolerance: zero command
+    kYield,         // every way on meets a moving obstacle: braking / standing
   };
 
   struct CycleStats {
     Mode mode = Mode::kNone;
     int evaluated = 0;  // trajectories generated and scored
     // Rejections per critic, in the order of critics(): Oscillation,
-    // PathDist, GoalDist, ObstacleCost.
-    std::array<int, 4> rejected{};
+    // PathDist, GoalDist, ObstacleCost, MovingObstacle.
+    std::array<int, 5> rejected{};
     int pruned = 0;  // skipped once their partial cost exceeded the best
     // Legal in-place rotations not taken: not turning towards the goal, the
     // robot already turned a full circle on the spot, or they would leave it
@@ -123,11 +134,17 @@ class DwaPlanner : public LocalPlanner {
   // poses when the command was not simulated (at goal).
   const Trajectory& last_trajectory() const { return best_; }
   const CycleStats& last_stats() const { return stats_; }
+  bool Yielding() const override { return stats_.mode == Mode::kYield; }
   // The pruned plan of the last cycle.
   const Path& pruned_plan() const { return pruned_; }
   // Local goal of the last cycle's goal-distance grid.
   Point2 local_goal() const { return goal_critic_.local_goal(); }
   const TrajectoryGenerator& generator() const { return generator_; }
+  // The moving obstacles (in the costmap's frame, now) the next cycles
+  // avoid, until set again (moving_obstacle_critic.h).
+  void SetMovingObstacles(const std::vector<MovingObstacle>& obstacles) {
+    moving_critic_.SetObstacles(obstacles);
+  }
 
  private:
   void CheckInputs(const Pose2& pose, const Twist2& velocity,
@@ -147,7 +164,8 @@ class DwaPlanner : public LocalPlanner {
   Twist2 Brake(const Pose2& pose, const Twist2& velocity, Mode mode,
                 const Costmap2D& costmap);
   // In-place rotation towards `target_yaw`, stopping within `tolerance`.
-  // Returns false if that rotation collides (best_ then holds it).
+  // Returns false if that rotation collides (best_ then holds it); brakes
+  // instead, setting yielded_, if it would meet a moving obstacle.
   bool RotateTowards(const Pose2& pose, const Twist2& velocity,
                      double target_yaw, double tolerance,
                      const Costmap2D& costmap, Twist2* command);
@@ -215,7 +233,8 @@ class DwaPlanner : public LocalPlanner {
   PathDistCritic path_critic_;
   GoalDistCritic goal_critic_;
   ObstacleCostCritic obstacle_critic_;
-  std::array<TrajectoryCritic*, 4> critics_;
+  MovingObstacleCritic moving_critic_;
+  std::array<TrajectoryCritic*, 5> critics_;
 
   Trajectory best_;
   Trajectory candidate_;
@@ -227,6 +246,10 @@ class DwaPlanner : public LocalPlanner {
   bool rotating_to_goal_ = false;
   bool rotating_to_path_ = false;
   bool escaping_ = false;
+  // This cycle's turn on the spot met a moving obstacle and braked instead.
+  bool yielded_ = false;
+  // Consecutive cycles in Mode::kYield (moving_obstacle_wait).
+  int yield_cycles_ = 0;
   Pose2 escape_pose_;
   // Rotation on the spot since the robot last moved oscillation_reset_dist.
   Pose2 spin_anchor_;

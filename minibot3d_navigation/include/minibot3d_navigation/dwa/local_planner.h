@@ -35,6 +35,9 @@ class LocalPlanner {
                                   const Costmap2D& costmap) = 0;
   virtual bool IsGoalReached(const Pose2& pose, const Twist2& velocity,
                              const Path& plan) = 0;
+  // Whether the last ComputeVelocity stood (or braked) to let a moving
+  // obstacle pass: waiting, which the caller does not count as oscillating.
+  virtual bool Yielding() const { return false; }
 };
 
 }  // namespace nav

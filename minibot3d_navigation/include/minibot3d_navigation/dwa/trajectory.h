@@ -53,11 +53,16 @@ struct Trajectory {
   TrajectoryKind kind = TrajectoryKind::kSampled;
   // The forward velocity the rollout starts from (the robot's, now).
   double start_vx = 0.0;
-  // Rollout over sim_time; poses[0] is the start pose.
+  // Rollout over sim_time; poses[0] is the start pose, poses[i] the pose
+  // i * dt later.
   std::vector<Pose2> poses;
+  double dt = 0.0;
   // Braking tail: the state after applying `command` for one control period,
   // then braking at the acceleration limits until stopped.
+  // braking_poses[k] is the pose braking_t0 + k * braking_dt after the start.
   std::vector<Pose2> braking_poses;
+  double braking_t0 = 0.0;
+  double braking_dt = 0.0;
   // Distance travelled before braking_poses.front() (metres, along the arc).
   double braking_start_distance = 0.0;
   // Total cost; negative = illegal (set by the planner from the critics).
@@ -67,6 +72,7 @@ struct Trajectory {
     poses.clear();
     braking_poses.clear();
     braking_start_distance = 0.0;
+    dt = braking_t0 = braking_dt = 0.0;
     cost = -1.0;
   }
   const Pose2& end() const { return poses.back(); }
