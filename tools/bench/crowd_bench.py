@@ -60,7 +60,7 @@ def picture(world, run, worlds_dir, out_png, max_vel_x):
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
     x0, y0, x1, y1 = world['bounds']
-    fig, ax = plt.subplots(figsize=(12, 12.0 * (y1 - y0) / (x1 - x0) + 1.8), dpi=110)
+    fig, ax = plt.subplots(figsize=(12, 12.0 * (y1 - y0) / (x1 - x0) + 2.2), dpi=110)
     ax.add_patch(plt.Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, color='black', lw=2))
     end_t = run['robot_track'][-1][0] if run['robot_track'] else 0.0
     cmap = plt.get_cmap('viridis')
@@ -99,7 +99,7 @@ def picture(world, run, worlds_dir, out_png, max_vel_x):
     ax.set_aspect('equal')
     ax.set_xlim(x0 - 0.3, x1 + 0.3)
     ax.set_ylim(y0 - 0.3, y1 + 0.3)
-    ax.legend(loc='upper center', bbox_to_anchor=(0.5, -0.12), ncol=3, fontsize=8)
+    ax.legend(loc='upper center', bbox_to_anchor=(0.5, -0.3), ncol=3, fontsize=8)
     fig.tight_layout()
     tmp = out_png + '.tmp.png'
     fig.savefig(tmp)
