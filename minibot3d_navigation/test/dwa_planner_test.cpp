@@ -25,6 +25,7 @@ namespace {
 
 using testing::AddBox;
 using testing::kFootprint;
+using testing::ShippedOptions;
 constexpr double kInscribed = 0.125;
 constexpr double kInflation = 0.55;
 constexpr double kCostScaling = 10.0;
@@ -697,33 +698,6 @@ TEST(DwaClosedLoopTest, TurnsThroughADoorway) {
   EXPECT_NEAR(r.pose.y, 4.8, 0.1);
 }
 
-// The shipped settings (config/trajectory_planner.yaml, controller_frequency
-// of config/move_base_params.yaml), with max_vel_x varied.
-DwaOptions ShippedOptions(double max_vel_x) {
-  DwaOptions o;
-  o.controller_frequency = 10.0;
-  o.max_vel_x = max_vel_x;
-  o.min_vel_x = std::min(0.1, max_vel_x);
-  o.max_vel_theta = 2.5;
-  o.min_vel_theta = -2.5;
-  o.min_in_place_vel_theta = 1.0;
-  o.acc_lim_x = 2.5;
-  o.acc_lim_theta = 4.0;
-  o.max_centripetal_acc = 1.0;
-  o.escape_vel = -0.1;
-  o.sim_time = 1.5;
-  o.sim_granularity = 0.025;
-  o.vx_samples = 10;
-  o.vtheta_samples = 20;
-  o.path_distance_bias = 1.2;
-  o.goal_distance_bias = 0.8;
-  o.occdist_scale = 0.02;
-  o.xy_goal_tolerance = 0.15;
-  o.yaw_goal_tolerance = 0.15;
-  o.latch_xy_goal_tolerance = true;
-  o.meter_scoring = true;
-  return o;
-}
 
 // A tight scene: the robot (0.26 m x 0.25 m with padding) must get through
 // and reach the plan's end at every max_vel_x in 0.1-1.0, its outline never

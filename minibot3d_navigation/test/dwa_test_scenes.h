@@ -11,6 +11,7 @@
 
 #include "minibot3d_navigation/costmap/costmap_2d.h"
 #include "minibot3d_navigation/costmap/footprint.h"
+#include "minibot3d_navigation/dwa/dwa_options.h"
 
 namespace minibot3d_navigation {
 namespace nav {
@@ -65,6 +66,34 @@ inline void Inflate(Costmap2D* map, double inscribed, double radius, double k) {
       map->set_cost(mx, my, c);
     }
   }
+}
+
+// The shipped settings (config/trajectory_planner.yaml, controller_frequency
+// of config/move_base_params.yaml), with max_vel_x varied.
+inline DwaOptions ShippedOptions(double max_vel_x) {
+  DwaOptions o;
+  o.controller_frequency = 10.0;
+  o.max_vel_x = max_vel_x;
+  o.min_vel_x = std::min(0.1, max_vel_x);
+  o.max_vel_theta = 2.5;
+  o.min_vel_theta = -2.5;
+  o.min_in_place_vel_theta = 1.0;
+  o.acc_lim_x = 2.5;
+  o.acc_lim_theta = 4.0;
+  o.max_centripetal_acc = 1.0;
+  o.escape_vel = -0.1;
+  o.sim_time = 1.5;
+  o.sim_granularity = 0.025;
+  o.vx_samples = 10;
+  o.vtheta_samples = 20;
+  o.path_distance_bias = 1.2;
+  o.goal_distance_bias = 0.8;
+  o.occdist_scale = 0.02;
+  o.xy_goal_tolerance = 0.15;
+  o.yaw_goal_tolerance = 0.15;
+  o.latch_xy_goal_tolerance = true;
+  o.meter_scoring = true;
+  return o;
 }
 
 }  // namespace testing

@@ -21,29 +21,15 @@ namespace {
 
 using testing::kFootprint;
 
-DwaOptions Options() {
-  // The shipped planner settings (config/trajectory_planner.yaml).
-  DwaOptions o;
-  o.controller_frequency = 10.0;
-  o.max_vel_x = 0.5;
-  o.min_vel_x = 0.1;
-  o.max_vel_theta = 2.5;
-  o.min_vel_theta = -2.5;
-  o.min_in_place_vel_theta = 1.0;
-  o.acc_lim_x = 2.5;
-  o.acc_lim_theta = 4.0;
-  o.max_centripetal_acc = 1.0;
-  o.escape_vel = -0.1;
-  o.sim_time = 1.5;
-  o.vx_samples = 10;
-  o.vtheta_samples = 20;
-  o.path_distance_bias = 1.2;
-  o.goal_distance_bias = 0.8;
-  o.occdist_scale = 0.02;
-  o.xy_goal_tolerance = 0.15;
-  o.yaw_goal_tolerance = 0.15;
-  o.latch_xy_goal_tolerance = true;
-  o.meter_scoring = true;
+// The shipped planner settings (config/trajectory_planner.yaml).
+DwaOptions Options() { return testing::ShippedOptions(0.5); }
+
+// A moving obstacle seen as a disc (no outline).
+MovingObstacle Disc(const Point2& position, const Point2& velocity, double radius) {
+  MovingObstacle o;
+  o.position = position;
+  o.velocity = velocity;
+  o.radius = radius;
   return o;
 }
 
@@ -103,7 +89,7 @@ DriveResult Drive(const std::vector<Person>& people, double goal_x, bool see_peo
     }
     std::vector<MovingObstacle> seen;
     if (see_people) {
-      for (const Person& p : people) seen.push_back({p.At(t), p.velocity, p.radius});
+      for (const Person& p : people) seen.push_back(Disc(p.At(t), p.velocity, p.radius));
     }
     planner.SetMovingObstacles(seen);
     Twist2 cmd;
@@ -142,7 +128,7 @@ TEST(MovingObstacleCriticTest, MovingWhenAContactIsPredictedIsIllegalStoppingIsN
   const Costmap2D map = OpenFloor();
   critic.Prepare({0, 0, 0}, Twist2(), StraightPlan(0, 5), map);
   // A person 0.55 m ahead (0.18 m from the footprint) walking towards the robot at 1 m/s.
-  critic.SetObstacles({{{0.55, 0.0}, {-1.0, 0.0}, 0.25}});
+  critic.SetObstacles({Disc({0.55, 0.0}, {-1.0, 0.0}, 0.25)});
   TrajectoryGenerator gen(Options());
   Trajectory forward, stop, turn;
   gen.Generate({0, 0, 0}, {0.3, 0.0, 0.0}, {0.5, 0.0, 0.0}, TrajectoryKind::kSampled, &forward);
@@ -154,10 +140,10 @@ TEST(MovingObstacleCriticTest, MovingWhenAContactIsPredictedIsIllegalStoppingIsN
   EXPECT_LT(critic.Score(turn), 0.0) << "turning on the spot as the person arrives: the robot "
                                        "would be moving at the contact";
   // Farther off, driving on can still stop short: legal, but it costs.
-  critic.SetObstacles({{{1.5, 0.0}, {-1.0, 0.0}, 0.25}});
+  critic.SetObstacles({Disc({1.5, 0.0}, {-1.0, 0.0}, 0.25)});
   EXPECT_GT(critic.Score(forward), 0.0);
   // Nobody near: nothing costs.
-  critic.SetObstacles({{{-5.0, 3.0}, {0.0, 1.0}, 0.25}});
+  critic.SetObstacles({Disc({-5.0, 3.0}, {0.0, 1.0}, 0.25)});
   EXPECT_EQ(critic.Score(forward), 0.0);
 }
 
@@ -170,13 +156,13 @@ TEST(MovingObstacleCriticTest, BackingOutOfAStandoffOnlyAfterTheWait) {
   gen.Generate({0, 0, 0}, Twist2(), {-0.1, 0.0, 0.0}, TrajectoryKind::kEscape, &back);
   gen.Generate({0, 0, 0}, Twist2(), {0.1, 0.0, 0.0}, TrajectoryKind::kSampled, &forward);
   // A person standing 0.03 m in front of the footprint (a standoff).
-  critic.SetObstacles({{{0.13 + 0.03 + 0.25, 0.0}, {0.0, 0.0}, 0.25}});
+  critic.SetObstacles({Disc({0.13 + 0.03 + 0.25, 0.0}, {0.0, 0.0}, 0.25)});
   EXPECT_LT(critic.Score(back), 0.0) << "before the wait the robot stands";
   critic.set_backing_out(true);
   EXPECT_GE(critic.Score(back), 0.0) << "after it, it may back away";
   EXPECT_LT(critic.Score(forward), 0.0) << "never towards the person";
   // The same person walking at the robot: it stands for the contact, wait or not.
-  critic.SetObstacles({{{0.13 + 0.03 + 0.25, 0.0}, {-0.5, 0.0}, 0.25}});
+  critic.SetObstacles({Disc({0.13 + 0.03 + 0.25, 0.0}, {-0.5, 0.0}, 0.25)});
   EXPECT_LT(critic.Score(back), 0.0);
 }
 
