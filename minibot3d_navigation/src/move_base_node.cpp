@@ -8,6 +8,7 @@
 // control loop on the ROS (simulator) clock.  The costmaps' frames take the
 // robot's frame_prefix when several robots share one tf tree
 // (minibot3d_ros/frames.h).
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <iostream>
@@ -163,7 +164,7 @@ class MoveBaseNode {
       obstacle_tracker_ = std::make_unique<nav::ObstacleTracker>(tracker_);
       local_costmap_.set_observation_callback(
           [this](double stamp, const nav::Observation& obs) {
-            obstacle_tracker_->Update(stamp, obs.origin, obs.hits);
+            pending_observations_.push_back({stamp, obs.origin, obs.hits});
           });
     }
     BuildRecoveries();
@@ -412,6 +413,22 @@ class MoveBaseNode {
     const nav::Pose2 global_to_local =
         nav::Compose(state.local_pose, nav::Between(state.global_pose, nav::Pose2()));
     if (obstacle_tracker_) {
+      // The observations stamped before this cycle, in stamp order: one stamped now may or may
+      // not have arrived yet, so it waits for the next cycle (the same run every time on
+      // lock-step time).
+      std::stable_sort(pending_observations_.begin(), pending_observations_.end(),
+                       [](const PendingObservation& a, const PendingObservation& b) {
+                         return a.stamp < b.stamp;
+                       });
+      size_t used = 0;
+      for (; used < pending_observations_.size() &&
+             pending_observations_[used].stamp < now.toSec();
+           ++used) {
+        const PendingObservation& o = pending_observations_[used];
+        obstacle_tracker_->Update(o.stamp, o.origin, o.hits);
+      }
+      pending_observations_.erase(pending_observations_.begin(),
+                                  pending_observations_.begin() + used);
       std::vector<nav::dwa::MovingObstacle> moving;
       for (const nav::TrackedObstacle& t : obstacle_tracker_->MovingAt(now.toSec())) {
         moving.push_back({t.position, t.velocity, t.radius, t.outline});
@@ -516,6 +533,12 @@ class MoveBaseNode {
   std::unique_ptr<nav::dwa::DwaPlanner> local_planner_;
   nav::ObstacleTrackerOptions tracker_;
   std::unique_ptr<nav::ObstacleTracker> obstacle_tracker_;
+  struct PendingObservation {
+    double stamp;
+    nav::Point2 origin;
+    std::vector<nav::Point2> hits;
+  };
+  std::vector<PendingObservation> pending_observations_;
   std::vector<std::unique_ptr<nav::RecoveryBehavior>> recoveries_;
   std::vector<nav::RecoveryBehavior*> recovery_ptrs_;
   std::unique_ptr<nav::NavigationExecutive> executive_;

@@ -17,6 +17,7 @@ was moving at the contact's onset (its true speed above 0.02 m/s or turn rate ab
 Under lock-step time this script is a participant, so the run (and the path) is the same at any
 real-time factor and machine load."""
 import argparse
+import bisect
 import json
 import math
 import os
@@ -70,13 +71,18 @@ def polygon_distance(poly, px, py):
 
 
 class People(object):
-    """The robot's distances to the world's actors and its contacts with them."""
+    """The robot's distances to the world's actors and its contacts with them. Each actors message
+    and each collision is taken with the ground truth of its own sim time (the latest truth stamped
+    at or before it) and in stamp order, so the figures do not depend on the order in which the
+    topics' messages arrive."""
+
+    TRUTH_KEPT = 500          # ground-truth messages kept for the lookup (seconds of them)
 
     def __init__(self, footprint):
         self.footprint = footprint
         self.lock = threading.Lock()
-        self.pose = None        # true x, y, yaw
-        self.moving = False     # true speed / turn rate above MOVING_*
+        self.truth = []         # (stamp, x, y, yaw, moving), in stamp order
+        self.pending = []       # (stamp, kind, message): kind 0 actors, 1 collision
         self.last_stamp = None
         self.min_distance = None
         self.min_at = None      # (sim s, actor)
@@ -85,55 +91,82 @@ class People(object):
         self.tracks = {}        # actor: [(t, x, y)] every 0.25 s
         self.robot_track = []   # (t, x, y) every 0.25 s
         self.t0 = None
-        rospy.Subscriber('/ground_truth/odom', Odometry, self.on_truth, queue_size=50)
-        rospy.Subscriber('/minibot3d_sim/actors', SimActors, self.on_actors, queue_size=50)
+        rospy.Subscriber('/ground_truth/odom', Odometry, self.on_truth, queue_size=100)
+        rospy.Subscriber('/minibot3d_sim/actors', SimActors, self.on_actors, queue_size=100)
         rospy.Subscriber('/minibot3d_sim/collisions', Collision, self.on_collision,
-                         queue_size=50)
+                         queue_size=100)
 
     def on_truth(self, m):
         p, t = m.pose.pose, m.twist.twist
+        moving = (math.hypot(t.linear.x, t.linear.y) > MOVING_SPEED or
+                  abs(t.angular.z) > MOVING_TURN)
         with self.lock:
-            self.pose = (p.position.x, p.position.y, yaw_of(p.orientation))
-            self.moving = (math.hypot(t.linear.x, t.linear.y) > MOVING_SPEED or
-                           abs(t.angular.z) > MOVING_TURN)
+            stamp = m.header.stamp.to_sec()
+            if self.truth and stamp < self.truth[-1][0]:
+                return
+            self.truth.append((stamp, p.position.x, p.position.y, yaw_of(p.orientation), moving))
+            del self.truth[:-self.TRUTH_KEPT]
+            self.drain(stamp)
 
     def on_actors(self, m):
-        stamp = m.header.stamp.to_sec()
         with self.lock:
-            if self.pose is None:
-                return
-            if self.t0 is None:
-                self.t0 = stamp
-            x, y, yaw = self.pose
-            c, s = math.cos(yaw), math.sin(yaw)
-            nearest, who = float('inf'), None
-            for a in m.actors:
-                ax, ay = a.pose.position.x, a.pose.position.y
-                lx, ly = c * (ax - x) + s * (ay - y), -s * (ax - x) + c * (ay - y)
-                d = max(0.0, polygon_distance(self.footprint, lx, ly) - a.radius)
-                if d < nearest:
-                    nearest, who = d, a.name
-                track = self.tracks.setdefault(a.name, [])
-                if not track or stamp - self.t0 - track[-1][0] >= 0.25:
-                    track.append((round(stamp - self.t0, 2), round(ax, 3), round(ay, 3)))
-            if not self.robot_track or stamp - self.t0 - self.robot_track[-1][0] >= 0.25:
-                self.robot_track.append((round(stamp - self.t0, 2), round(x, 3), round(y, 3)))
-            if who is not None:
-                if self.min_distance is None or nearest < self.min_distance:
-                    self.min_distance, self.min_at = nearest, (stamp - self.t0, who)
-                if nearest < INTIMATE and self.last_stamp is not None:
-                    self.intimate_s += stamp - self.last_stamp
-            self.last_stamp = stamp
+            self.pending.append((m.header.stamp.to_sec(), 0, m))
+            if self.truth:
+                self.drain(self.truth[-1][0])
 
     def on_collision(self, m):
         if not m.object.startswith('actor '):
             return
         with self.lock:
-            t = m.header.stamp.to_sec() - (self.t0 or m.header.stamp.to_sec())
-            self.contacts.append((round(t, 3), m.object[len('actor '):], self.moving))
+            self.pending.append((m.header.stamp.to_sec(), 1, m))
+            if self.truth:
+                self.drain(self.truth[-1][0])
+
+    def truth_at(self, stamp):
+        i = bisect.bisect_right([e[0] for e in self.truth], stamp)
+        return self.truth[i - 1] if i > 0 else None
+
+    def drain(self, upto):
+        """Takes the waiting messages stamped at or before `upto`, in stamp order."""
+        self.pending.sort(key=lambda e: (e[0], e[1]))
+        while self.pending and self.pending[0][0] <= upto:
+            stamp, kind, m = self.pending.pop(0)
+            truth = self.truth_at(stamp)
+            if truth is None:
+                continue
+            if kind == 0:
+                self.take_actors(stamp, m, truth)
+            else:
+                t = stamp - (self.t0 if self.t0 is not None else stamp)
+                self.contacts.append((round(t, 3), m.object[len('actor '):], truth[4]))
+
+    def take_actors(self, stamp, m, truth):
+        if self.t0 is None:
+            self.t0 = stamp
+        _, x, y, yaw, _ = truth
+        c, s = math.cos(yaw), math.sin(yaw)
+        nearest, who = float('inf'), None
+        for a in m.actors:
+            ax, ay = a.pose.position.x, a.pose.position.y
+            lx, ly = c * (ax - x) + s * (ay - y), -s * (ax - x) + c * (ay - y)
+            d = max(0.0, polygon_distance(self.footprint, lx, ly) - a.radius)
+            if d < nearest:
+                nearest, who = d, a.name
+            track = self.tracks.setdefault(a.name, [])
+            if not track or stamp - self.t0 - track[-1][0] >= 0.25:
+                track.append((round(stamp - self.t0, 2), round(ax, 3), round(ay, 3)))
+        if not self.robot_track or stamp - self.t0 - self.robot_track[-1][0] >= 0.25:
+            self.robot_track.append((round(stamp - self.t0, 2), round(x, 3), round(y, 3)))
+        if who is not None:
+            if self.min_distance is None or nearest < self.min_distance:
+                self.min_distance, self.min_at = nearest, (stamp - self.t0, who)
+            if nearest < INTIMATE and self.last_stamp is not None:
+                self.intimate_s += stamp - self.last_stamp
+        self.last_stamp = stamp
 
     def summary(self):
         with self.lock:
+            self.drain(float('inf'))
             return dict(
                 min_distance=self.min_distance,
                 min_distance_at=self.min_at,
