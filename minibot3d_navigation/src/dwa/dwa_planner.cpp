@@ -773,23 +773,24 @@ Twist2 DwaPlanner::ComputeVelocity(const Pose2& pose, const Twist2& velocity,
       stats_.mode = Mode::kAtGoal;
       return Twist2();
     }
-    const std::string cannot_turn =
-        "DWA local planner: cannot rotate in place to the goal yaw " +
-        Fixed(goal.yaw * 180.0 / kPi, 1) + " deg (now " + Fixed(pose.yaw * 180.0 / kPi, 1) +
-        " deg): turning, the footprint would touch an obstacle (";
+    // The failure's words, built only on failure.
+    auto cannot_turn = [&]() {
+      return "DWA local planner: cannot rotate in place to the goal yaw " +
+             Fixed(goal.yaw * 180.0 / kPi, 1) + " deg (now " + Fixed(pose.yaw * 180.0 / kPi, 1) +
+             " deg): turning, the footprint would touch an obstacle (" +
+             NearestObstacle(pose, costmap);
+    };
     // Where the robot reached the tolerance it may not be able to turn; the
     // goal itself may leave room: go on towards it until the turn is clear.
     if (!rotating_to_goal_ &&
         std::hypot(goal.x - pose.x, goal.y - pose.y) > costmap.resolution() &&
         !TurnIsClear(pose, goal.yaw, costmap)) {
-      const std::string here = NearestObstacle(pose, costmap);
       try {
         const Twist2 cmd = FollowPath(pose, velocity, costmap);
         stats_.mode = Mode::kApproachGoal;
         return cmd;
       } catch (const ControlError& e) {
-        throw ControlError(cannot_turn + here + ") and it cannot go on towards the goal: " +
-                           e.what());
+        throw ControlError(cannot_turn() + ") and it cannot go on towards the goal: " + e.what());
       }
     }
     if (!rotating_to_goal_ && !Stopped(velocity)) {
@@ -800,8 +801,7 @@ Twist2 DwaPlanner::ComputeVelocity(const Pose2& pose, const Twist2& velocity,
     Twist2 cmd;
     if (!RotateTowards(pose, velocity, goal.yaw, options_.yaw_goal_tolerance,
                        costmap, &cmd)) {
-      throw ControlError(cannot_turn + NearestObstacle(pose, costmap) +
-                         "); the goal is too close to obstacles to turn there");
+      throw ControlError(cannot_turn() + "); the goal is too close to obstacles to turn there");
     }
     if (yielded_) stats_.mode = Mode::kYield;
     return cmd;
