@@ -171,15 +171,7 @@ const options::OptionTable<DwaOptions>& DwaOptionTable() {
              "costs."),
        Field("moving_obstacle_wait", &O::moving_obstacle_wait,
              "Time (s) the robot stands yielding to moving obstacles before it may back away "
-             "from one that stopped within moving_obstacle_margin (a standoff)."),
-       Field("moving_obstacle_lane_time", &O::moving_obstacle_lane_time,
-             "A trajectory ending within personal_distance of the band a moving obstacle's "
-             "outline sweeps ahead of it, where the obstacle arrives within this time (s), "
-             "costs (more the deeper and sooner), so the robot steps out of an oncoming "
-             "person's way early; 0: off."),
-       Field("moving_obstacle_lane_scale", &O::moving_obstacle_lane_scale,
-             "Weight of that cost (1 at the band's edge when the obstacle is there now, more "
-             "inside the band), in the units of moving_obstacle_scale; 0: off.")});
+             "from one that stopped within moving_obstacle_margin (a standoff).")});
   return table;
 }
 
@@ -338,8 +330,6 @@ void ValidateDwaOptions(const DwaOptions& o) {
   problems.NonNegative("moving_obstacle_margin", o.moving_obstacle_margin);
   problems.Positive("personal_distance", o.personal_distance);
   problems.NonNegative("moving_obstacle_wait", o.moving_obstacle_wait);
-  problems.NonNegative("moving_obstacle_lane_time", o.moving_obstacle_lane_time);
-  problems.NonNegative("moving_obstacle_lane_scale", o.moving_obstacle_lane_scale);
 
   // A rollout shorter than one control period would leave the robot
   // unchecked for the rest of the period.

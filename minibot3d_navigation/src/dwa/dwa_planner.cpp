@@ -109,9 +109,7 @@ DwaPlanner::DwaPlanner(const DwaOptions& options, const Footprint& footprint)
       goal_critic_(footprint_),
       obstacle_critic_(footprint_),
       moving_critic_(footprint_, options_.moving_obstacle_horizon,
-                     options_.moving_obstacle_margin, options_.personal_distance,
-                     options_.moving_obstacle_lane_time, options_.moving_obstacle_scale,
-                     options_.moving_obstacle_lane_scale),
+                     options_.moving_obstacle_margin, options_.personal_distance),
       critics_{&oscillation_critic_, &path_critic_, &goal_critic_,
                &obstacle_critic_, &moving_critic_} {
   oscillation_critic_.set_scale(0.0);
@@ -339,7 +337,7 @@ void DwaPlanner::PrepareCritics(const Pose2& pose, const Twist2& velocity,
   path_critic_.set_scale(options_.path_distance_bias * res);
   goal_critic_.set_scale(options_.goal_distance_bias * res);
   obstacle_critic_.set_scale(options_.occdist_scale * res);
-  moving_critic_.set_scale(res);
+  moving_critic_.set_scale(options_.moving_obstacle_scale * res);
   for (TrajectoryCritic* c : critics_) {
     if (!c->Prepare(pose, velocity, pruned_, costmap)) {
       throw ControlError("DWA local planner: " + c->failure());
@@ -394,11 +392,7 @@ Twist2 DwaPlanner::FollowPath(const Pose2& pose, const Twist2& velocity,
 
   if (choice.found) {
     for (TrajectoryCritic* c : critics_) c->Debrief(best_);
-    // Standing still because every way on meets a moving obstacle is
-    // yielding, whichever search found it.
-    stats_.mode = best_.kind == TrajectoryKind::kStop && stats_.rejected[4] > 0
-                      ? Mode::kYield
-                      : Mode::kFollowPath;
+    stats_.mode = Mode::kFollowPath;
     return best_.command;
   }
   if (stats_.rejected[4] > 0) {
@@ -413,18 +407,6 @@ Twist2 DwaPlanner::FollowPath(const Pose2& pose, const Twist2& velocity,
     if (legal) {
       std::swap(best_, candidate_);
       stats_.mode = Mode::kYield;
-      // Once the robot has waited (the moving critic then allows ways that
-      // gain distance from whoever stands at arm's length), it backs out of
-      // the standoff at escape_vel if that keeps off walls and people.
-      if (moving_critic_.backing_out() && options_.escape_vel < 0.0) {
-        Twist2 back;
-        back.vx = options_.escape_vel;
-        generator_.Generate(pose, velocity, back, TrajectoryKind::kEscape, &candidate_);
-        ++stats_.evaluated;
-        if (obstacle_critic_.Score(candidate_) >= 0.0 && moving_critic_.Score(candidate_) >= 0.0) {
-          std::swap(best_, candidate_);
-        }
-      }
       return best_.command;
     }
   }
@@ -808,9 +790,7 @@ Twist2 DwaPlanner::ComputeVelocity(const Pose2& pose, const Twist2& velocity,
   }
   rotating_to_goal_ = false;
 
-  // Stepping out of an oncoming obstacle's way leaves the plan's heading:
-  // no turning back to it on the spot meanwhile.
-  if (options_.rotate_to_path_angle < kPi && !moving_critic_.InTheWay()) {
+  if (options_.rotate_to_path_angle < kPi) {
     const double error = PathHeadingError(pose, costmap);
     // A robot at creeping speed or stopped turns on the spot already at a
     // quarter of the angle: from there its dynamic window only reaches arcs

@@ -130,13 +130,6 @@ struct DwaOptions {
   // s the robot stands yielding before it may back away from an obstacle
   // that stopped within moving_obstacle_margin (a standoff).
   double moving_obstacle_wait = 2.0;
-  // s: a trajectory that ends in the way of a moving obstacle (the band its
-  // seen outline sweeps ahead of it) that will get there within this time
-  // costs, so the robot steps out of an oncoming person's way early; 0: off.
-  double moving_obstacle_lane_time = 4.0;
-  // Weight of that cost (0..1 per obstacle at the band's edge, more inside
-  // it), in the units of moving_obstacle_scale.
-  double moving_obstacle_lane_scale = 320.0;
 };
 
 // Throws std::invalid_argument whose message lists every offending parameter

@@ -12,38 +12,22 @@
 // obstacle (the outline the sensor saw of it, or a disc) is moved to where it
 // will be at t, and d(t) is the distance from the footprint at the pose to it
 // (negative when they overlap).
-//  - Illegal, on the way the command still has to stop (its first control
-//    period and its braking tail), unless the trajectory brakes to a
-//    standstill (kind kStop):
-//    * d(t) < moving_obstacle_margin, or the footprint that near to where
-//      the obstacle is now (it may stop; a velocity estimate lags when
-//      someone stops or turns at arm's length).  As for static obstacles
-//      (trajectory.h), a command is taken only if the robot can still stop
-//      short of every predicted position, so where contact cannot be avoided
-//      (a person walking into the robot) the robot is standing when it
-//      happens: the planner yields (dwa_planner.h).  Once the planner has
-//      waited (set_backing_out), a trajectory may leave that margin if the
-//      obstacle is not closing in on a robot standing still and it ends
-//      farther from it than standing would (backing out of a standoff with
-//      a person who stopped; sliding along one is never enough).
-//    * with the obstacle within personal_distance of the footprint now,
-//      coming nearer to where it is now.
-//    Later poses of the rollout only cost, so that people passing near the
-//    path ahead do not freeze the robot.
-//  - Cost, proximity: the largest (1 - d(t) / personal_distance), weighted
-//    by (1 - t / horizon) (later predictions are less sure), over the
+//  - Illegal: d(t) < moving_obstacle_margin on the way the command still has
+//    to stop (its first control period and its braking tail), unless the
+//    trajectory brakes to a standstill (kind kStop) or, once the planner has
+//    waited (set_backing_out), the obstacle is not closing in on a robot
+//    standing still and the trajectory keeps farther from it than standing
+//    would (backing out of a standoff with a person who stopped; sliding
+//    along one is never enough).  As for static
+//    obstacles (trajectory.h), a command is taken only if the robot can still
+//    stop short of every predicted position, so where contact cannot be
+//    avoided (a person walking into the robot) the robot is standing when it
+//    happens: the planner yields (dwa_planner.h).  Later poses of the
+//    rollout only cost, so that people passing near the path ahead do not
+//    freeze the robot.
+//  - Cost: the largest (1 - d(t) / personal_distance), weighted by
+//    (1 - t / horizon) (later predictions are less sure), over the
 //    trajectory: 0 beyond personal_distance, 1 at contact now.
-//  - Cost, keeping out of the way (lane time T > 0): an obstacle moving at
-//    v sweeps a band ahead of it as wide as its outline.  If its front will
-//    reach the robot where it stands in t_a < T (closing at v plus the
-//    robot's own speed towards it), the trajectory costs (1 - g /
-//    personal_distance) (1 - t_a / T), g the lateral gap between the band
-//    and the footprint where the trajectory ends, negative inside the band
-//    (the way out by the nearer side).  The urgency is the same for every
-//    trajectory, so slowing down does not help; stepping aside does.  The
-//    prediction alone sees a head-on meeting too late for a differential
-//    drive to step aside; this starts the step while there is time, as
-//    people keep out of each other's way in a corridor.
 #ifndef MINIBOT3D_NAVIGATION_DWA_MOVING_OBSTACLE_CRITIC_H_
 #define MINIBOT3D_NAVIGATION_DWA_MOVING_OBSTACLE_CRITIC_H_
 
@@ -69,14 +53,10 @@ struct MovingObstacle {
 
 class MovingObstacleCritic : public TrajectoryCritic {
  public:
-  // Score: proximity_weight x the proximity cost + lane_weight x the
-  // keeping-out-of-the-way cost (times the critic's scale).
   MovingObstacleCritic(const Footprint& footprint, double horizon, double margin,
-                       double personal_distance, double lane_time = 0.0,
-                       double proximity_weight = 1.0, double lane_weight = 0.0)
+                       double personal_distance)
       : footprint_(footprint), horizon_(horizon), margin_(margin),
-        personal_distance_(personal_distance), lane_time_(lane_time),
-        proximity_weight_(proximity_weight), lane_weight_(lane_weight) {}
+        personal_distance_(personal_distance) {}
   std::string name() const override { return "MovingObstacle"; }
   bool Prepare(const Pose2& pose, const Twist2& velocity, const Path& plan,
                const Costmap2D& costmap) override;
@@ -87,11 +67,7 @@ class MovingObstacleCritic : public TrajectoryCritic {
   // Whether trajectories may leave the margin of an obstacle that is not
   // closing in (after a wait).
   void set_backing_out(bool allowed) { backing_out_ = allowed; }
-  bool backing_out() const { return backing_out_; }
   const std::vector<MovingObstacle>& obstacles() const { return obstacles_; }
-  // Whether the robot, where Prepare put it, is in an oncoming obstacle's
-  // way (its lane cost standing there is not 0).
-  bool InTheWay() const { return lane_weight_ > 0.0 && LaneCost(start_, 0.0) > 0.0; }
   // Distance (m) from the footprint at `pose` to obstacle `k` moved on for `t`
   // s; negative when they overlap.
   double Distance(const Pose2& pose, size_t k, double t) const;
@@ -100,15 +76,11 @@ class MovingObstacleCritic : public TrajectoryCritic {
   // Scores one pose at time t into *worst; false if it comes within the
   // margin where that is `binding`.
   bool ScorePose(const Pose2& pose, double t, bool binding, double* worst) const;
-  // The keeping-out-of-the-way cost of ending at `pose`, t s from now
-  // (unweighted).
-  double LaneCost(const Pose2& pose, double t) const;
 
   Footprint footprint_;
-  double horizon_, margin_, personal_distance_, lane_time_, proximity_weight_, lane_weight_;
+  double horizon_, margin_, personal_distance_;
   std::vector<MovingObstacle> obstacles_;
   Pose2 start_;
-  double start_vx_ = 0.0;
   bool backing_out_ = false;
 };
 
