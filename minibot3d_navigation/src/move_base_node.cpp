@@ -400,22 +400,10 @@ class MoveBaseNode {
     }
     global_costmap_.Update(now, state.global_pose);
     local_costmap_.Update(now, state.local_pose);
-    if (!executive_->active()) return;
-    if (!global_costmap_.ready()) {
-      ROS_WARN_THROTTLE(5.0, "move_base: waiting for the map on %s to plan",
-                        ros::names::resolve("map").c_str());
-      PublishZero();
-      return;
-    }
-    state.global_costmap = &global_costmap_.costmap();
-    state.local_costmap = &local_costmap_.costmap();
-    // The global frame's pose in the local one: local = global_to_local (+) global.
-    const nav::Pose2 global_to_local =
-        nav::Compose(state.local_pose, nav::Between(state.global_pose, nav::Pose2()));
     if (obstacle_tracker_) {
       // The observations stamped before this cycle, in stamp order: one stamped now may or may
       // not have arrived yet, so it waits for the next cycle (the same run every time on
-      // lock-step time).
+      // lock-step time). Fed with or without a goal, so none pile up while the robot is idle.
       std::stable_sort(pending_observations_.begin(), pending_observations_.end(),
                        [](const PendingObservation& a, const PendingObservation& b) {
                          return a.stamp < b.stamp;
@@ -429,6 +417,20 @@ class MoveBaseNode {
       }
       pending_observations_.erase(pending_observations_.begin(),
                                   pending_observations_.begin() + used);
+    }
+    if (!executive_->active()) return;
+    if (!global_costmap_.ready()) {
+      ROS_WARN_THROTTLE(5.0, "move_base: waiting for the map on %s to plan",
+                        ros::names::resolve("map").c_str());
+      PublishZero();
+      return;
+    }
+    state.global_costmap = &global_costmap_.costmap();
+    state.local_costmap = &local_costmap_.costmap();
+    // The global frame's pose in the local one: local = global_to_local (+) global.
+    const nav::Pose2 global_to_local =
+        nav::Compose(state.local_pose, nav::Between(state.global_pose, nav::Pose2()));
+    if (obstacle_tracker_) {
       std::vector<nav::dwa::MovingObstacle> moving;
       for (const nav::TrackedObstacle& t : obstacle_tracker_->MovingAt(now.toSec())) {
         moving.push_back({t.position, t.velocity, t.radius, t.outline});
