@@ -14,6 +14,8 @@ ROBOT ?=
 CONFIG ?=
 MODEL ?=
 BENCH_LOG ?= ../shared/datasets/intel/intel.clf
+# The real logs SLAM is run on in make bench: 'NAME LOG [REFERENCE_LOG]' a line (missing ones skipped).
+BENCH_LOGS ?= tools/bench/real_logs.txt
 
 .PHONY: setup deps build install test demo bench clean
 
@@ -39,7 +41,7 @@ demo: setup
 	  $(if $(MODEL),--model '$(MODEL)') $(WORLD)
 
 bench: setup
-	tools/bench.sh $(BENCH_LOG)
+	BENCH_LOGS='$(BENCH_LOGS)' tools/bench.sh $(BENCH_LOG)
 
 clean:
 	rm -rf build devel install

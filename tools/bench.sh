@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # make bench: prints the performance figures docs/benchmarks.md quotes.
-#   tools/bench.sh [CARMEN_LOG]   (the log is for the SLAM benchmark, once minibot3d_slam exists)
+#   [BENCH_LOGS=LIST] tools/bench.sh [CARMEN_LOG]   (the log is for the Intel-style SLAM section; LIST
+#   names the real logs of the all-logs section, default tools/bench/real_logs.txt)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 source tools/ros_env.sh
@@ -284,6 +285,11 @@ PY
 else
   echo "skipped: no CARMEN log at '${log}' (make bench BENCH_LOG=path/to/log.clf)"
 fi
+
+echo "== SLAM on every real log listed in ${BENCH_LOGS:-tools/bench/real_logs.txt} (slam_offline defaults,"
+echo "   seeds 1-5, mean +- std): consistency between passes (map_consistency), relations where the"
+echo "   log has them, wall time and peak memory; raw odometry's consistency and a reference's beside"
+tools/bench/real_logs_bench.sh "${BENCH_LOGS:-tools/bench/real_logs.txt}" build/bench/real_logs || true
 
 echo "== SLAM round building-sized loops of long corridors (synthetic logs with their truth,"
 echo "   tools/generators/make_building_log.py; slam_offline defaults, seeds 1-3: no loop closure,"

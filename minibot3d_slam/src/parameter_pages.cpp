@@ -2,6 +2,7 @@
 
 #include "minibot3d_ros/frame_names.h"
 #include "minibot3d_slam/gmapping_options.h"
+#include "minibot3d_slam/map_consistency.h"
 #include "minibot3d_slam/node_options.h"
 
 namespace minibot3d_slam {
@@ -38,6 +39,14 @@ std::vector<ParameterPage> ParameterPages() {
       "for a map; default 30) and the remapping `map:=/topic`.",
       {Section("map_server", "", MapServerOptionTable()),
        minibot3d_ros::FrameOptionsSection("`frame_id`")}});
+  pages.push_back(ParameterPage{
+      "map_consistency.md", "map_consistency",
+      "Parameters of `map_consistency LOG [TRAJECTORY] [--param NAME=VALUE ...] [--worst N]`, "
+      "which scores how well a trajectory's scans of a CARMEN log agree where the robot came "
+      "back: the share of endpoints lying where another pass of the robot saw free space, and "
+      "the scans placed off the map (see [slam.md](../slam.md#map-consistency-without-ground-"
+      "truth)). A bad value stops it with every offending parameter named.",
+      {Section("map_consistency", "", ConsistencyOptionTable())}});
   return pages;
 }
 
