@@ -61,6 +61,11 @@ const options::OptionTable<GmappingOptions>& GmappingOptionTable() {
        Field("minimumScore", &O::minimumScore,
              "Scan-match score (sum of exp(-d^2 / sigma) over the endpoints) the match must "
              "exceed to be trusted; otherwise the particle keeps its odometry pose."),
+       Field("turnSlip", &O::turnSlip,
+             "Wheel slip in turns: when the match from a particle's predicted pose is poor after "
+             "a turn, the scan matcher also starts from the prediction turned back by this "
+             "fraction of the odometry's turn since the last processed scan and keeps that match "
+             "when it scores at least 10 % higher; 0: the prediction only. Not in gmapping."),
        Field("subcellMatch", &O::subcellMatch,
              "1: each matched pose is refined below the cell size (point-to-line least squares); "
              "0: the hill climb's pose as is. Not in gmapping."),
@@ -172,6 +177,8 @@ void ValidateOptions(const GmappingOptions& o) {
   p.Check(o.sampleProposal == 0 || o.sampleProposal == 1, "sampleProposal", o.sampleProposal,
           "0 or 1");
   p.Finite("minimumScore", o.minimumScore);
+  p.Check(std::isfinite(o.turnSlip) && o.turnSlip >= 0.0 && o.turnSlip <= 1.0, "turnSlip", o.turnSlip,
+          "in [0, 1]");
   p.NonNegative("llsamplerange", o.llsamplerange);
   p.NonNegative("lasamplerange", o.lasamplerange);
   // A step must be positive when it is used, and small enough that the sampled grid stays small.

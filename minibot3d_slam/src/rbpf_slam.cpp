@@ -12,7 +12,10 @@
 //      particle's own map by hill climbing from the particle's predicted pose and (subcellMatch)
 //      refined to sub-cell precision; when the match score exceeds minimumScore the particle moves
 //      to the matched pose, else it keeps the prediction, and its weight is multiplied by the scan
-//      likelihood at that pose. The motion model's spread and the matcher's basin of attraction
+//      likelihood at that pose. After a turn whose match from the prediction is poor, the climb
+//      also starts from the prediction turned back by turnSlip of the odometry's turn (wheels
+//      slipping in a turn in place make odometry count several times the rotation) and keeps
+//      that match when it scores clearly higher. The motion model's spread and the matcher's basin of attraction
 //      make this a proposal centred on the match. With sampleProposal = 1 the paper's form is used
 //      instead: the likelihood is sampled on a small grid around the match, a Gaussian is fitted
 //      to it and the new pose drawn from it, weighted by the mean likelihood of the grid (η). On
@@ -52,6 +55,14 @@
 namespace minibot3d_slam {
 
 namespace {
+
+// turnSlip: the climb from the prediction turned back wins only with a score this much higher
+// (as a fraction), so that where the map allows two headings (a round pillar, a symmetric hall)
+// the odometry's keeps the benefit of the doubt.
+constexpr double kSlipMargin = 0.1;
+// ... and is tried only when the match from the prediction is poor: a score below this share of
+// the matched beams (a beam on its mean endpoint scores 1).
+constexpr double kSlipPoorMatch = 0.5;
 
 // Localize: passes of the sub-cell refinement for the position (each moves at most a cell).
 constexpr int kLocalizeRefinePasses = 5;
@@ -199,11 +210,30 @@ void RbpfSlam::Impl::Process(const LaserScan& scan) {
     ProposalFit fit;        // sampleProposal = 1 and trusted
   };
   std::vector<Match> matches(particles_.size());
+  // Wheel slip in turns (turnSlip): a second start for the climb, the prediction turned back by a
+  // share of the odometry's turn since the last processed scan.
+  const double slip_turn =
+      options_.turnSlip * minibot3d_common::AngleDiff(last_odom_.yaw, processed_odom_.yaw);
+  const double slip = std::fabs(slip_turn);
   ParallelFor(particles_.size(), threads_, [&](std::size_t i) {
     const Particle& p = particles_[i];
     Match& m = matches[i];
     Pose2 mode;
-    const double score = matcher_.Optimize(p.grid, prepared, p.pose, &mode);
+    double score = matcher_.Optimize(p.grid, prepared, p.pose, &mode);
+    const double beams = static_cast<double>(prepared.match_range.size());
+    if (slip > options_.astep && score < kSlipPoorMatch * beams) {
+      // Climbed only when it starts better than the prediction did (one score each), so a poor
+      // match after a turn without slip costs two evaluations, not a second climb.
+      Pose2 start = p.pose, other;
+      start.yaw = NormalizeAngle(start.yaw - slip_turn);
+      if (matcher_.Score(p.grid, prepared, start) > matcher_.Score(p.grid, prepared, p.pose)) {
+        const double s = matcher_.Optimize(p.grid, prepared, start, &other);
+        if (s > score * (1.0 + kSlipMargin)) {
+          score = s;
+          mode = other;
+        }
+      }
+    }
     if (score <= options_.minimumScore) {
       // The match is not trusted: keep the odometry prediction.
       m.pose = p.pose;

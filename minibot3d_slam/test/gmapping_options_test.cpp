@@ -85,6 +85,17 @@ TEST(GmappingOptionsTest, SubcellMatchAndSampleProposalAreSwitches) {
   EXPECT_THROW(SetOption(&o, "subcellMatch", "true"), std::invalid_argument);
 }
 
+TEST(GmappingOptionsTest, TurnSlipIsAFractionOfTheTurn) {
+  GmappingOptions o;
+  EXPECT_DOUBLE_EQ(o.turnSlip, 0.5);
+  SetOption(&o, "turnSlip", "0");
+  EXPECT_NO_THROW(ValidateOptions(o));
+  o.turnSlip = 1.5;
+  EXPECT_NE(ValidationMessage(o).find("turnSlip=1.5 must be in [0, 1]"), std::string::npos);
+  o.turnSlip = -0.1;
+  EXPECT_NE(ValidationMessage(o).find("turnSlip=-0.1 must be in [0, 1]"), std::string::npos);
+}
+
 TEST(GmappingOptionsTest, LoopClosureOptionsAreValidatedAndSetByName) {
   GmappingOptions o;
   EXPECT_EQ(o.loopClosure, 1);

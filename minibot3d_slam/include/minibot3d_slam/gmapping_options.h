@@ -31,6 +31,10 @@ struct GmappingOptions {
   double ogain = 3.0;         // gain smoothing the likelihood
   int lskip = 0;              // use every (lskip+1)-th beam for the likelihood
   double minimumScore = 0.0;  // below it, the scan match is not trusted (odometry used)
+  // Wheel slip in turns: after a turn, when the match from the prediction is poor, the matcher
+  // also climbs from the prediction turned back by this fraction of the odometry's turn since the
+  // last processed scan (rbpf_slam.cpp); 0: from the prediction only. Not a gmapping parameter.
+  double turnSlip = 0.5;
   // Sub-cell refinement of each matched pose (1) or the hill climber's pose as is (0); see
   // scan_matcher.h. Not a gmapping parameter.
   int subcellMatch = 1;
