@@ -177,8 +177,7 @@ void ValidateOptions(const GmappingOptions& o) {
   p.Check(o.sampleProposal == 0 || o.sampleProposal == 1, "sampleProposal", o.sampleProposal,
           "0 or 1");
   p.Finite("minimumScore", o.minimumScore);
-  p.Check(std::isfinite(o.turnSlip) && o.turnSlip >= 0.0 && o.turnSlip <= 1.0, "turnSlip", o.turnSlip,
-          "in [0, 1]");
+  p.InUnitInterval("turnSlip", o.turnSlip);
   p.NonNegative("llsamplerange", o.llsamplerange);
   p.NonNegative("lasamplerange", o.lasamplerange);
   // A step must be positive when it is used, and small enough that the sampled grid stays small.

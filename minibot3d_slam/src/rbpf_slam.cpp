@@ -15,8 +15,8 @@
 //      likelihood at that pose. After a turn whose match from the prediction is poor, the climb
 //      also starts from the prediction turned back by turnSlip of the odometry's turn (wheels
 //      slipping in a turn in place make odometry count several times the rotation) and keeps
-//      that match when it scores clearly higher. The motion model's spread and the matcher's basin of attraction
-//      make this a proposal centred on the match. With sampleProposal = 1 the paper's form is used
+//      that match when it scores clearly higher. The motion model's spread and the matcher's
+//      basin of attraction make this a proposal centred on the match. With sampleProposal = 1 the paper's form is used
 //      instead: the likelihood is sampled on a small grid around the match, a Gaussian is fitted
 //      to it and the new pose drawn from it, weighted by the mean likelihood of the grid (η). On
 //      the Intel log the draw adds up to a centimetre of noise to every pose and the map, and
