@@ -37,3 +37,39 @@ def test_same_draws_same_poses():
     a = list(itertools.islice(far_poses(square(8.0, random.Random(3)), (1.0, 1.0), 5.0), 10))
     b = list(itertools.islice(far_poses(square(8.0, random.Random(3)), (1.0, 1.0), 5.0), 10))
     assert a == b
+
+
+def write_map(tmp_path, rows, res=0.1):
+    """A map_server map from rows of '#' (occupied), '.' (free) and '?' (unknown), top row first."""
+    shades = {'#': 0, '.': 254, '?': 205}
+    h, w = len(rows), len(rows[0])
+    (tmp_path / 'm.pgm').write_bytes(b'P5\n%d %d\n255\n' % (w, h) +
+                                     bytes(shades[c] for row in rows for c in row))
+    (tmp_path / 'm.yaml').write_text(
+        'image: m.pgm\nresolution: %g\norigin: [-1.0, -2.0, 0.0]\nnegate: 0\n'
+        'occupied_thresh: 0.65\nfree_thresh: 0.196\n' % res)
+    return str(tmp_path / 'm.yaml')
+
+
+def test_spawn_in_the_middle_of_the_largest_free_region(tmp_path):
+    from global_loc_study import pick_spawn
+    # A 12 x 12 cell room on the left, a 5 x 5 one on the right, unknown space round them.
+    room, small = '#' + '.' * 12 + '#', '#' + '.' * 5 + '#'
+    rows = (['?' * 23] + ['#' * 14 + '??' + '#' * 7] +
+            [room + '??' + (small if 2 <= k < 7 else '#' * 7 if k in (1, 7) else '?' * 7)
+             for k in range(1, 13)] + ['#' * 14 + '?' * 9] + ['?' * 23])
+    x, y = pick_spawn(write_map(tmp_path, rows))
+    # The big room's free cells are columns 1-12 and rows 2-13 from the bottom: its middle cells
+    # are columns 6-7 (x -0.35, -0.25) and rows 7-8 (y -1.25, -1.15).
+    assert -0.36 < x < -0.24 and -1.26 < y < -1.14, (x, y)
+
+
+def test_spawn_on_a_map_without_room_is_a_named_error(tmp_path):
+    from global_loc_study import pick_spawn
+    path = write_map(tmp_path, ['#####', '#...#', '#####'])
+    try:
+        pick_spawn(path)
+    except SystemExit as e:
+        assert 'm.yaml has no free cell 0.30 m from obstacles' in str(e)
+    else:
+        raise AssertionError('no error for a map without room')

@@ -291,6 +291,11 @@ echo "   seeds 1-5, mean +- std): consistency between passes (map_consistency), 
 echo "   log has them, wall time and peak memory; raw odometry's consistency and a reference's beside"
 tools/bench/real_logs_bench.sh "${BENCH_LOGS:-tools/bench/real_logs.txt}" build/bench/real_logs || true
 
+echo "== AMCL global localization on real buildings: floor plans from SLAM maps of the same logs"
+echo "   (0.05 m and 0.1 m), 10 seeded random starts each; at 0.1 m also with amcl reading 3.5 m"
+tools/bench/real_maps_global_loc.sh "${BENCH_LOGS:-tools/bench/real_logs.txt}" 10 \
+  build/bench/real_maps_global_loc || true
+
 echo "== SLAM round building-sized loops of long corridors (synthetic logs with their truth,"
 echo "   tools/generators/make_building_log.py; slam_offline defaults, seeds 1-3: no loop closure,"
 echo "   a fixed window, corridor constraints on, the default)"

@@ -127,7 +127,8 @@ def parse_args(argv):
 def fix_problems(cov_xy, confidence, max_cov):
     """What keeps amcl's estimate from being a confident fix (an empty list: it is one).
     cov_xy: cov_xx + cov_yy of the latest amcl_pose; confidence: the latest amcl/confidence data
-    (explained_fraction, modes, confident, evidence_updates, beams_used); None: not received."""
+    (explained_fraction, modes, confident, evidence_updates, beams_used, constraint); None: not
+    received."""
     if cov_xy is None or confidence is None:
         return ['no %s received since the wait began' % ' or '.join(
             n for n, v in (('amcl_pose', cov_xy), ('amcl/confidence', confidence)) if v is None)]

@@ -6,7 +6,7 @@
 // claim (it covers every mode and stays large until the filter is confident,
 // amcl_filter.h), amcl/confidence says why (std_msgs/Float32MultiArray, one
 // labelled dimension: explained_fraction, modes, confident, evidence_updates,
-// beams_used), and global_localization runs the map-wide search, whose
+// beams_used, constraint), and global_localization runs the map-wide search, whose
 // candidate poses (best first) are published latched on
 // amcl/search_candidates (geometry_msgs/PoseArray; scores in the log).
 // Its frame parameters take the robot's frame_prefix when several robots
@@ -302,8 +302,9 @@ class AmclNode {
     const amcl::PoseEstimate& e = filter_->estimate();
     if (c.confident) {
       ROS_INFO("amcl: confident at (%.2f, %.2f, %.3f) at %.3f: %d explained one-mode updates, "
-               "%.0f%% of %d beams explained", e.mean.x, e.mean.y, e.mean.yaw, stamp.toSec(),
-               c.evidence_updates, 100.0 * c.explained_fraction, c.beams_used);
+               "%.0f%% of %d beams explained, constraint %.2f in the weakest direction",
+               e.mean.x, e.mean.y, e.mean.yaw, stamp.toSec(), c.evidence_updates,
+               100.0 * c.explained_fraction, c.beams_used, c.constraint);
     } else {
       ROS_INFO("amcl: no longer confident at (%.2f, %.2f, %.3f) at %.3f: %d mode(s), %.0f%% of "
                "%d beams explained", e.mean.x, e.mean.y, e.mean.yaw, stamp.toSec(), c.modes,
@@ -316,12 +317,12 @@ class AmclNode {
     std_msgs::Float32MultiArray m;
     m.layout.dim.resize(1);
     m.layout.dim[0].label =
-        "explained_fraction,modes,confident,evidence_updates,beams_used";
-    m.layout.dim[0].size = 5;
-    m.layout.dim[0].stride = 5;
+        "explained_fraction,modes,confident,evidence_updates,beams_used,constraint";
+    m.layout.dim[0].size = 6;
+    m.layout.dim[0].stride = 6;
     m.data = {static_cast<float>(c.explained_fraction), static_cast<float>(c.modes),
               c.confident ? 1.0f : 0.0f, static_cast<float>(c.evidence_updates),
-              static_cast<float>(c.beams_used)};
+              static_cast<float>(c.beams_used), static_cast<float>(c.constraint)};
     confidence_pub_.publish(m);
   }
 

@@ -771,6 +771,116 @@ TEST(AmclConfidenceTest, MapOverTheSearchBudgetSaysSoAndSpreadsUniformly) {
   EXPECT_GT(ClaimXY(filter), kDemoThreshold);
 }
 
+// A corridor 50 m long and 2.4 m wide, with nothing on its walls, opening at
+// its east end into a 10 m x 8 m room with furniture; its west end is closed.
+// In the middle stretch a 12 m laser sees two parallel walls and nothing else.
+OccupancyGrid MakeCorridorToRoom() {
+  OccupancyGrid g = testing::MakeFreeGrid(60.0, 8.0, 0.05);
+  testing::FillBox(&g, 0.0, 2.75, 50.0, 2.8);   // corridor, south wall
+  testing::FillBox(&g, 0.0, 5.2, 50.0, 5.25);   // ... north wall
+  testing::FillBox(&g, 0.0, 2.75, 0.05, 5.25);  // ... west end
+  testing::FillBox(&g, 50.0, 0.0, 50.05, 2.8);  // room, west wall
+  testing::FillBox(&g, 50.0, 5.2, 50.05, 8.0);
+  testing::FillBox(&g, 50.0, 0.0, 60.0, 0.05);
+  testing::FillBox(&g, 50.0, 7.95, 60.0, 8.0);
+  testing::FillBox(&g, 59.95, 0.0, 60.0, 8.0);
+  testing::FillBox(&g, 53.0, 1.0, 54.5, 1.6);   // table
+  testing::FillBox(&g, 56.0, 5.5, 56.4, 7.95);  // partition
+  testing::FillBox(&g, 58.0, 2.0, 58.3, 2.3);   // pillar
+  // Outside the corridor and the room: unknown, as a SLAM map leaves it.
+  for (int j = 0; j < g.height; ++j) {
+    for (int i = 0; i < g.width; ++i) {
+      const double x = (i + 0.5) * g.resolution, y = (j + 0.5) * g.resolution;
+      if (x < 50.0 && (y < 2.75 || y > 5.25)) g.data[j * g.width + i] = -1;
+    }
+  }
+  return g;
+}
+
+// What a scan says about the pose, by direction: in the corridor the walls
+// fix y and the heading, nothing fixes x; in the room every direction is
+// fixed.
+TEST(AmclConfidenceTest, ScanInformationIsZeroAlongABareCorridor) {
+  const OccupancyGrid grid = MakeCorridorToRoom();
+  const MapModel map(grid, 2.0);
+  const AmclOptions o = ShippedOptions();
+  struct Case {
+    Pose2 pose;
+    double min_weakest, max_weakest;
+  };
+  for (const Case& c : {Case{{20.0, 4.0, 0.0}, 0.0, 0.01},
+                        Case{{24.0, 3.6, 2.5}, 0.0, 0.01},
+                        Case{{55.0, 4.0, 0.3}, 0.1, 1.0}}) {
+    RobotSim sim(grid, c.pose, 38);
+    PreparedScan scan;
+    std::string error;
+    ASSERT_TRUE(PrepareScan(sim.Scan(), o, &scan, &error)) << error;
+    const Eigen::Matrix3d info = ScanInformation(map, scan, c.pose, 0.2);
+    Eigen::Vector2d weakest_dir;
+    const double weakest = WeakestTranslationInformation(info, &weakest_dir);
+    EXPECT_GE(weakest, c.min_weakest) << "at x " << c.pose.x;
+    EXPECT_LE(weakest, c.max_weakest) << "at x " << c.pose.x;
+    if (c.pose.x < 50.0) {
+      EXPECT_GT(std::fabs(weakest_dir.x()), 0.99) << "along the corridor";
+      EXPECT_GT(info(1, 1), 0.5) << "the walls fix y";
+      EXPECT_GT(info(2, 2), 1.0) << "... and the heading";
+    }
+  }
+}
+
+// Global localization in the middle of the bare corridor: the map-wide
+// search finds the corridor everywhere, and the filter settles on one guess
+// along it, which explains every scan from a new view and soon forms a
+// single mode metres from the truth.  Only the information test keeps that
+// from being a claim: with confidence_min_constraint 0 the filter calls
+// itself confident more than 1 m off; with the default it does not claim
+// (confident or by its covariance) until the room at the east end has fixed
+// x, and then claims the right pose.
+TEST(AmclConfidenceTest, NoClaimAlongABareCorridorUntilTheViewFixesThePose) {
+  const OccupancyGrid grid = MakeCorridorToRoom();
+  for (double min_constraint : {0.0, ShippedOptions().confidence_min_constraint}) {
+    AmclOptions o = ShippedOptions();
+    o.confidence_min_constraint = min_constraint;
+    AmclFilter filter(o, grid, AmclFilter::Initialization::kGlobal);
+    ASSERT_NE(filter.global_search(), nullptr) << filter.global_search_fallback();
+    RobotSim sim(grid, {14.0, 4.0, 0.0}, 37);
+    filter.Update(sim.odom(), sim.Scan());
+    ASSERT_EQ(filter.last_search().count, 1);
+    bool confident_while_wrong = false;
+    double travel_to_claim = -1.0, travel = 0.0, error = -1.0;
+    for (int k = 0; k < 400; ++k) {  // 40 m east, into the room
+      sim.Move({0.1, 0.0, 0.0});
+      ASSERT_FALSE(HasFatalFailure());
+      travel += 0.1;
+      if (filter.Update(sim.odom(), sim.Scan()).status != UpdateStatus::kUpdated) {
+        continue;
+      }
+      error = PosError(filter.estimate().mean, sim.truth());
+      if (filter.confidence().confident && error > 1.0) confident_while_wrong = true;
+      if (min_constraint == 0.0) continue;
+      // The room comes into the 12 m laser's view at x = 38.
+      if (sim.truth().x < 38.0) {
+        ASSERT_FALSE(filter.confidence().confident)
+            << "x " << sim.truth().x << " error " << error << " constraint "
+            << filter.confidence().constraint;
+      }
+      if (ClaimXY(filter) < kDemoThreshold) {
+        ASSERT_LT(error, 0.3) << "false claim at x " << sim.truth().x;
+        if (travel_to_claim < 0.0) travel_to_claim = travel;
+      }
+    }
+    if (min_constraint == 0.0) {
+      EXPECT_TRUE(confident_while_wrong)
+          << "the scene no longer shows the failure the test is about";
+    } else {
+      EXPECT_FALSE(confident_while_wrong);
+      EXPECT_GT(travel_to_claim, 0.0) << "never claimed in the room";
+      EXPECT_TRUE(filter.confidence().confident);
+      EXPECT_LT(error, 0.1) << "at the last update";
+    }
+  }
+}
+
 TEST(AmclFilterTest, UpdatesOnlyAfterEnoughMotionOrWhenForced) {
   const OccupancyGrid grid = testing::MakeAsymmetricRoom();
   AmclOptions o;
@@ -943,6 +1053,7 @@ TEST(AmclOptionsTest, ValidationNamesEveryOffendingParameter) {
   o.hypothesis_min_particles = -1;
   o.hypothesis_refuted_ratio = 1.0;
   o.laser_independent_beams = 4.0;  // with the 'sonar' model
+  o.confidence_min_constraint = -0.5;
   try {
     ValidateAmclOptions(o);
     FAIL() << "expected std::invalid_argument";
@@ -957,7 +1068,8 @@ TEST(AmclOptionsTest, ValidationNamesEveryOffendingParameter) {
           "laser_independent_beams=4 applies only to laser_model_type "
           "likelihood_field_prob (it is 'sonar')",
           "global_search_angular_step=0.5", "hypothesis_min_particles=-1",
-          "hypothesis_refuted_ratio=1 must be in (0, 1)"}) {
+          "hypothesis_refuted_ratio=1 must be in (0, 1)",
+          "confidence_min_constraint=-0.5"}) {
       EXPECT_NE(msg.find(part), std::string::npos) << part << " in: " << msg;
     }
   }
@@ -993,7 +1105,7 @@ TEST(AmclOptionsTest, SetOptionParsesRosParameterText) {
                std::invalid_argument);
   EXPECT_FALSE(IsAmclOptionName("base_frame_id"));
   EXPECT_TRUE(IsAmclOptionName("laser_likelihood_max_dist"));
-  EXPECT_EQ(AmclOptionNames().size(), 54u);
+  EXPECT_EQ(AmclOptionNames().size(), 55u);
   // Defaults are amcl's.
   const AmclOptions d;
   EXPECT_EQ(d.min_particles, 100);

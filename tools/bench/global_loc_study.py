@@ -16,7 +16,8 @@ tools/bench/global_loc_study.sh (which starts the simulator, map_server and amcl
 time: this script is a participant, so a seed gives the same figures every run).
 
   global_loc_study.py --map MAP.yaml --starts N [--seed S] [--travel M] [--timeout SIM_S]
-                      [--spawn X,Y] [--kidnaps N] [--kidnap-distance M] [--kidnap-travel M]"""
+                      [--spawn X,Y] [--kidnaps N] [--kidnap-distance M] [--kidnap-travel M]
+  global_loc_study.py --map MAP.yaml --pick-spawn"""
 import argparse
 import math
 import os
@@ -146,6 +147,24 @@ def free_poses(map_yaml, rng, spawn, clearance=0.3):
     return draw()
 
 
+def pick_spawn(map_yaml, clearance=0.3):
+    """A spawn for a map without one (a floor plan made from a SLAM map): the cell farthest from
+    obstacles and unknown space in the largest 4-connected region of cells at least `clearance`
+    from them, so that the starts drawn from it cover most of the building. Returns (x, y)."""
+    import numpy as np
+    from scipy import ndimage
+    free, occ, res, origin = load_trinary(map_yaml)
+    ok = free & ~route_driver().inflate(occ | ~free, int(math.ceil(clearance / res)))
+    labels, n = ndimage.label(ok)
+    if n == 0:
+        raise SystemExit('global_loc_study: %s has no free cell %.2f m from obstacles and unknown '
+                         'space' % (map_yaml, clearance))
+    largest = 1 + int(np.argmax(ndimage.sum(ok, labels, range(1, n + 1))))
+    room = ndimage.distance_transform_edt(free & ~occ) * (labels == largest)
+    j, i = np.unravel_index(int(np.argmax(room)), room.shape)
+    return origin[0] + (i + 0.5) * res, origin[1] + (j + 0.5) * res
+
+
 def far_poses(poses, here, distance, tries=5000):
     """Poses from `poses` at least `distance` from `here`; when none of `tries` draws is that
     far (a small map, the robot in its middle), the farthest of them. Never loops for ever: the
@@ -223,6 +242,8 @@ def draw(path, map_yaml, rec, k):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('--map', required=True)
+    ap.add_argument('--pick-spawn', action='store_true',
+                    help='print a spawn "X Y" for --map (see pick_spawn) and exit')
     ap.add_argument('--starts', type=int, default=10)
     ap.add_argument('--seed', type=int, default=1)
     ap.add_argument('--travel', type=float, default=12.0, help='m driven per start')
@@ -244,6 +265,9 @@ def main():
     ap.add_argument('--trace', help='text file: one line per amcl_pose (stamp, travel, truth x y, '
                     'estimate x y, error m and deg, cov_xx + cov_yy, then amcl/confidence)')
     args = ap.parse_args(rospy.myargv()[1:])
+    if args.pick_spawn:
+        print('%.3f %.3f' % pick_spawn(args.map))
+        return 0
     for name, ok in (('--starts', args.starts >= 1), ('--travel', args.travel > 0),
                      ('--timeout', args.timeout > 0), ('--kidnaps', args.kidnaps >= 0),
                      ('--kidnap-distance', args.kidnap_distance >= 0),

@@ -11,7 +11,11 @@
 #     (default: 10 starts; the default world and the arena)
 # Writes build/bench/global_loc/global_loc_WORLD.png: the map, the candidates, the paths of one start.
 # Worlds: default, arena, office (minibot3d_sim/worlds/office.world, made by
-# tools/generators/office_world.py).
+# tools/generators/office_world.py), or a map_server map (PATH.yaml): the simulator loads it as a
+# floor plan (its occupied cells become walls) and amcl the same map, so a SLAM map of a real
+# building (slam_offline's map.yaml) is a world too. Its spawn is the most open cell of its largest
+# free region (global_loc_study.py --pick-spawn); its outputs are named after the file's directory
+# and name (DIR_NAME).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 source tools/ros_env.sh
@@ -22,15 +26,29 @@ worlds=("$@")
 out=${OUT:-build/bench/global_loc} && mkdir -p "$out"
 for w in "${worlds[@]}"; do
   case "$w" in
-    default) map=maps/default_world.yaml; spawn=(-3.0 -1.5 0.0) ;;
-    arena) map=maps/arena.yaml; spawn=(0.0 0.0 0.0) ;;
-    office) map=maps/office.yaml; spawn=(1.0 6.1667 0.0) ;;
-    *) echo "global_loc_study.sh: unknown world '$w' (default, arena, office)" >&2; exit 2 ;;
+    default) world_file=minibot3d_sim/worlds/default.world; map=maps/default_world.yaml
+      spawn=(-3.0 -1.5 0.0) ;;
+    arena) world_file=minibot3d_sim/worlds/arena.world; map=maps/arena.yaml
+      spawn=(0.0 0.0 0.0) ;;
+    office) world_file=minibot3d_sim/worlds/office.world; map=maps/office.yaml
+      spawn=(1.0 6.1667 0.0) ;;
+    *.yaml)
+      if [ ! -f "$w" ]; then
+        echo "global_loc_study.sh: no map at '$w'" >&2
+        exit 2
+      fi
+      map=$w
+      read -r sx sy < <(/usr/bin/python3 tools/bench/global_loc_study.py --map "$map" --pick-spawn)
+      spawn=("$sx" "$sy" 0.0)
+      world_file=$(realpath "$map")
+      w=$(basename "$(dirname "$world_file")")_$(basename "$world_file" .yaml) ;;
+    *) echo "global_loc_study.sh: unknown world '$w' (default, arena, office or a map's .yaml)" >&2
+       exit 2 ;;
   esac
   map=$(realpath "$map")
   ros_start_core
   setsid roslaunch minibot3d_sim minibot3d_gazebo.launch \
-    world:="$(realpath minibot3d_sim/worlds/$w.world)" x:=${spawn[0]} y:=${spawn[1]} yaw:=${spawn[2]} \
+    world:="$(realpath "$world_file")" x:=${spawn[0]} y:=${spawn[1]} yaw:=${spawn[2]} \
     real_time_factor:=0 lockstep:=true lockstep_participants:="/amcl /global_loc_study" \
     > "$out/sim_$w.log" 2>&1 &
   sim=$!

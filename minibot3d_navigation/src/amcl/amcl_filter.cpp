@@ -150,6 +150,58 @@ double ExplainedFraction(const MapModel& map, const PreparedScan& scan,
   return used > 0 ? static_cast<double>(hit) / used : 0.0;
 }
 
+Eigen::Matrix3d ScanInformation(const MapModel& map, const PreparedScan& scan,
+                                const Pose2& pose, double hit_dist) {
+  const Pose2 laser = map.WorldToGridFrame(Compose(pose, scan.sensor_in_base));
+  const Pose2 robot = map.WorldToGridFrame(pose);
+  const double res = map.resolution();
+  // The normal is read two cells in front of the obstacle, towards the
+  // laser, where the distance field grows away from the surface (on the
+  // obstacle itself a one-cell wall has no gradient).
+  const double back = 2.0 * res;
+  Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
+  int used = 0;
+  for (const PreparedScan::Beam& b : scan.beams) {
+    if (b.is_max) continue;
+    ++used;
+    const double a = laser.yaw + b.bearing;
+    const double c = std::cos(a), s = std::sin(a);
+    const double ex = laser.x + b.range * c, ey = laser.y + b.range * s;
+    if (map.DistanceAtGridPoint(ex, ey) > hit_dist) continue;
+    const double qx = ex - back * c, qy = ey - back * s;
+    const double gx = map.DistanceAtGridPoint(qx + res, qy) -
+                      map.DistanceAtGridPoint(qx - res, qy);
+    const double gy = map.DistanceAtGridPoint(qx, qy + res) -
+                      map.DistanceAtGridPoint(qx, qy - res);
+    const double norm = std::hypot(gx, gy);
+    // A clean surface gives |gradient| = 2 res; a corner or a thin pillar,
+    // where the nearest obstacle changes between the samples, much less.
+    if (!(norm > res)) continue;
+    Eigen::Vector3d j(gx / norm, gy / norm, 0.0);
+    // d(distance)/d(yaw): the end point moves by z x r as the robot turns.
+    j(2) = j(0) * -(ey - robot.y) + j(1) * (ex - robot.x);
+    info += j * j.transpose();
+  }
+  if (used == 0) return info;
+  // In the grid frame; rotate the translation block to the map frame.
+  const double co = std::cos(map.origin().yaw), so = std::sin(map.origin().yaw);
+  Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();
+  rot.topLeftCorner<2, 2>() << co, -so, so, co;
+  return rot * info * rot.transpose() / used;
+}
+
+double WeakestTranslationInformation(const Eigen::Matrix3d& information,
+                                     Eigen::Vector2d* direction) {
+  Eigen::Matrix2d t = information.topLeftCorner<2, 2>();
+  if (information(2, 2) > 1e-12) {
+    const Eigen::Vector2d cross = information.topRightCorner<2, 1>();
+    t -= cross * cross.transpose() / information(2, 2);
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(t);
+  if (direction != nullptr) *direction = eig.eigenvectors().col(0);
+  return std::max(0.0, eig.eigenvalues()(0));
+}
+
 AmclFilter::AmclFilter(const AmclOptions& options, const OccupancyGrid& grid,
                        Initialization init, uint64_t seed)
     : AmclFilter(options, BuildMap(options, grid), init, seed) {
@@ -351,6 +403,12 @@ void AmclFilter::ResetAfterInitialization(int evidence_updates) {
   confidence_ = Confidence();
   confidence_.evidence_updates = evidence_updates;
   evidence_views_.clear();
+  evidence_information_.setZero();
+  // A pose the user gave (or any pose, with confidence_min_updates 0: claim
+  // at once) is trusted in every direction.
+  if (evidence_updates >= options_.confidence_min_updates) {
+    confidence_.constraint = std::numeric_limits<double>::infinity();
+  }
   challenges_left_ = evidence_updates >= options_.confidence_min_updates
                          ? 0
                          : options_.confidence_challenges;
@@ -674,7 +732,8 @@ void AmclFilter::UpdateClaim() {
       measured_ &&
       confidence_.explained_fraction >= options_.confidence_min_explained &&
       confidence_.modes == 1 &&
-      confidence_.evidence_updates >= options_.confidence_min_updates;
+      confidence_.evidence_updates >= options_.confidence_min_updates &&
+      confidence_.constraint >= options_.confidence_min_constraint;
   if (!confidence_.confident) {
     cov(0, 0) = std::max(cov(0, 0), kUnconfidentVarianceXY);
     cov(1, 1) = std::max(cov(1, 1), kUnconfidentVarianceXY);
@@ -740,11 +799,11 @@ bool AmclFilter::IsNewView(const Pose2& odom_pose, const LaserScan& scan) const 
 
 void AmclFilter::UpdateConfidence(bool motion_update, const Pose2& odom_pose,
                                   const LaserScan& scan) {
+  const double hit_dist = options_.confidence_hit_dist > 0.0
+                              ? options_.confidence_hit_dist
+                              : 2.0 * options_.laser_sigma_hit;
   confidence_.explained_fraction = ExplainedFraction(
-      *map_, scan_, estimate_.mean,
-      options_.confidence_hit_dist > 0.0 ? options_.confidence_hit_dist
-                                         : 2.0 * options_.laser_sigma_hit,
-      &confidence_.beams_used);
+      *map_, scan_, estimate_.mean, hit_dist, &confidence_.beams_used);
   measured_ = true;
   const bool explained =
       confidence_.explained_fraction >= options_.confidence_min_explained;
@@ -765,6 +824,12 @@ void AmclFilter::UpdateConfidence(bool motion_update, const Pose2& odom_pose,
     if (motion_update && IsNewView(odom_pose, scan)) {
       ++confidence_.evidence_updates;
       evidence_views_.push_back(odom_pose);
+      if (std::isfinite(confidence_.constraint)) {
+        evidence_information_ +=
+            ScanInformation(*map_, scan_, estimate_.mean, hit_dist);
+        confidence_.constraint =
+            WeakestTranslationInformation(evidence_information_);
+      }
       // A long run (hours of confident tracking) keeps only its recent
       // views: by then the claim has been earned, and the check stays cheap.
       const size_t keep = 4 * static_cast<size_t>(
@@ -777,6 +842,8 @@ void AmclFilter::UpdateConfidence(bool motion_update, const Pose2& odom_pose,
   } else {
     confidence_.evidence_updates = 0;
     evidence_views_.clear();
+    evidence_information_.setZero();
+    confidence_.constraint = 0.0;
   }
   if (found_by_injection && explained) {
     pending_search_ = true;
@@ -800,9 +867,6 @@ void AmclFilter::UpdateConfidence(bool motion_update, const Pose2& odom_pose,
   // not a new search.)  The heaviest clusters are enough: after a kidnapping
   // augmented MCL sprinkles random poses, a cloud of light clusters.
   constexpr int kLostCheckClusters = 10;
-  const double hit_dist = options_.confidence_hit_dist > 0.0
-                              ? options_.confidence_hit_dist
-                              : 2.0 * options_.laser_sigma_hit;
   bool any_explained = explained;
   for (int k = 1; !any_explained && k < static_cast<int>(clusters_.size()) &&
                   k < kLostCheckClusters;

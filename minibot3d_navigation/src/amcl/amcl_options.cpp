@@ -115,6 +115,11 @@ const options::OptionTable<AmclOptions>& AmclOptionTable() {
              "Consecutive updates, each from a new view (update_min_d of travel), with the scan "
              "explained and one mode before the filter claims a pose after global "
              "localization; 0: claim at once."),
+       Field("confidence_min_constraint", &O::confidence_min_constraint,
+             "Information the evidence updates must gather in the least constrained direction "
+             "before a claim: the sum over the updates of the share of the used beams ending on "
+             "a surface that faces it (squared cosine); 0 disables. Views along a bare corridor "
+             "add about 0 along it."),
        Field("confidence_lost_updates", &O::confidence_lost_updates,
              "Consecutive motion-triggered updates with the scan unexplained after which the "
              "filter counts itself lost and (with global_search) seeds again from the "
@@ -302,6 +307,7 @@ void ValidateAmclOptions(const AmclOptions& o) {
               " must be >= 0");
   problems.InUnitInterval("confidence_challenge_min_relative_score",
                 o.confidence_challenge_min_relative_score);
+  problems.NonNegative("confidence_min_constraint", o.confidence_min_constraint);
   require(o.confidence_challenges >= 0,
           "confidence_challenges=" + std::to_string(o.confidence_challenges) +
               " must be >= 0");

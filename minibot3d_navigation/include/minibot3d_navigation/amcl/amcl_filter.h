@@ -48,6 +48,15 @@
 //    still breaks the run.
 //    It restarts at 0 on global localization and on a re-seed, and starts
 //    satisfied for a pose the user gave (initial pose).
+//  * constraint: the views must also fix the pose in every direction.  Each
+//    evidence update adds what its scan says about the pose at the estimate
+//    (ScanInformation: the map's surface normals at the explained end
+//    points); the least constrained direction must gather
+//    confidence_min_constraint.  Along a corridor whose walls are bare, or
+//    across a hall wider than the laser's range, the scans fix the pose
+//    across but not along: the particles there agree only because they all
+//    came from the same guess, which can be metres off.  The sum restarts
+//    with the evidence.
 //  * origin: each particle knows whether it descends from augmented MCL's
 //    random draws since the hypotheses were last set (Particle::injected).
 //    A heaviest cluster made mostly of such particles is a place resampling
@@ -60,7 +69,8 @@
 //  publishes on amcl_pose) is the second moment of all modes about the
 //  estimate, so a split set claims the distance between its modes; unless
 //  the filter is confident (explained >= confidence_min_explained, one mode,
-//  evidence >= confidence_min_updates) its diagonal is raised to at least
+//  evidence >= confidence_min_updates, constraint >=
+//  confidence_min_constraint) its diagonal is raised to at least
 //  kUnconfidentVarianceXY / kUnconfidentVarianceYaw.  Resampling alone never
 //  earns a claim: only updates after motion count.
 //  * challenge: one mode only says that the filter's own hypotheses agree.
@@ -182,6 +192,27 @@ double ExplainedFraction(const MapModel& map, const PreparedScan& scan,
                          const Pose2& pose, double hit_dist,
                          int* beams_used = nullptr);
 
+// What a scan tells about the pose, by direction: the information matrix of
+// its explained beams at `pose` (Gauss-Newton's J^T J for the distance from
+// each end point to the map's nearest obstacle), divided by the used beams.
+// Beam i contributes J_i = (n_x, n_y, n . (z x r)), n the map's surface
+// normal at its end point (the distance field's gradient just in front of
+// the obstacle, towards the laser) and r the end point relative to the robot.
+// Along a corridor with bare walls every n is across it: the along-corridor
+// row is zero, the degenerate direction of Zhang, Kaess & Singh, "On
+// degeneracy of optimization-based state estimation problems" (ICRA 2016).
+// Beams whose end point is not within hit_dist of an obstacle, or whose
+// normal is undefined (a corner, a one-cell pillar), add nothing.
+Eigen::Matrix3d ScanInformation(const MapModel& map, const PreparedScan& scan,
+                                const Pose2& pose, double hit_dist);
+
+// The translation information left once the heading is marginalised (the
+// Schur complement of the yaw entry): its smallest eigenvalue, the
+// information in the least constrained direction (*direction, if given, a
+// unit vector in the map frame).
+double WeakestTranslationInformation(const Eigen::Matrix3d& information,
+                                     Eigen::Vector2d* direction = nullptr);
+
 struct Confidence {
   // Share of the used beams explained by the map at the estimate, in [0, 1];
   // 0 before the first correction after an initialization.
@@ -190,6 +221,10 @@ struct Confidence {
   int modes = 0;              // clusters holding 1 - confidence_mode_weight
   int evidence_updates = 0;   // see the header comment
   int lost_updates = 0;       // consecutive motion updates no mode explains
+  // The information in the least constrained direction, summed over the
+  // evidence updates (ScanInformation, WeakestTranslationInformation): a
+  // claim needs confidence_min_constraint.  Infinite for a pose the user gave.
+  double constraint = 0.0;
   bool confident = false;
 };
 
@@ -376,6 +411,8 @@ class AmclFilter {
   // Odometry poses of the updates that counted in the current run of
   // evidence (IsNewView).
   std::vector<Pose2> evidence_views_;
+  // Sum of ScanInformation over the same updates.
+  Eigen::Matrix3d evidence_information_ = Eigen::Matrix3d::Zero();
 };
 
 }  // namespace amcl

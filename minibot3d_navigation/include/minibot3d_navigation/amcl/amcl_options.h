@@ -91,6 +91,12 @@ struct AmclOptions {
   // filter claims a pose after global localization (evidence over motion;
   // resampling alone earns nothing).  0: claim at once.
   int confidence_min_updates = 15;
+  // Information the evidence updates must gather in the least constrained
+  // direction (amcl_filter.h "constraint"): the sum over the updates of the
+  // share of the used beams whose end points lie on a surface facing that
+  // direction (weighted by the squared cosine).  Views of a room add about
+  // 0.3 each, views along a bare corridor about 0 along it.  0 disables.
+  double confidence_min_constraint = 1.0;
   // Consecutive motion-triggered updates with the scan not explained after
   // which the filter counts itself lost (kidnapped) and, with the global
   // search, seeds again from the map-wide search.  0 disables.
