@@ -1,6 +1,7 @@
 """tools/bench/global_loc_study.py's kidnapping draw: a pose far enough away when the map has one,
 the farthest of its draws when it has none (a small map), and never an endless draw (the study is
-a lock-step participant that must answer every tick)."""
+a lock-step participant that must answer every tick); its spawn for a map without one (the middle
+of the largest free region); tools/bench/real_maps_global_loc.sh's handling of its arguments."""
 import itertools
 import math
 import os
@@ -73,3 +74,23 @@ def test_spawn_on_a_map_without_room_is_a_named_error(tmp_path):
         assert 'm.yaml has no free cell 0.30 m from obstacles' in str(e)
     else:
         raise AssertionError('no error for a map without room')
+
+
+def run_real_maps(*args):
+    import subprocess
+    return subprocess.run([os.path.join(ROOT, 'tools', 'bench', 'real_maps_global_loc.sh')] +
+                          [str(a) for a in args], capture_output=True, text=True, timeout=60)
+
+
+def test_real_maps_study_names_bad_input_and_skips_missing_logs(tmp_path):
+    listing = tmp_path / 'logs.txt'
+    listing.write_text('# name log\ngone %s\n' % (tmp_path / 'gone.clf'))
+    r = run_real_maps(listing, 0, tmp_path / 'out')
+    assert r.returncode == 2 and "STARTS='0' must be a positive integer" in r.stderr, r.stderr
+    r = run_real_maps(listing, 1, tmp_path / 'out')
+    assert r.returncode == 0, r.stderr
+    assert "gone: skipped, no log at '%s'" % (tmp_path / 'gone.clf') in r.stdout, r.stdout
+    listing.write_text('one\n')
+    r = run_real_maps(listing, 1, tmp_path / 'out')
+    assert r.returncode == 2, r.stdout
+    assert "%s:1: expected 'NAME LOG [REFERENCE_LOG]'" % listing in r.stderr, r.stderr

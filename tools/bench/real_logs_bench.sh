@@ -21,24 +21,11 @@ cd "$root"
 source tools/ros_env.sh  # plot_map.py imports the workspace's Python modules
 bin=devel/lib/minibot3d_slam
 seeds="${SEEDS:-1 2 3 4 5}"
-if [ ! -f "$list" ]; then
-  echo "real_logs_bench.sh: no list of logs at '$list'" >&2
-  exit 2
-fi
+source tools/bench/log_list.sh
+read_log_list real_logs_bench.sh "$list"
 mkdir -p "$out"
-line_no=0
-while read -r name log reference rest || [ -n "${name:-}" ]; do
-  line_no=$((line_no + 1))
-  [ -z "${name:-}" ] && continue
-  [ "${name:0:1}" = "#" ] && continue
-  if [ -z "${log:-}" ] || [ -n "${rest:-}" ]; then
-    echo "real_logs_bench.sh: $list:$line_no: expected 'NAME LOG [REFERENCE_LOG]'" >&2
-    exit 2
-  fi
-  if [ ! -f "$log" ]; then
-    echo "$name: skipped, no log at '$log'"
-    continue
-  fi
+for entry in "${LOGS[@]}"; do
+  read -r name log reference <<< "$entry"
   relations="${log%.*}.relations"
   rm -f "$out/$name.runs"
   for seed in $seeds; do
@@ -93,4 +80,4 @@ print('; '.join(parts))
 PY
   /usr/bin/python3 minibot3d_slam/scripts/plot_map.py "$out/${name}_s1/map.yaml" \
     "$out/${name}_s1/trajectory.txt" "$out/$name.png" > /dev/null
-done < "$list"
+done

@@ -16,10 +16,6 @@ list="$(realpath -m "${1:?usage: real_maps_global_loc.sh LIST [STARTS] [OUT_DIR]
 starts="${2:-10}"
 out="$(realpath -m "${3:-$root/build/bench/real_maps_global_loc}")"
 cd "$root"
-if [ ! -f "$list" ]; then
-  echo "real_maps_global_loc.sh: no list of logs at '$list'" >&2
-  exit 2
-fi
 if ! [[ "$starts" =~ ^[1-9][0-9]*$ ]]; then
   echo "real_maps_global_loc.sh: STARTS='$starts' must be a positive integer" >&2
   exit 2
@@ -27,19 +23,10 @@ fi
 mkdir -p "$out"
 short="$out/amcl_3.5m_lidar.yaml"
 echo "laser_max_range: 3.5" > "$short.tmp" && mv "$short.tmp" "$short"
-line_no=0
-while read -r name log reference rest || [ -n "${name:-}" ]; do
-  line_no=$((line_no + 1))
-  [ -z "${name:-}" ] && continue
-  [ "${name:0:1}" = "#" ] && continue
-  if [ -z "${log:-}" ] || [ -n "${rest:-}" ]; then
-    echo "real_maps_global_loc.sh: $list:$line_no: expected 'NAME LOG [REFERENCE_LOG]'" >&2
-    exit 2
-  fi
-  if [ ! -f "$log" ]; then
-    echo "$name: skipped, no log at '$log'"
-    continue
-  fi
+source tools/bench/log_list.sh
+read_log_list real_maps_global_loc.sh "$list"
+for entry in "${LOGS[@]}"; do
+  read -r name log _ <<< "$entry"
   for delta in 0.05 0.1; do
     dir="$out/${name}_$delta"
     devel/lib/minibot3d_slam/slam_offline --log "$log" --out "$dir" --quiet --param seed=1 \
@@ -57,4 +44,4 @@ while read -r name log reference rest || [ -n "${name:-}" ]; do
       echo "$name, $delta m map, $label: $summary"
     done
   done
-done < "$list"
+done
