@@ -13,7 +13,11 @@ at least --kidnap-distance away (or as far as the map allows), without telling a
 kidnapping), and driven --kidnap-travel metres: every amcl_pose from then on is scored the same
 way (a claim of the old place is false), with the travel until amcl is right again. Run by
 tools/bench/global_loc_study.sh (which starts the simulator, map_server and amcl on lock-step
-time: this script is a participant, so a seed gives the same figures every run).
+time: this script is a participant, so a seed gives the same starts and driving; the carrying
+and the global_localization call are service calls, answered between ticks, so two runs can
+differ by a tick there: claims move by up to a few tenths of a metre of travel, and on a map
+too large for the map-wide search, whose uniform spread depends on such details, outcomes can
+change).
 
   global_loc_study.py --map MAP.yaml --starts N [--seed S] [--travel M] [--timeout SIM_S]
                       [--spawn X,Y] [--kidnaps N] [--kidnap-distance M] [--kidnap-travel M]
