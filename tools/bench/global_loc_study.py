@@ -119,29 +119,30 @@ class State(object):
             self.scan = m
 
 
+def clear_regions(map_yaml, clearance):
+    """The map's free cells at least `clearance` from obstacles and unknown space, labelled by
+    4-connected region: (labels, free, occupied, resolution, origin); labels is 0 elsewhere."""
+    from scipy import ndimage
+    free, occ, res, origin = load_trinary(map_yaml)
+    ok = free & ~route_driver().inflate(occ | ~free, int(math.ceil(clearance / res)))
+    labels, _ = ndimage.label(ok)
+    return labels, free, occ, res, origin
+
+
 def free_poses(map_yaml, rng, spawn, clearance=0.3):
     """Random poses on free cells at least `clearance` from obstacles and unknown space that
     the robot could reach from `spawn` (not, say, the yard round a building's outer walls). The
     cells are found at once (seconds on a building's map): call it before joining lock-step,
     where a participant must answer every tick within ~lockstep_timeout."""
-    from collections import deque
-    free, occ, res, origin = load_trinary(map_yaml)
-    ok = free & ~route_driver().inflate(occ | ~free, int(math.ceil(clearance / res)))
-    h, w = ok.shape
+    import numpy as np
+    labels, _, _, res, origin = clear_regions(map_yaml, clearance)
+    h, w = labels.shape
     si, sj = int((spawn[0] - origin[0]) / res), int((spawn[1] - origin[1]) / res)
-    if not (0 <= si < w and 0 <= sj < h and ok[sj, si]):
+    if not (0 <= si < w and 0 <= sj < h and labels[sj, si]):
         raise SystemExit('global_loc_study: spawn (%g, %g) is not on a free cell of %s'
                          % (spawn[0], spawn[1], map_yaml))
-    seen = {(sj, si)}
-    queue = deque([(sj, si)])
-    while queue:
-        j, i = queue.popleft()
-        for dj, di in ((1, 0), (-1, 0), (0, 1), (0, -1)):
-            c = (j + dj, i + di)
-            if 0 <= c[0] < h and 0 <= c[1] < w and ok[c] and c not in seen:
-                seen.add(c)
-                queue.append(c)
-    cells = sorted(seen)
+    # Row-major (j, i) order, so that a seed draws the same cells every run.
+    cells = [(int(j), int(i)) for j, i in zip(*np.nonzero(labels == labels[sj, si]))]
 
     def draw():
         while True:
@@ -157,13 +158,11 @@ def pick_spawn(map_yaml, clearance=0.3):
     from them, so that the starts drawn from it cover most of the building. Returns (x, y)."""
     import numpy as np
     from scipy import ndimage
-    free, occ, res, origin = load_trinary(map_yaml)
-    ok = free & ~route_driver().inflate(occ | ~free, int(math.ceil(clearance / res)))
-    labels, n = ndimage.label(ok)
-    if n == 0:
+    labels, free, occ, res, origin = clear_regions(map_yaml, clearance)
+    if not labels.any():
         raise SystemExit('global_loc_study: %s has no free cell %.2f m from obstacles and unknown '
                          'space' % (map_yaml, clearance))
-    largest = 1 + int(np.argmax(ndimage.sum(ok, labels, range(1, n + 1))))
+    largest = 1 + int(np.argmax(np.bincount(labels.ravel())[1:]))
     room = ndimage.distance_transform_edt(free & ~occ) * (labels == largest)
     j, i = np.unravel_index(int(np.argmax(room)), room.shape)
     return origin[0] + (i + 0.5) * res, origin[1] + (j + 0.5) * res
