@@ -143,13 +143,19 @@ class ExploreNode {
   void GoalReached() {
     have_goal_ = false;
     memory_->Reached(goal_);
-    to_judge_.push_back({goal_, map_count_});
+    // Looking from off, the frontier cells it was sent to see were seen, whatever the next map
+    // shows of them: they count no more at once (the cleared ones are no frontier anyway), so
+    // that the next goal is not another look at them before that map comes.
+    memory_->LookedAt(goal_in_view_);
+    to_judge_.push_back({goal_, goal_view_radius_, map_count_});
   }
 
-  void Judge(const nav::Point2& viewpoint, const nav::OccupancyGrid& grid) {
+  // Frontier cells within look_radius (looking from off: as far as it looked) in sight of a
+  // reached goal that stay frontier.
+  void Judge(const nav::Point2& viewpoint, double view_radius, const nav::OccupancyGrid& grid) {
     std::vector<nav::Point2> in_sight;
     try {
-      in_sight = search_->InSight(grid, viewpoint);
+      in_sight = search_->InSight(grid, viewpoint, view_radius);
     } catch (const std::invalid_argument& e) {
       ROS_WARN_THROTTLE(5.0, "explore: %s", e.what());
     }
@@ -207,8 +213,8 @@ class ExploreNode {
       }
     }
     for (auto it = to_judge_.begin(); it != to_judge_.end();) {
-      if (map_count_ > it->second) {
-        Judge(it->first, grid);
+      if (map_count_ > it->map_count) {
+        Judge(it->viewpoint, it->view_radius, grid);
         it = to_judge_.erase(it);
       } else {
         ++it;
@@ -221,7 +227,8 @@ class ExploreNode {
 
     nav::FrontierSearchResult r;
     try {
-      r = search_->Find(grid, robot, memory_->Excluded(), memory_->looked_at());
+      r = search_->Find(grid, robot, memory_->Excluded(), memory_->looked_at(),
+                        memory_->Unreachable());
     } catch (const std::invalid_argument& e) {
       ROS_WARN_THROTTLE(5.0, "explore: %s", e.what());
       return;
@@ -275,12 +282,21 @@ class ExploreNode {
     client_.sendGoal(g);
     ++goals_sent_;
     goal_ = f.goal;
+    goal_view_radius_ = f.view_radius;
+    goal_in_view_ = f.in_view;
     have_goal_ = true;
     best_distance_ = std::hypot(goal_.x - robot.x, goal_.y - robot.y);
     progress_pose_ = robot;
     last_progress_ = now;
-    ROS_INFO("explore: going to frontier at (%.2f, %.2f), %.1f m long, %.1f m away",
-             f.centroid.x, f.centroid.y, f.size, f.distance);
+    if (f.view_radius > 0.0) {
+      ROS_INFO("explore: going to look at frontier at (%.2f, %.2f), %.1f m long, from (%.2f, "
+               "%.2f), %.1f m away (no room nearer to it), which sees %zu of its cells",
+               f.centroid.x, f.centroid.y, f.size, f.goal.x, f.goal.y, f.distance,
+               f.in_view.size());
+    } else {
+      ROS_INFO("explore: going to frontier at (%.2f, %.2f), %.1f m long, %.1f m away",
+               f.centroid.x, f.centroid.y, f.size, f.distance);
+    }
   }
 
   void PublishFrontiers(const nav::FrontierSearchResult& r) {
@@ -312,8 +328,15 @@ class ExploreNode {
   nav_msgs::OccupancyGrid::ConstPtr map_;
   int map_count_ = 0, empty_at_map_ = 0;
   bool have_goal_ = false;
-  std::vector<std::pair<nav::Point2, int>> to_judge_;  // reached viewpoints, map count then
+  struct ToJudge {
+    nav::Point2 viewpoint;
+    double view_radius;  // Frontier::view_radius of the goal
+    int map_count;       // maps received when it was reached
+  };
+  std::vector<ToJudge> to_judge_;  // reached viewpoints
   nav::Point2 goal_;
+  double goal_view_radius_ = 0.0;
+  std::vector<nav::Point2> goal_in_view_;
   double best_distance_ = 0.0;
   nav::Pose2 progress_pose_;
   ros::Time last_progress_, start_time_, empty_since_;

@@ -1,6 +1,8 @@
 // Frontier search on small inline maps: frontier detection and clustering, the
 // goal on the robot's side and in sight of its frontier, unreachable frontiers
-// dropped, excluded viewpoints, "nothing left" once a room is closed; and the
+// dropped, excluded viewpoints, "nothing left" once a room is closed, goals
+// clear of unknown space, pockets too narrow to stand in looked into from off
+// (in line with them, seen from wherever the robot stops); and the
 // exploration memory (reached viewpoints never again, unreachable goals retried
 // once the map round them changes, a limit on attempts); the explore node's
 // options.
@@ -9,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -108,7 +111,9 @@ TEST(FrontierSearch, NearestFirstAndBlacklist) {
       "?...............?",
       "?###############?",
   });
-  FrontierSearch search(Options());
+  ExploreOptions o = Options();
+  o.view_range = 0.0;  // a frontier whose near viewpoints are excluded is dropped
+  FrontierSearch search(o);
   auto r = search.Find(grid, At(4, 2), {});
   ASSERT_EQ(r.frontiers.size(), 2u);
   EXPECT_LT(r.frontiers[0].centroid.x, r.frontiers[1].centroid.x);  // left one is nearer
@@ -173,6 +178,7 @@ TEST(FrontierSearch, ExcludedViewpointsLeaveTheOthers) {
   });
   ExploreOptions o = Options();
   o.blacklist_radius = 0.25;
+  o.view_range = 0.0;  // no looking from off: the last part checks the drop
   FrontierSearch search(o);
   auto r = search.Find(grid, At(2, 1), {});
   ASSERT_EQ(r.frontiers.size(), 1u);
@@ -232,9 +238,166 @@ TEST(FrontierSearch, NoGoalInAPocketTooNarrowToTurnIn) {
   ASSERT_EQ(r.frontiers.size(), 1u);
   EXPECT_LT(r.frontiers[0].goal.x, 0.8) << "goal (" << r.frontiers[0].goal.x << ")";
   o.goal_search_radius = 0.2;  // nothing roomy within reach of the frontier
+  o.view_range = 0.0;
   r = FrontierSearch(o).Find(grid, At(2, 2), {});
   EXPECT_TRUE(r.frontiers.empty());
   EXPECT_EQ(r.unreachable, 1);
+  // Looking from off, the slot is looked into from the room, its whole far end in sight.
+  o.view_range = 1.0;
+  const FrontierSearch from_off(o);
+  r = from_off.Find(grid, At(2, 2), {});
+  ASSERT_EQ(r.frontiers.size(), 1u);
+  const Frontier& f = r.frontiers[0];
+  EXPECT_GT(f.view_radius, 0.0);
+  EXPECT_LT(f.goal.x, 0.8) << "goal (" << f.goal.x << ")";
+  EXPECT_EQ(from_off.InSight(grid, f.goal, f.view_radius).size(), 3u)
+      << "goal (" << f.goal.x << ", " << f.goal.y << ")";
+}
+
+// A room with a gap 0.3 m wide between its top wall and a shelf (text row 4,
+// columns 6-19), open to the room on its left; the gap's far part is unknown,
+// as after a glance at a slant from below the shelf.
+OccupancyGrid ShelfPocketRoom() {
+  return Grid({
+      "####################",
+      "#.........?????????#",
+      "#.........?????????#",
+      "#.........?????????#",
+      "#.....##############",
+      "#..................#",
+      "#..................#",
+      "#..................#",
+      "#..................#",
+      "#..................#",
+      "####################",
+  });
+}
+
+TEST(FrontierSearch, APocketTooNarrowToStandInIsLookedIntoAlongItsLength) {
+  // No cell in the gap is roomy enough for a goal (0.2 m from walls and unknown cells), so the
+  // frontier at its mouth has no near viewpoint.  It gets one from off: a roomy cell in line
+  // with the gap (text rows 1-3), from which every frontier cell's unknown side is in sight,
+  // not one below the shelf, which sees past the mouth at a slant at most.
+  const auto grid = ShelfPocketRoom();
+  ExploreOptions o = Options();
+  o.goal_clearance = 0.2;
+  o.view_range = 1.5;
+  o.goal_tolerance = 0.0;  // the robot stops on the goal
+  FrontierSearch search(o);
+  const Pose2 robot = At(15, 3);  // below the shelf, right
+  auto r = search.Find(grid, robot, {});
+  ASSERT_EQ(r.frontiers.size(), 1u);
+  const Frontier& f = r.frontiers[0];
+  EXPECT_EQ(f.cells, 3);
+  EXPECT_GT(f.view_radius, 0.0) << "a near viewpoint in a 0.3 m gap";
+  const int row = static_cast<int>(std::floor(f.goal.y / kRes));  // grid row, 0 = bottom
+  EXPECT_GE(row, 7) << "goal (" << f.goal.x << ", " << f.goal.y << ") not in line with the gap";
+  EXPECT_LE(row, 9) << "goal (" << f.goal.x << ", " << f.goal.y << ")";
+  const auto seen = search.InSight(grid, f.goal, f.view_radius);
+  EXPECT_EQ(seen.size(), 3u) << "the goal does not see the whole mouth";
+  // Looked at from there and still unknown (the sensor could not clear it): the pocket counts
+  // as explored, and exploration ends.
+  ExplorationMemory memory(o);
+  memory.Reached(f.goal);
+  memory.LookedAt(seen);
+  r = search.Find(grid, robot, memory.Excluded(), memory.looked_at());
+  EXPECT_TRUE(r.frontiers.empty());
+  // Without looking from off, the frontier is dropped (no viewpoint near it).
+  o.view_range = 0.0;
+  r = FrontierSearch(o).Find(grid, robot, {});
+  EXPECT_TRUE(r.frontiers.empty());
+  EXPECT_EQ(r.unreachable, 1);
+}
+
+// The fewest frontier cells in sight from any free cell within `tolerance` of `goal`.
+size_t LeastInSightWithin(const FrontierSearch& search, const OccupancyGrid& grid,
+                          const Frontier& f, double tolerance) {
+  size_t least = std::numeric_limits<size_t>::max();
+  const int r = static_cast<int>(std::floor(tolerance / kRes + 1e-9));
+  for (int dy = -r; dy <= r; ++dy) {
+    for (int dx = -r; dx <= r; ++dx) {
+      if (dx * dx + dy * dy > r * r) continue;
+      const Point2 p{f.goal.x + dx * kRes, f.goal.y + dy * kRes};
+      const int x = static_cast<int>(std::floor(p.x / kRes));
+      const int y = static_cast<int>(std::floor(p.y / kRes));
+      if (grid.data[y * grid.width + x] != 0) continue;
+      least = std::min(least, search.InSight(grid, p, f.view_radius + 2 * tolerance).size());
+    }
+  }
+  return least;
+}
+
+TEST(FrontierSearch, APocketIsLookedIntoFromWhereverTheRobotStopsNearTheGoal) {
+  // A 0.3 m gap above a shelf (text row 4), open to the room on its left.  move_base stops
+  // anywhere within its goal tolerance: a goal chosen for its own view alone may leave the robot
+  // stopping where the shelf hides the gap's mouth; with the tolerance, every stop sees it.
+  const auto grid = Grid({
+      "##########################",
+      "#........?????????????????#",
+      "#........?????????????????#",
+      "#........?????????????????#",
+      "#........##################",
+      "#.........................#",
+      "#.........................#",
+      "#.........................#",
+      "#.........................#",
+      "#.........................#",
+      "#.........................#",
+      "#.........................#",
+      "##########################",
+  });
+  ExploreOptions o = Options();
+  o.goal_clearance = 0.2;
+  o.goal_search_radius = 0.1;  // no roomy cell near the mouth
+  o.view_range = 2.0;
+  const Pose2 robot = At(20, 3);
+  o.goal_tolerance = 0.0;
+  const FrontierSearch exact(o);
+  auto r = exact.Find(grid, robot, {});
+  ASSERT_EQ(r.frontiers.size(), 1u);
+  ASSERT_GT(r.frontiers[0].view_radius, 0.0)
+      << "goal (" << r.frontiers[0].goal.x << ", " << r.frontiers[0].goal.y << ")";
+  const size_t cells = static_cast<size_t>(r.frontiers[0].cells);
+  EXPECT_EQ(LeastInSightWithin(exact, grid, r.frontiers[0], 0.2), 0u)
+      << "the scene no longer shows the problem: every stop near goal (" << r.frontiers[0].goal.x
+      << ", " << r.frontiers[0].goal.y << ") sees some of the mouth";
+  o.goal_tolerance = 0.2;
+  const FrontierSearch tolerant(o);
+  r = tolerant.Find(grid, robot, {});
+  ASSERT_EQ(r.frontiers.size(), 1u);
+  ASSERT_GT(r.frontiers[0].view_radius, 0.0);
+  // Every stop sees the mouth: all of it, but for a stop on its lowest cell, which has the top
+  // cell's unknown side only past the gap's corner.
+  EXPECT_GE(LeastInSightWithin(tolerant, grid, r.frontiers[0], 0.2), cells - 1)
+      << "goal (" << r.frontiers[0].goal.x << ", " << r.frontiers[0].goal.y << ")";
+}
+
+TEST(FrontierSearch, GoalsKeepTheirClearanceFromUnknownSpace) {
+  // The room open on its right: a goal keeps goal_clearance from the unknown cells as from a
+  // wall (an unseen face of a shelf may be there), though the robot, 0.2 m from the unknown
+  // cells, already sees the frontier.
+  const auto grid = Grid({
+      "##########???",
+      "#.........???",
+      "#.........???",
+      "#.........???",
+      "#.........???",
+      "#.........???",
+      "#.........???",
+      "#.........???",
+      "#.........???",
+      "##########???",
+  });
+  ExploreOptions o = Options();
+  o.goal_clearance = 0.3;
+  o.goal_search_radius = 0.5;
+  FrontierSearch search(o);
+  const auto r = search.Find(grid, At(8, 4), {});
+  ASSERT_EQ(r.frontiers.size(), 1u);
+  const Frontier& f = r.frontiers[0];
+  EXPECT_EQ(f.view_radius, 0.0);
+  EXPECT_LE(f.goal.x, At(6, 0).x + 1e-9) << "goal (" << f.goal.x << ") within 0.3 m of unknown";
+  EXPECT_GE(f.goal.x, At(4, 0).x - 1e-9) << "goal (" << f.goal.x << ") beyond goal_search_radius";
 }
 
 TEST(ExplorationMemory, ReachedViewpointsAreNotUsedAgain) {
@@ -360,6 +523,19 @@ TEST(FrontierSearch, BadInputIsRejectedSayingWhy) {
   o = ExploreOptions();
   o.look_radius = 0.2;  // below goal_search_radius 0.4
   EXPECT_THROW(FrontierSearch{o}, std::invalid_argument);
+  o = ExploreOptions();
+  o.view_range = 0.3;  // neither 0 (off) nor at least goal_search_radius
+  o.goal_tolerance = -0.1;
+  try {
+    FrontierSearch{o};
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("view_range=0.3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("goal_tolerance=-0.1"), std::string::npos) << e.what();
+  }
+  o = ExploreOptions();
+  o.view_range = 0.0;
+  EXPECT_NO_THROW(FrontierSearch{o});
 }
 
 TEST(ExploreNodeOptionsTest, ValidationNamesEveryBadValue) {

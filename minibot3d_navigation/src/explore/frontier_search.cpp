@@ -148,6 +148,36 @@ std::vector<uint8_t> NearOccupied(const std::vector<uint8_t>& kind, int w, int h
   return near;
 }
 
+// 1 for the cells within `radius` of an unknown cell that borders a known-free one.
+std::vector<uint8_t> NearUnknown(const std::vector<uint8_t>& kind, int w, int h, double radius,
+                                 double res) {
+  static const int dxs[4] = {1, -1, 0, 0};
+  static const int dys[4] = {0, 0, 1, -1};
+  const int r = static_cast<int>(std::ceil(radius / res));
+  std::vector<std::pair<int, int>> disc;
+  for (int dy = -r; dy <= r; ++dy) {
+    for (int dx = -r; dx <= r; ++dx) {
+      if ((dx * dx + dy * dy) * res * res <= radius * radius + 1e-12) disc.emplace_back(dx, dy);
+    }
+  }
+  std::vector<uint8_t> near(kind.size(), 0);
+  for (int i = 0; i < w * h; ++i) {
+    if (kind[i] != 1) continue;
+    const int x = i % w, y = i / w;
+    bool borders_free = false;
+    for (int k = 0; k < 4 && !borders_free; ++k) {
+      const int xx = x + dxs[k], yy = y + dys[k];
+      borders_free = xx >= 0 && yy >= 0 && xx < w && yy < h && kind[yy * w + xx] == 0;
+    }
+    if (!borders_free) continue;
+    for (const auto& [dx, dy] : disc) {
+      const int xx = x + dx, yy = y + dy;
+      if (xx >= 0 && yy >= 0 && xx < w && yy < h) near[yy * w + xx] = 1;
+    }
+  }
+  return near;
+}
+
 // True when cell v has a line of sight to an unknown 4-neighbour of frontier
 // cell i: a ray from v reaches the unknown side.
 bool SeesUnknownSide(int v, int i, int w, int h, const std::vector<uint8_t>& kind) {
@@ -160,6 +190,167 @@ bool SeesUnknownSide(int v, int i, int w, int h, const std::vector<uint8_t>& kin
     if (LineOfSight(v, uy * w + ux, w, kind)) return true;
   }
   return false;
+}
+
+// Free cells joined to the reachable ones (dist < inf) through free cells farther than `gap`
+// from any occupied cell (8-connected): pockets off the robot's space, but not free cells seen
+// through a chink in a wall (outside the building).
+std::vector<uint8_t> JoinedToReachable(const std::vector<uint8_t>& kind,
+                                       const std::vector<double>& dist, int w, int h,
+                                       double gap, double res) {
+  const std::vector<uint8_t> near = NearOccupied(kind, w, h, gap, gap, res);
+  std::vector<uint8_t> joined(kind.size(), 0);
+  std::vector<int> stack;
+  for (int i = 0; i < w * h; ++i) {
+    if (dist[i] < kInf) {
+      joined[i] = 1;
+      stack.push_back(i);
+    }
+  }
+  while (!stack.empty()) {
+    const int i = stack.back();
+    stack.pop_back();
+    const int x = i % w, y = i / w;
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int xx = x + dx, yy = y + dy;
+        if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+        const int j = yy * w + xx;
+        if (joined[j] || kind[j] != 0 || near[j] >= 2) continue;
+        joined[j] = 1;
+        stack.push_back(j);
+      }
+    }
+  }
+  return joined;
+}
+
+// Calls visit(c, j) for each cell j that has an unknown 4-neighbour of frontier cell cells[c] in
+// its line of sight within `range` cells (possibly more than once): rays walked out from every
+// such unknown cell through known-free cells, one per cell of the circle of radius `range`, so
+// that no cell within range is skipped.
+template <typename Visit>
+void WalkVisibility(const std::vector<int>& cells, const std::vector<uint8_t>& kind, int w, int h,
+                    int range, const Visit& visit) {
+  static const int dxs[4] = {1, -1, 0, 0};
+  static const int dys[4] = {0, 0, 1, -1};
+  // The ends of the rays: the cells of a circle of radius `range` (midpoint circle walk).
+  std::vector<std::pair<int, int>> ends;
+  for (int x = range, y = 0, err = 1 - range; x >= y; ++y) {
+    const int pts[8][2] = {{x, y}, {y, x}, {-y, x}, {-x, y}, {-x, -y}, {-y, -x}, {y, -x}, {x, -y}};
+    for (const auto& p : pts) ends.emplace_back(p[0], p[1]);
+    if (err < 0) {
+      err += 2 * y + 3;
+    } else {
+      err += 2 * (y - x) + 5;
+      --x;
+    }
+  }
+  std::sort(ends.begin(), ends.end());
+  ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+  for (size_t c = 0; c < cells.size(); ++c) {
+    const int i = cells[c];
+    const int x = i % w, y = i / w;
+    for (int k = 0; k < 4; ++k) {
+      const int ux = x + dxs[k], uy = y + dys[k];
+      if (ux < 0 || uy < 0 || ux >= w || uy >= h || kind[uy * w + ux] != 1) continue;
+      for (const auto& [ex, ey] : ends) {
+        minibot3d_common::LineWalker walk(ux, uy, ux + ex, uy + ey);
+        while (!walk.done()) {
+          walk.Next();
+          const int xx = walk.x(), yy = walk.y();
+          if (xx < 0 || yy < 0 || xx >= w || yy >= h) break;
+          const int j = yy * w + xx;
+          if (kind[j] != 0) break;
+          visit(c, j);
+        }
+      }
+    }
+  }
+}
+
+// For each cell, how many of the frontier cells `cells` it sees (WalkVisibility).  `touched`
+// lists the cells with a count.
+std::vector<int> VisibilityCounts(const std::vector<int>& cells, const std::vector<uint8_t>& kind,
+                                  int w, int h, int range, std::vector<int>* touched) {
+  std::vector<int> count(kind.size(), 0);
+  std::vector<int> stamp(kind.size(), -1);  // the last frontier cell counted at each cell
+  touched->clear();
+  WalkVisibility(cells, kind, w, h, range, [&](size_t c, int j) {
+    if (stamp[j] == static_cast<int>(c)) return;
+    stamp[j] = static_cast<int>(c);
+    if (count[j]++ == 0) touched->push_back(j);
+  });
+  return count;
+}
+
+// A viewpoint from off for a frontier without a near one.  Each reachable cell `roomy` accepts
+// that is not excluded is scored by the frontier cells (those joined to the robot's space) seen
+// from every free cell within `tolerance` of it (VisibilityCounts within view_range, the least
+// over that disc): move_base stops anywhere within its goal tolerance, and a pocket seen from
+// the goal may be hidden from a stop beside it.  The goal is the cell with the shortest path
+// from the robot among those scoring at least 3/4 of the best (the cells' own counts when no
+// cell scores).  Sets `in_view` to the frontier cells it sees and *view_radius to the distance
+// (m) to the farthest of them; returns -1 when no cell sees any.
+template <typename Roomy>
+int FarViewpointImpl(const std::vector<int>& cluster, const std::vector<uint8_t>& kind,
+                     const std::vector<double>& dist, const std::vector<uint8_t>& is_excluded,
+                     const std::vector<uint8_t>& joined, int w, int h, double res,
+                     double view_range, double tolerance, const Roomy& roomy,
+                     double* view_radius, std::vector<int>* in_view) {
+  std::vector<int> cells;
+  for (int i : cluster) {
+    if (joined[i]) cells.push_back(i);
+  }
+  if (cells.empty()) return -1;
+  const int range = static_cast<int>(std::floor(view_range / res));
+  std::vector<int> touched;
+  const std::vector<int> count = VisibilityCounts(cells, kind, w, h, range, &touched);
+  const int tr = static_cast<int>(std::floor(tolerance / res + 1e-9));
+  std::vector<std::pair<int, int>> disc;
+  for (int dy = -tr; dy <= tr; ++dy) {
+    for (int dx = -tr; dx <= tr; ++dx) {
+      if (dx * dx + dy * dy <= tr * tr) disc.emplace_back(dx, dy);
+    }
+  }
+  std::vector<std::pair<int, int>> scored;  // (cell, least count within tolerance)
+  for (int j : touched) {
+    if (!(dist[j] < kInf) || (is_excluded[j] & 2) || !roomy(j)) continue;
+    int least = count[j];
+    const int jx = j % w, jy = j / w;
+    for (const auto& [dx, dy] : disc) {
+      const int xx = jx + dx, yy = jy + dy;
+      if (xx < 0 || yy < 0 || xx >= w || yy >= h || kind[yy * w + xx] != 0) continue;
+      least = std::min(least, count[yy * w + xx]);
+    }
+    scored.emplace_back(j, least);
+  }
+  int most = 0;
+  for (const auto& [j, least] : scored) most = std::max(most, least);
+  const bool robust = most > 0;
+  if (!robust) {
+    for (const auto& [j, least] : scored) most = std::max(most, count[j]);
+  }
+  if (most == 0) return -1;
+  int best = -1;
+  for (const auto& [j, least] : scored) {
+    if (4 * (robust ? least : count[j]) < 3 * most) continue;
+    if (best < 0 || dist[j] < dist[best] || (dist[j] == dist[best] && j < best)) best = j;
+  }
+  std::vector<uint8_t> seen(cells.size(), 0);
+  WalkVisibility(cells, kind, w, h, range, [&](size_t c, int j) {
+    if (j == best) seen[c] = 1;
+  });
+  double farthest = 0.0;
+  const int bx = best % w, by = best / w;
+  in_view->clear();
+  for (size_t c = 0; c < cells.size(); ++c) {
+    if (!seen[c]) continue;
+    in_view->push_back(cells[c]);
+    farthest = std::max(farthest, std::hypot(cells[c] % w - bx, cells[c] / w - by) * res);
+  }
+  *view_radius = farthest + res;
+  return best;
 }
 
 }  // namespace
@@ -188,6 +379,12 @@ void ValidateExploreOptions(const ExploreOptions& o) {
             "retry_map_change=" + Num(o.retry_map_change) + " must be > 0");
   p.Require(std::isfinite(o.start_search_radius) && o.start_search_radius >= 0.0,
             "start_search_radius=" + Num(o.start_search_radius) + " must be >= 0");
+  p.Require(std::isfinite(o.view_range) &&
+                (o.view_range == 0.0 || o.view_range >= o.goal_search_radius),
+            "view_range=" + Num(o.view_range) + " must be 0 (off) or >= goal_search_radius=" +
+                Num(o.goal_search_radius));
+  p.Require(std::isfinite(o.goal_tolerance) && o.goal_tolerance >= 0.0,
+            "goal_tolerance=" + Num(o.goal_tolerance) + " must be >= 0");
   p.Require(o.max_goal_attempts >= 1,
             "max_goal_attempts=" + std::to_string(o.max_goal_attempts) + " must be >= 1");
   p.ThrowIfAny();
@@ -225,7 +422,17 @@ const options::OptionTable<ExploreOptions>& ExploreOptionTable() {
        Field("start_search_radius", &O::start_search_radius,
              "When the robot's own cell is not known free (lasers at its ends do not see under "
              "it), the search starts from the nearest known-free cell within this distance (m), "
-             "reached through cells that are not occupied.")});
+             "reached through cells that are not occupied."),
+       Field("view_range", &O::view_range,
+             "A frontier with no goal within goal_search_radius (the far end of a gap too "
+             "narrow to stand in, seen only at a slant) is looked into from a roomy cell within "
+             "this distance (m) that has most of it in sight; reaching it, what stays unknown in "
+             "sight there is not chased again. Keep it within the lidar's reliable range; 0: "
+             "such a frontier is dropped."),
+       Field("goal_tolerance", &O::goal_tolerance,
+             "How far from a goal move_base may stop (its xy_goal_tolerance, m): a goal that "
+             "looks at a frontier from off must have it in sight from anywhere within this "
+             "distance.")});
   return table;
 }
 
@@ -241,7 +448,8 @@ FrontierSearch::FrontierSearch(const ExploreOptions& options) : options_(options
 
 FrontierSearchResult FrontierSearch::Find(const OccupancyGrid& grid, const Pose2& robot,
                                           const std::vector<Point2>& excluded,
-                                          const std::vector<Point2>& looked_at) const {
+                                          const std::vector<Point2>& looked_at,
+                                          const std::vector<Point2>& unreachable) const {
   CheckGrid(grid);
   const int w = grid.width, h = grid.height;
   const double res = grid.resolution;
@@ -267,7 +475,10 @@ FrontierSearchResult FrontierSearch::Find(const OccupancyGrid& grid, const Pose2
   const std::vector<uint8_t> near =
       NearOccupied(kind, w, h, options_.clearance, options_.goal_clearance, res);
   auto traversable = [&](int i) { return kind[i] == 0 && near[i] < 2; };
-  auto cramped = [&](int i) { return near[i] >= 1; };
+  // Goals keep goal_clearance from unknown space as from walls: the unseen face of a shelf may
+  // be there, and a gap that only looked roomy would be a pocket the robot cannot turn in.
+  const std::vector<uint8_t> near_unknown = NearUnknown(kind, w, h, options_.goal_clearance, res);
+  auto cramped = [&](int i) { return near[i] >= 1 || near_unknown[i]; };
 
   // Dijkstra from the robot; non-traversable free cells only while escaping
   // from a start that is itself not traversable.
@@ -309,22 +520,33 @@ FrontierSearchResult FrontierSearch::Find(const OccupancyGrid& grid, const Pose2
   }
   const int sr = static_cast<int>(std::ceil(options_.goal_search_radius / res));
   const double search_r2 = options_.goal_search_radius * options_.goal_search_radius + 1e-12;
-  // Cells within blacklist_radius of an excluded viewpoint.
-  std::vector<uint8_t> is_excluded(n, 0);
-  const int er = static_cast<int>(std::ceil(options_.blacklist_radius / res));
-  for (const Point2& e : excluded) {
-    const int ex = static_cast<int>(std::floor((e.x - grid.origin_x) / res));
-    const int ey = static_cast<int>(std::floor((e.y - grid.origin_y) / res));
-    for (int y = std::max(0, ey - er); y <= std::min(h - 1, ey + er); ++y) {
-      for (int x = std::max(0, ex - er); x <= std::min(w - 1, ex + er); ++x) {
-        const Point2 p = to_world(y * w + x);
-        if (std::hypot(e.x - p.x, e.y - p.y) < options_.blacklist_radius) {
-          is_excluded[y * w + x] = 1;
+  // Cells within `radius` of one of `points`, marked `mark`.
+  auto mark_within = [&](const std::vector<Point2>& points, double radius, uint8_t mark,
+                         std::vector<uint8_t>* marked) {
+    const int er = static_cast<int>(std::ceil(radius / res));
+    for (const Point2& e : points) {
+      const int ex = static_cast<int>(std::floor((e.x - grid.origin_x) / res));
+      const int ey = static_cast<int>(std::floor((e.y - grid.origin_y) / res));
+      for (int y = std::max(0, ey - er); y <= std::min(h - 1, ey + er); ++y) {
+        for (int x = std::max(0, ex - er); x <= std::min(w - 1, ex + er); ++x) {
+          const Point2 p = to_world(y * w + x);
+          if (std::hypot(e.x - p.x, e.y - p.y) < radius) (*marked)[y * w + x] |= mark;
         }
       }
     }
-  }
+  };
+  // 1: within blacklist_radius of an excluded viewpoint (no near viewpoint there).  2: no far
+  // viewpoint there: within goal_tolerance of an excluded one (the same stop), or within
+  // blacklist_radius of an unreachable goal.  A far viewpoint may be near one reached before:
+  // it is chosen for what is in sight from it now, and what stays unknown in sight there once
+  // it is reached no longer counts.
+  std::vector<uint8_t> is_excluded(n, 0);
+  mark_within(excluded, options_.blacklist_radius, 1, &is_excluded);
+  mark_within(excluded, options_.goal_tolerance, 2, &is_excluded);
+  mark_within(unreachable, options_.blacklist_radius, 2, &is_excluded);
   std::unordered_map<int, bool> candidate_los;  // this frontier's cells seen from a candidate
+  std::vector<uint8_t> joined;  // JoinedToReachable, made when a frontier first needs it
+  std::vector<int> in_view;
   std::vector<uint8_t> seen(n, 0);
   std::vector<int> stack, cluster;
   for (int s = 0; s < n; ++s) {
@@ -374,7 +596,7 @@ FrontierSearchResult FrontierSearch::Find(const OccupancyGrid& grid, const Pose2
           if (!traversable(j) || !(dist[j] < kInf) || cramped(j)) continue;
           any_reachable = true;
           if (best >= 0 && dist[j] >= dist[best]) continue;
-          if (is_excluded[j]) continue;
+          if (is_excluded[j] & 1) continue;
           auto it = candidate_los.find(j);
           if (it == candidate_los.end() || !it->second) {
             const bool los = SeesUnknownSide(j, i, w, h, kind);
@@ -384,6 +606,16 @@ FrontierSearchResult FrontierSearch::Find(const OccupancyGrid& grid, const Pose2
           best = j;
         }
       }
+    }
+    if (best < 0 && options_.view_range > 0.0) {
+      if (joined.empty()) {
+        joined = JoinedToReachable(kind, dist, w, h, options_.clearance / 2.0, res);
+      }
+      best = FarViewpointImpl(cluster, kind, dist, is_excluded, joined, w, h, res,
+                              options_.view_range, options_.goal_tolerance,
+                              [&](int j) { return traversable(j) && !cramped(j); },
+                              &f.view_radius, &in_view);
+      for (int i : in_view) f.in_view.push_back(to_world(i));
     }
     if (best < 0) {
       ++(any_reachable ? result.blacklisted : result.unreachable);
@@ -398,8 +630,8 @@ FrontierSearchResult FrontierSearch::Find(const OccupancyGrid& grid, const Pose2
   return result;
 }
 
-std::vector<Point2> FrontierSearch::InSight(const OccupancyGrid& grid,
-                                             const Point2& viewpoint) const {
+std::vector<Point2> FrontierSearch::InSight(const OccupancyGrid& grid, const Point2& viewpoint,
+                                             double radius) const {
   CheckGrid(grid);
   const int w = grid.width, h = grid.height;
   const double res = grid.resolution;
@@ -409,8 +641,9 @@ std::vector<Point2> FrontierSearch::InSight(const OccupancyGrid& grid,
   if (vx < 0 || vy < 0 || vx >= w || vy >= h) return cells;
   const std::vector<uint8_t> kind = Kinds(grid, options_.free_threshold);
   const std::vector<uint8_t> is_frontier = FrontierCells(kind, w, h);
-  const int r = static_cast<int>(std::ceil(options_.look_radius / res));
-  const double r2 = options_.look_radius * options_.look_radius + 1e-12;
+  const double look = std::max(options_.look_radius, radius);
+  const int r = static_cast<int>(std::ceil(look / res));
+  const double r2 = look * look + 1e-12;
   const int v = vy * w + vx;
   for (int dy = -r; dy <= r; ++dy) {
     for (int dx = -r; dx <= r; ++dx) {
@@ -493,6 +726,14 @@ std::vector<Point2> ExplorationMemory::Refresh(const OccupancyGrid& map) {
 
 std::vector<Point2> ExplorationMemory::Excluded() const {
   std::vector<Point2> out = visited_;
+  for (const Failure& f : failures_) {
+    if (f.excluded) out.push_back(f.goal);
+  }
+  return out;
+}
+
+std::vector<Point2> ExplorationMemory::Unreachable() const {
+  std::vector<Point2> out;
   for (const Failure& f : failures_) {
     if (f.excluded) out.push_back(f.goal);
   }

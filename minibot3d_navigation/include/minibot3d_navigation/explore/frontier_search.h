@@ -18,8 +18,16 @@
 // whose own cell is not known free (lasers at its ends do not see under it)
 // starts from the nearest known-free cell within start_search_radius, reached
 // through cells that are not occupied (explore_lite's nearest free cell).
-// Frontiers whose goal cannot be reached — behind walls, outside the building —
-// are dropped, so "no frontier left" means the reachable space is mapped.
+// A frontier with no such goal (the far end of a gap behind a shelf, too narrow
+// to stand in, seen only at a slant so far) is looked into from off: among the
+// roomy reachable cells within view_range, those from which the most of its
+// cells' unknown sides are in line of sight (counted by walking rays out from
+// the unknown side through known-free cells: an art-gallery style visibility
+// count, as in next-best-view planners, González-Baños & Latombe, IJRR 2002),
+// from anywhere within goal_tolerance of them (where move_base may stop), the
+// one nearest the robot by path among those seeing at least 3/4 of the best.  Frontiers whose goal cannot be reached — behind walls, outside
+// the building — are dropped, so "no frontier left" means the reachable space
+// is mapped.
 //
 // ExplorationMemory is explore's blacklist.  When the robot reaches a
 // viewpoint, a frontier cell within look_radius whose unknown side it has in
@@ -60,6 +68,10 @@ struct ExploreOptions {
   int max_goal_attempts = 3;       // goals sent near one place before it is given up for good
   double start_search_radius = 1.0;  // m: the nearest free cell within this starts the search
                                      // when the robot's own cell is not known free
+  double view_range = 2.5;  // m: a frontier without a near goal is looked into from this far
+                            // at most; 0: such a frontier is dropped
+  double goal_tolerance = 0.15;  // m: move_base's xy_goal_tolerance; a goal looking from off
+                                 // sees its frontier from anywhere within it
 };
 
 // Throws std::invalid_argument listing every offending value.
@@ -76,6 +88,12 @@ struct Frontier {
   double size = 0.0;       // m (cells x resolution)
   double distance = 0.0;   // path length from the robot to the goal, m
   int cells = 0;
+  // > 0 when the goal looks at the frontier from off (no room nearer): the distance (m) to the
+  // farthest of its cells in sight from the goal; what stays unknown within it there is judged.
+  double view_radius = 0.0;
+  // Looking from off: the frontier's cells (centres) in sight from the goal; once it is reached
+  // they no longer count (ExplorationMemory::LookedAt), seen or not.
+  std::vector<Point2> in_view;
 };
 
 struct FrontierSearchResult {
@@ -90,17 +108,21 @@ class FrontierSearch {
   // Throws std::invalid_argument for invalid options.
   explicit FrontierSearch(const ExploreOptions& options);
 
-  // `excluded`: viewpoints not to use (within blacklist_radius);
-  // `looked_at`: cells not to count as frontier (both from
+  // `excluded`: viewpoints not to use (within blacklist_radius; for a far
+  // viewpoint, within goal_tolerance); `looked_at`: cells not to count as
+  // frontier; `unreachable`: goals move_base could not reach, within
+  // blacklist_radius of which no far viewpoint is chosen either (all from
   // ExplorationMemory).  Throws std::invalid_argument for a malformed grid
   // (size mismatch, non-positive resolution) or a robot pose off the grid.
   FrontierSearchResult Find(const OccupancyGrid& grid, const Pose2& robot,
                             const std::vector<Point2>& excluded,
-                            const std::vector<Point2>& looked_at = {}) const;
+                            const std::vector<Point2>& looked_at = {},
+                            const std::vector<Point2>& unreachable = {}) const;
 
-  // The frontier cells (centres) within look_radius of `viewpoint` with an
-  // unknown 4-neighbour in its line of sight.  Throws like Find.
-  std::vector<Point2> InSight(const OccupancyGrid& grid, const Point2& viewpoint) const;
+  // The frontier cells (centres) within max(look_radius, radius) of `viewpoint`
+  // with an unknown 4-neighbour in its line of sight.  Throws like Find.
+  std::vector<Point2> InSight(const OccupancyGrid& grid, const Point2& viewpoint,
+                              double radius = 0.0) const;
 
  private:
   ExploreOptions options_;
@@ -123,6 +145,8 @@ class ExplorationMemory {
   // that have attempts left; returns them.
   std::vector<Point2> Refresh(const OccupancyGrid& map);
   std::vector<Point2> Excluded() const;
+  // The unreachable goals among Excluded().
+  std::vector<Point2> Unreachable() const;
   const std::vector<Point2>& looked_at() const { return looked_at_; }
 
  private:
