@@ -8,7 +8,8 @@
 // cells within goal_search_radius of a frontier cell and with a line of sight
 // through known-free cells to that cell's unknown side, with the shortest path
 // from the robot (a cell beside a frontier but behind a shelf's end sees
-// nothing of it).  A goal must be goal_clearance from occupied cells: a robot
+// nothing of it).  A goal must be goal_clearance from occupied cells and from
+// unknown cells that border known-free ones (an unseen face of a shelf): a robot
 // stopping anywhere within its goal tolerance can still turn there, and it is
 // not sent into a pocket it cannot turn round in (paths still pass through
 // anything `clearance` wide, such as a 0.40 m door).  Paths are a
@@ -25,9 +26,9 @@
 // the unknown side through known-free cells: an art-gallery style visibility
 // count, as in next-best-view planners, González-Baños & Latombe, IJRR 2002),
 // from anywhere within goal_tolerance of them (where move_base may stop), the
-// one nearest the robot by path among those seeing at least 3/4 of the best.  Frontiers whose goal cannot be reached — behind walls, outside
-// the building — are dropped, so "no frontier left" means the reachable space
-// is mapped.
+// one nearest the robot by path among those seeing at least 3/4 of the best.
+// Frontiers whose goal cannot be reached — behind walls, outside the building —
+// are dropped, so "no frontier left" means the reachable space is mapped.
 //
 // ExplorationMemory is explore's blacklist.  When the robot reaches a
 // viewpoint, a frontier cell within look_radius whose unknown side it has in
