@@ -148,34 +148,25 @@ std::vector<uint8_t> NearOccupied(const std::vector<uint8_t>& kind, int w, int h
   return near;
 }
 
-// 1 for the cells within `radius` of an unknown cell that borders a known-free one.
+// Non-zero for the cells within `radius` of an unknown cell that borders a known-free one:
+// NearOccupied with those unknown cells standing for the occupied ones.
 std::vector<uint8_t> NearUnknown(const std::vector<uint8_t>& kind, int w, int h, double radius,
                                  double res) {
   static const int dxs[4] = {1, -1, 0, 0};
   static const int dys[4] = {0, 0, 1, -1};
-  const int r = static_cast<int>(std::ceil(radius / res));
-  std::vector<std::pair<int, int>> disc;
-  for (int dy = -r; dy <= r; ++dy) {
-    for (int dx = -r; dx <= r; ++dx) {
-      if ((dx * dx + dy * dy) * res * res <= radius * radius + 1e-12) disc.emplace_back(dx, dy);
-    }
-  }
-  std::vector<uint8_t> near(kind.size(), 0);
+  std::vector<uint8_t> border(kind.size(), 0);
   for (int i = 0; i < w * h; ++i) {
     if (kind[i] != 1) continue;
     const int x = i % w, y = i / w;
-    bool borders_free = false;
-    for (int k = 0; k < 4 && !borders_free; ++k) {
+    for (int k = 0; k < 4; ++k) {
       const int xx = x + dxs[k], yy = y + dys[k];
-      borders_free = xx >= 0 && yy >= 0 && xx < w && yy < h && kind[yy * w + xx] == 0;
-    }
-    if (!borders_free) continue;
-    for (const auto& [dx, dy] : disc) {
-      const int xx = x + dx, yy = y + dy;
-      if (xx >= 0 && yy >= 0 && xx < w && yy < h) near[yy * w + xx] = 1;
+      if (xx >= 0 && yy >= 0 && xx < w && yy < h && kind[yy * w + xx] == 0) {
+        border[i] = 2;
+        break;
+      }
     }
   }
-  return near;
+  return NearOccupied(border, w, h, radius, radius, res);
 }
 
 // True when cell v has a line of sight to an unknown 4-neighbour of frontier
