@@ -70,6 +70,15 @@ struct TimersWaitingMutexTag {
   friend type Get(TimersWaitingMutexTag);
 };
 
+struct MaxQueueTag {
+  using type = size_t ros::Publication::*;
+  friend type Get(MaxQueueTag);
+};
+struct PollSignalMutexTag {
+  using type = boost::recursive_mutex ros::PollManager::*;
+  friend type Get(PollSignalMutexTag);
+};
+
 struct SubscriptionQueueTopicTag {
   using type = std::string ros::SubscriptionQueue::*;
   friend type Get(SubscriptionQueueTopicTag);
@@ -84,6 +93,8 @@ struct QueueAccess : ros::CallbackQueue {
 };
 
 template struct Expose<SubscriptionsTag, &ros::TopicManager::subscriptions_>;
+template struct Expose<MaxQueueTag, &ros::Publication::max_queue_>;
+template struct Expose<PollSignalMutexTag, &ros::PollManager::signal_mutex_>;
 template struct Expose<SubscriptionQueueTopicTag, &ros::SubscriptionQueue::topic_>;
 template struct Expose<TimersWaitingTag, &SimTimers::waiting_>;
 template struct Expose<TimersWaitingMutexTag, &SimTimers::waiting_mutex_>;
@@ -146,11 +157,16 @@ std::vector<LinkCount> SentCounts() {
   ros::V_string topics;
   const ros::TopicManagerPtr& tm = ros::TopicManager::instance();
   tm->getAdvertisedTopics(topics);
+  // publish() only queues the message; roscpp's poll thread hands it to each connection (and
+  // counts it) later, in a listener it runs under this lock. It takes the whole queue first and
+  // hands the messages over after, so without the lock a message it has taken and not yet handed
+  // over would be in neither place, and uncounted. Holding the lock, what this thread has
+  // published is handed over here (or was, completely), so it is counted now.
+  ros::PollManager& poll = *ros::PollManager::instance();
+  boost::recursive_mutex::scoped_lock poll_lock(poll.*Get(PollSignalMutexTag()));
   for (const auto& topic : topics) {
     ros::PublicationPtr pub = tm->lookupPublication(topic);
     if (!pub) continue;
-    // publish() only queues the message; roscpp's poll thread hands it to each connection (and
-    // counts it) later. Hand over what this thread has published so far, so it is counted now.
     pub->processPublishQueue();
     boost::mutex::scoped_lock lock((*pub).*Get(SubscriberLinksMutexTag()));
     for (const auto& link : (*pub).*Get(SubscriberLinksTag())) {
@@ -161,6 +177,19 @@ std::vector<LinkCount> SentCounts() {
   }
   Sort(&out);
   return out;
+}
+
+void KeepEveryMessage() {
+  ros::V_string topics;
+  const ros::TopicManagerPtr& tm = ros::TopicManager::instance();
+  tm->getAdvertisedTopics(topics);
+  // The poll thread reads the limit when it hands messages to connections, under this lock.
+  ros::PollManager& poll = *ros::PollManager::instance();
+  boost::recursive_mutex::scoped_lock poll_lock(poll.*Get(PollSignalMutexTag()));
+  for (const auto& topic : topics) {
+    ros::PublicationPtr pub = tm->lookupPublication(topic);
+    if (pub) (*pub).*Get(MaxQueueTag()) = 0;  // 0: unbounded
+  }
 }
 
 std::vector<LinkCount> ReceivedCounts() {

@@ -116,6 +116,7 @@ void Participant::SettleConnections() {
   topics.insert(topics.end(), advertised.begin(), advertised.end());
   if (topics == settled_topics_) return;
   settled_topics_ = topics;
+  KeepEveryMessage();  // a new publication's queue too
   const ros::WallTime start = ros::WallTime::now();
   ros::WallTime beat = start, checked = start;
   while (ros::ok()) {

@@ -19,6 +19,13 @@
   lockstep_probe.py zigzag SIM_S         publishes probe_parent -> probe_zigzag on /tf every 10 ms
                                          of sim time for SIM_S, at x = +1 and -1 in turn (+1 at
                                          even hundredths of a second), then leaves
+  lockstep_probe.py burst N             joins, lets 0.5 s of sim time pass, then publishes 1..N on
+                                         /probe_burst (std_msgs/UInt32) in one tick through a
+                                         publisher whose queue_size is 1 ("burst T"), lets 0.5 s
+                                         more pass and leaves
+  lockstep_probe.py burst_count          /probe_burst a wake topic: prints the sim time of the
+                                         first tick with messages on it, how many and their sum
+                                         ("counted T N SUM"), and leaves
   lockstep_probe.py route OUT.json [FRAME X,Y,YAW ...]
                                          move_base goals one after the other (by default two
                                          across the default world, in map); writes the goal
@@ -116,6 +123,29 @@ def zigzag(seconds):
     lockstep.close()
 
 
+def burst(n):
+    from std_msgs.msg import UInt32
+    pub = rospy.Publisher('/probe_burst', UInt32, queue_size=1)
+    lockstep = Participant()
+    lockstep.sleep(0.5)
+    for i in range(1, n + 1):
+        pub.publish(UInt32(i))
+    print('burst %.3f' % rospy.get_rostime().to_sec(), flush=True)
+    lockstep.sleep(0.5)
+    lockstep.close()
+
+
+def burst_count():
+    from std_msgs.msg import UInt32
+    got = []
+    rospy.Subscriber('/probe_burst', UInt32, lambda m: got.append(m.data), queue_size=1)
+    lockstep = Participant(wake_topics=['/probe_burst'])
+    if lockstep.wait_for(lambda: got, 60.0):
+        print('counted %.3f %d %d' % (rospy.get_rostime().to_sec(), len(got), sum(got)),
+              flush=True)
+    lockstep.close()
+
+
 DEFAULT_ROUTE = ('map', [(-2.1, 0.6, 1.57), (-0.3, 2.0, 0.0)])
 
 
@@ -165,6 +195,12 @@ def main():
         return poll()
     if mode == 'zigzag':
         zigzag(float(sys.argv[2]))
+        return 0
+    if mode == 'burst':
+        burst(int(sys.argv[2]))
+        return 0
+    if mode == 'burst_count':
+        burst_count()
         return 0
     if mode == 'run_for':
         run_for(float(sys.argv[2]))

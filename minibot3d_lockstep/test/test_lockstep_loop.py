@@ -213,6 +213,38 @@ def test_a_participant_ticked_every_2_s_has_every_tf_message_in_its_buffer(tmp_p
     assert results['tf2_ros'][1] > 0, results
 
 
+BURST = 200
+
+
+@pytest.mark.parametrize('sender', ['rospy', 'roscpp'])
+def test_a_burst_through_a_one_message_queue_reaches_its_receiver_whole(tmp_path, sender):
+    """A participant publishes 200 messages in one tick through a publisher whose queue holds one
+    (rospy's queue_size=1, roscpp's advertise queue 1); the receiving participant (woken by the
+    topic) has all 200, in order, when it is next ticked. Breakage caught: a publisher queue that
+    drops messages its writer thread has not yet sent (which ones depends on thread timing): the
+    sender's ack counts them all, so the receiver would wait for the dropped ones for ever."""
+    name = '/probe_burst' if sender == 'rospy' else '/burst_probe'
+    stack = sim_stack(tmp_path, '/probe_burst_count ' + name)
+    try:
+        counter = stack.probe('burst_count')
+        if sender == 'rospy':
+            burst = stack.probe('burst', str(BURST))
+        else:
+            burst = stack.start(['rosrun', 'minibot3d_lockstep', 'burst_probe', str(BURST)],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                universal_newlines=True).proc
+        sent = read_line(burst, 'burst', 90)
+        assert sent, stack.log(3000)
+        counted = read_line(counter, 'counted', 60)
+        assert counted, 'the receiver never had the burst:\n' + stack.log(3000)
+        _, at, n, total = counted.split()
+        assert (int(n), int(total)) == (BURST, BURST * (BURST + 1) // 2), counted
+        assert float(at) >= float(sent.split()[1]) - 1e-9
+        assert burst.wait(30) == 0 and counter.wait(30) == 0
+    finally:
+        stack.stop()
+
+
 def test_a_killed_participant_is_dropped_and_the_loop_goes_on(tmp_path):
     stack = sim_stack(tmp_path, '/probe_hold', 30.0)
     try:

@@ -25,6 +25,10 @@ namespace minibot3d_lockstep {
 // TCP_NODELAY on every outgoing TCPROS connection: in a lock-step round a second small message on
 // a connection would otherwise wait for the first one's (delayed) ACK, up to 40 ms on Linux.
 std::vector<LinkCount> SentCounts();
+// Makes every outgoing queue of this process's publications unbounded. SentCounts counts each
+// message a connection queues; a bounded queue drops its oldest when the poll thread has not yet
+// written it (a matter of thread timing), and the receiver would wait for it for ever.
+void KeepEveryMessage();
 // Per (topic, publisher caller id): messages this process has received, sorted.
 std::vector<LinkCount> ReceivedCounts();
 // This process's subscriptions (roscpp keeps its list private).

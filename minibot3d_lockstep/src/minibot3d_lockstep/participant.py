@@ -60,8 +60,9 @@ TICK_TOPIC_PREFIX = '/minibot3d_sim/lockstep/tick/'
 
 _patch_lock = threading.Lock()
 _patched = False
-# Under lock-step a subscriber's queue_size drops nothing (set by Participant): rospy applies it to
-# whatever one socket read returned, so what it kept would depend on how TCP batched the bytes.
+# Under lock-step a queue_size drops nothing (set by Participant): rospy applies a subscriber's to
+# whatever one socket read returned, so what it kept would depend on how TCP batched the bytes,
+# and a publisher's to what its writer thread has not yet sent.
 _keep_all = False
 # The digest's directory (see minibot3d_lockstep.digest), read once: the CRCs of received messages
 # are chained as rospy reads them, on every connection made after this module's import.
@@ -118,6 +119,11 @@ def _install_counting():
 
         def counting_write(self, data):
             self.__dict__['_lockstep_sent'] = self.__dict__.get('_lockstep_sent', 0) + 1
+            if _keep_all:
+                # Every message queued is announced in the ack, so none may be dropped: a full
+                # queue drops its oldest when the writer thread has not yet taken it, which
+                # depends on thread timing (and the receiver would wait for it for ever).
+                self._queue_size = 0
             return queued_write(self, data)
         rospy.impl.tcpros_pubsub.QueuedConnection.write_data = counting_write
 
