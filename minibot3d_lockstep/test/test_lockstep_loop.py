@@ -8,6 +8,8 @@
 - a participant killed while it holds a tick is dropped and the loop goes on;
 - a C++ participant ticked every 2 s has every /tf message of those 2 s in its tf buffer (lock-step's
   tf listener; tf2_ros's, which keeps 100, is shown to lose some);
+- a burst of 200 messages published in one tick through a one-message publisher queue (rospy and
+  roscpp) reaches its receiving participant whole;
 - participants of several robots (/robot1/..., /robot2/...): a stalled one is dropped by its full
   name, and the other robot's go on;
 - the closed loop (simulator + amcl + move_base + a goal client) gives the same trajectory and
