@@ -4,7 +4,8 @@
 // reachable frontiers (minibot3d_navigation/explore/frontier_search.h) and sends
 // move_base a goal at the nearest one's viewpoint, heading the way the robot
 // comes.  A goal is kept until it is reached or fails, the robot neither gets
-// closer to it nor moves 0.5 m for ~progress_timeout seconds, or a frontier
+// closer to it nor moves 0.5 m for ~progress_timeout seconds (nor gets closer
+// for three times that, moving or not: explore/goal_progress.h), or a frontier
 // nearer by ~switch_margin metres appears.  What it remembers is
 // nav::ExplorationMemory: a reached viewpoint is not used again, and the
 // frontier cells still in sight of it (judged on the next map) cannot be cleared
@@ -17,7 +18,6 @@
 // robots share one tf tree (minibot3d_ros/frames.h).
 #include <cmath>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -37,6 +37,7 @@
 
 #include "minibot3d_navigation/explore/explore_node_options.h"
 #include "minibot3d_navigation/explore/frontier_search.h"
+#include "minibot3d_navigation/explore/goal_progress.h"
 #include "minibot3d_ros/conversions.h"
 #include "minibot3d_ros/frames.h"
 #include "minibot3d_ros/params.h"
@@ -101,6 +102,7 @@ class ExploreNode {
     try {
       search_ = std::make_unique<nav::FrontierSearch>(o_);
       memory_ = std::make_unique<nav::ExplorationMemory>(o_);
+      progress_ = std::make_unique<nav::GoalProgress>(node_.progress_timeout);
     } catch (const std::invalid_argument& e) {
       problems.push_back(e.what());
     }
@@ -199,17 +201,12 @@ class ExploreNode {
         GoalReached();
       } else if (state.isDone()) {
         GoalFailed(grid, "ended " + state.toString() + ": " + state.getText());
-      } else if (d < best_distance_ - 0.1 ||
-                 std::hypot(robot.x - progress_pose_.x, robot.y - progress_pose_.y) > 0.5) {
-        // Closer to the goal, or at least moving (a path may first lead away).
-        best_distance_ = std::min(best_distance_, d);
-        progress_pose_ = robot;
-        last_progress_ = now;
-      } else if ((now - last_progress_).toSec() > node_.progress_timeout) {
-        client_.cancelGoal();
-        std::ostringstream why;
-        why << "made no progress for " << node_.progress_timeout << " s";
-        GoalFailed(grid, why.str());
+      } else {
+        const std::string why = progress_->Update(now.toSec(), {robot.x, robot.y});
+        if (!why.empty()) {
+          client_.cancelGoal();
+          GoalFailed(grid, why);
+        }
       }
     }
     for (auto it = to_judge_.begin(); it != to_judge_.end();) {
@@ -285,9 +282,7 @@ class ExploreNode {
     goal_view_radius_ = f.view_radius;
     goal_in_view_ = f.in_view;
     have_goal_ = true;
-    best_distance_ = std::hypot(goal_.x - robot.x, goal_.y - robot.y);
-    progress_pose_ = robot;
-    last_progress_ = now;
+    progress_->Start(now.toSec(), {robot.x, robot.y}, goal_);
     if (f.view_radius > 0.0) {
       ROS_INFO("explore: going to look at frontier at (%.2f, %.2f), %.1f m long, from (%.2f, "
                "%.2f), %.1f m away (no room nearer to it), which sees %zu of its cells",
@@ -337,9 +332,8 @@ class ExploreNode {
   nav::Point2 goal_;
   double goal_view_radius_ = 0.0;
   std::vector<nav::Point2> goal_in_view_;
-  double best_distance_ = 0.0;
-  nav::Pose2 progress_pose_;
-  ros::Time last_progress_, start_time_, empty_since_;
+  std::unique_ptr<nav::GoalProgress> progress_;
+  ros::Time start_time_, empty_since_;
   int goals_sent_ = 0;
 };
 

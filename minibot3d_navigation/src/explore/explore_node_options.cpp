@@ -18,7 +18,8 @@ const options::OptionTable<ExploreNodeOptions>& ExploreNodeOptionTable() {
              "(explore_lite)."),
        Field("progress_timeout", &N::progress_timeout,
              "Time (s) the robot may neither get 0.1 m closer to its goal nor move 0.5 m before "
-             "the goal is cancelled and counted as failed (explore_lite)."),
+             "the goal is cancelled and counted as failed (explore_lite); moving, it may go three "
+             "times as long without getting closer."),
        Field("switch_margin", &N::switch_margin,
              "A frontier replaces the current goal only when its path is this much (m) shorter "
              "than the straight line to the current goal.")});

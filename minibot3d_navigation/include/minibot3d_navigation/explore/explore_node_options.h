@@ -15,7 +15,8 @@ struct ExploreNodeOptions {
   std::string global_frame = "map";  // the map's frame, in which goals are sent
   std::string robot_base_frame = "base_link";
   double planner_frequency = 0.5;  // Hz (sim time) of the frontier search
-  // s without getting 0.1 m closer to the goal or moving 0.5 m before it is cancelled.
+  // s without getting 0.1 m closer to the goal or moving 0.5 m before it is cancelled (3x that
+  // without getting closer, moving or not).
   double progress_timeout = 20.0;
   // m: a frontier replaces the current goal only when it is this much nearer.
   double switch_margin = 1.0;
