@@ -185,10 +185,12 @@ def main():
     with open(args.world_json) as f:
         world = json.load(f)
     rospy.init_node('mapless_run')
-    lockstep = Participant(wake_on_participants=True)
-    lockstep.add_periodic(0.05, lambda now: None)
+    # Subscribers before the lock-step Participant: connected before it joins, they have the
+    # ground truth from its first tick on, whenever their connections are made in wall time.
     rec = Recorder()
     people = People(footprint_of_params()) if world.get('people') else None
+    lockstep = Participant(wake_on_participants=True)
+    lockstep.add_periodic(0.05, lambda now: None)
     if not lockstep.wait_for(lambda: rec.truth is not None, 60.0):
         print('%s: no /ground_truth/odom within 60 s of sim time' % world['name'], flush=True)
         return 1
