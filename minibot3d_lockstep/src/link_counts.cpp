@@ -150,46 +150,47 @@ void InstallPollListener(PollCounter& poll) {
   });
 }
 
-}  // namespace
-
-std::vector<LinkCount> SentCounts() {
-  std::vector<LinkCount> out;
+// Calls fn(topic, publication) for each of this process's publications, holding the lock under
+// which roscpp's poll thread hands published messages to their connections (it takes a whole
+// publish queue first and hands the messages over after): while it is held, no message is half
+// way between the two, and no queue limit is being read.
+template <typename Fn>
+void ForEachPublication(Fn fn) {
   ros::V_string topics;
   const ros::TopicManagerPtr& tm = ros::TopicManager::instance();
   tm->getAdvertisedTopics(topics);
-  // publish() only queues the message; roscpp's poll thread hands it to each connection (and
-  // counts it) later, in a listener it runs under this lock. It takes the whole queue first and
-  // hands the messages over after, so without the lock a message it has taken and not yet handed
-  // over would be in neither place, and uncounted. Holding the lock, what this thread has
-  // published is handed over here (or was, completely), so it is counted now.
   ros::PollManager& poll = *ros::PollManager::instance();
   boost::recursive_mutex::scoped_lock poll_lock(poll.*Get(PollSignalMutexTag()));
   for (const auto& topic : topics) {
     ros::PublicationPtr pub = tm->lookupPublication(topic);
-    if (!pub) continue;
-    pub->processPublishQueue();
-    boost::mutex::scoped_lock lock((*pub).*Get(SubscriberLinksMutexTag()));
-    for (const auto& link : (*pub).*Get(SubscriberLinksTag())) {
+    if (pub) fn(topic, *pub);
+  }
+}
+
+}  // namespace
+
+std::vector<LinkCount> SentCounts() {
+  std::vector<LinkCount> out;
+  ForEachPublication([&out](const std::string& topic, ros::Publication& pub) {
+    // publish() only queues the message; the poll thread hands it to each connection (and counts
+    // it) later. What this thread has published is handed over here (or was, completely), so it
+    // is counted now.
+    pub.processPublishQueue();
+    boost::mutex::scoped_lock lock(pub.*Get(SubscriberLinksMutexTag()));
+    for (const auto& link : pub.*Get(SubscriberLinksTag())) {
       if (link->isIntraprocess()) continue;
       SetNoDelay(link);
       out.push_back(LinkCount{topic, link->getDestinationCallerID(), link->getStats().messages_sent_});
     }
-  }
+  });
   Sort(&out);
   return out;
 }
 
 void KeepEveryMessage() {
-  ros::V_string topics;
-  const ros::TopicManagerPtr& tm = ros::TopicManager::instance();
-  tm->getAdvertisedTopics(topics);
-  // The poll thread reads the limit when it hands messages to connections, under this lock.
-  ros::PollManager& poll = *ros::PollManager::instance();
-  boost::recursive_mutex::scoped_lock poll_lock(poll.*Get(PollSignalMutexTag()));
-  for (const auto& topic : topics) {
-    ros::PublicationPtr pub = tm->lookupPublication(topic);
-    if (pub) (*pub).*Get(MaxQueueTag()) = 0;  // 0: unbounded
-  }
+  ForEachPublication([](const std::string&, ros::Publication& pub) {
+    pub.*Get(MaxQueueTag()) = 0;  // 0: unbounded
+  });
 }
 
 std::vector<LinkCount> ReceivedCounts() {
