@@ -11,6 +11,7 @@ goal reached, no collision) and, read from the summary and the run's demo_nav.js
   * the global-localization error <= MAX_GLOBAL_LOC_ERROR;
   * at every goal the true pose within MAX_GOAL_DISTANCE and MAX_GOAL_HEADING of the goal (move_base
     reports success in the SLAM map's frame: a wrong map or fix would pass there).
+  * while exploring, every goal move_base reached followed by the next within 0.1 s of sim time.
 Catches (DEMO_CONFIG=a copy of config/ with one file changed, `-k arena`): SLAM switched off in
 gmapping.yaml (particles 1, srr = srt = str = stt = 0, minimumScore 1e9, loopClosure 0) draws the
 map by dead reckoning, 60.3 % accurate, while the demo's own checks all pass; a controller
@@ -58,6 +59,25 @@ def summary_value(text, row):
     return m.group(1)
 
 
+def next_goal_waits(log):
+    """(time reached, wait until the next goal) in sim s for each goal that move_base reported
+    reached and that another followed, from the exploration log's move_base lines."""
+    stamp = re.compile(r'\[\s*[\d.]+, ([\d.]+)\]: move_base: (goal reached|new goal)')
+    waits, reached = [], None
+    with open(log, errors='replace') as f:
+        for line in f:
+            m = stamp.search(line)
+            if not m:
+                continue
+            t = float(m.group(1))
+            if m.group(2) == 'goal reached':
+                reached = t
+            elif reached is not None:
+                waits.append((reached, t - reached))
+                reached = None
+    return waits
+
+
 @pytest.mark.parametrize('world', sorted(WORLDS))
 def test_demo_passes(world, tmp_path):
     args, extra = WORLDS[world]
@@ -85,6 +105,12 @@ def test_demo_passes(world, tmp_path):
     ratio = re.search(r'mean ([\d.]+) \(driven path', summary_value(out, 'time / (path / max_vel_x)'))
     assert ratio and float(ratio.group(1)) >= 1.0, summary_value(out, 'time / (path / max_vel_x)')
     assert p.returncode == 0 and 'demo: all steps succeeded' in out, out[-3000:]
+    # explore chooses the next goal as soon as move_base reports one reached, not at its next
+    # planning period (1 / planner_frequency: up to 2 s of standing still per goal).
+    waits = next_goal_waits(tmp_path / 'out' / 'demo_explore.log')
+    assert waits, 'no goal reached and followed by another in the exploration log'
+    worst = max(waits, key=lambda w: w[1])
+    assert worst[1] <= 0.1, 'the goal after the one reached at %.3f s sim came %.3f s later' % worst
     assert os.path.getsize(tmp_path / 'out' / 'demo.png') > 10000
     accuracy = summary_value(out, 'map accuracy')
     assert float(re.match(r'([\d.]+) %', accuracy).group(1)) >= 100 * MIN_MAP_ACCURACY, \

@@ -1,6 +1,7 @@
 // explore: frontier-based exploration (Yamauchi 1997) driving move_base.
 //
-// Every ~planner_frequency seconds (sim time) it takes the latest map, finds the
+// Every ~planner_frequency seconds (sim time), and at once when move_base ends a
+// goal (no standing still between goals), it takes the latest map, finds the
 // reachable frontiers (minibot3d_navigation/explore/frontier_search.h) and sends
 // move_base a goal at the nearest one's viewpoint, heading the way the robot
 // comes.  A goal is kept until it is reached or fails, the robot neither gets
@@ -16,6 +17,7 @@
 // the map can then be saved.  Progress (known free area, frontiers, sim time) is
 // printed as it goes.  Its frames take the robot's frame_prefix when several
 // robots share one tf tree (minibot3d_ros/frames.h).
+#include <atomic>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -26,6 +28,7 @@
 #include <geometry_msgs/PoseArray.h>
 #include <move_base_msgs/MoveBaseAction.h>
 #include <nav_msgs/OccupancyGrid.h>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 
 #include <ros/topic_manager.h>
@@ -276,7 +279,8 @@ class ExploreNode {
     }
     g.target_pose.pose.orientation.z = std::sin(yaw / 2.0);
     g.target_pose.pose.orientation.w = std::cos(yaw / 2.0);
-    client_.sendGoal(g);
+    client_.sendGoal(g, [this](const actionlib::SimpleClientGoalState&,
+                               const move_base_msgs::MoveBaseResultConstPtr&) { PlanSoon(); });
     ++goals_sent_;
     goal_ = f.goal;
     goal_view_radius_ = f.view_radius;
@@ -293,6 +297,27 @@ class ExploreNode {
                f.centroid.x, f.centroid.y, f.size, f.distance);
     }
   }
+
+  // move_base ended the goal: plan the next one now, not at the next period. Called on the
+  // action client's thread when free-running; the planning runs on the node's own.
+  void PlanSoon() {
+    if (plan_queued_.exchange(true)) return;
+    ros::getGlobalCallbackQueue()->addCallback(boost::make_shared<PlanCallback>(this));
+    if (lockstep_.enabled()) lockstep_.WakeAt(ros::Time::now() + ros::Duration(1e-6));
+  }
+
+  class PlanCallback : public ros::CallbackInterface {
+   public:
+    explicit PlanCallback(ExploreNode* node) : node_(node) {}
+    CallResult call() override {
+      node_->plan_queued_ = false;
+      node_->OnTimer();
+      return Success;
+    }
+
+   private:
+    ExploreNode* node_;
+  };
 
   void PublishFrontiers(const nav::FrontierSearchResult& r) {
     if (frontier_pub_.getNumSubscribers() == 0) return;
@@ -323,6 +348,7 @@ class ExploreNode {
   nav_msgs::OccupancyGrid::ConstPtr map_;
   int map_count_ = 0, empty_at_map_ = 0;
   bool have_goal_ = false;
+  std::atomic<bool> plan_queued_{false};  // a PlanCallback is in the node's queue
   struct ToJudge {
     nav::Point2 viewpoint;
     double view_radius;  // Frontier::view_radius of the goal

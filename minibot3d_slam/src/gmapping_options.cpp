@@ -38,6 +38,10 @@ const options::OptionTable<GmappingOptions>& GmappingOptionTable() {
        Field("temporalUpdate", &O::temporalUpdate,
              "Process a scan once more than this time (s) has passed since the last processed "
              "scan, even without motion; < 0 disables."),
+       Field("stopUpdate", &O::stopUpdate,
+             "Also process the scan at which the robot comes to rest (its odometry moved less than "
+             "1 mm and 0.001 rad since the scan before) after moving 2 cm or 0.02 rad since the last "
+             "processed scan: the map then holds the view from wherever the robot stopped."),
        Field("sigma", &O::sigma,
              "Width of the scan matcher's score: an endpoint at distance d (m) from its matched "
              "obstacle scores exp(-d^2 / sigma)."),

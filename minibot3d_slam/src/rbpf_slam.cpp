@@ -187,7 +187,10 @@ bool RbpfSlam::Impl::AddScan(const LaserScan& scan, const Pose2& odom) {
   linear_ += std::hypot(u.x, u.y);
   angular_ += std::fabs(u.yaw);
   last_odom_ = odom;
+  const bool came_to_rest = options_.stopUpdate && (linear_ >= 0.02 || angular_ >= 0.02) &&
+                            std::hypot(u.x, u.y) < 1e-3 && std::fabs(u.yaw) < 1e-3;
   const bool due = linear_ >= options_.linearUpdate || angular_ >= options_.angularUpdate ||
+                   came_to_rest ||
                    (options_.temporalUpdate >= 0.0 && scan.time - processed_time_ > options_.temporalUpdate);
   if (!due) return false;
   Process(scan);

@@ -359,6 +359,37 @@ TEST(RbpfSlamTest, UpdatesAreTriggeredByMotionAndTime) {
   for (int i = 1; i < 50; ++i) EXPECT_FALSE(still.AddScan(WallScan(i * 1.0), Pose2{}));
 }
 
+TEST(RbpfSlamTest, StopUpdateProcessesTheScanWhereTheRobotComesToRest) {
+  GmappingOptions o;
+  o.particles = 3;
+  o.linearUpdate = 0.5;
+  o.angularUpdate = 0.3;
+  for (const bool stop_update : {false, true}) {
+    SCOPED_TRACE(stop_update ? "stopUpdate on" : "stopUpdate off");
+    o.stopUpdate = stop_update;
+    RbpfSlam slam(o);
+    EXPECT_TRUE(slam.AddScan(WallScan(0.0), Pose2{}));
+    // Driving 0.2 m (below linearUpdate) and stopping: the first scan at rest is the stop's.
+    EXPECT_FALSE(slam.AddScan(WallScan(0.1), Pose2{0.1, 0.0, 0.0}));
+    EXPECT_FALSE(slam.AddScan(WallScan(0.2), Pose2{0.2, 0.0, 0.0}));
+    EXPECT_EQ(slam.AddScan(WallScan(0.3), Pose2{0.2, 0.0, 0.0}), stop_update);
+    // Standing on: nothing more, whichever way.
+    EXPECT_FALSE(slam.AddScan(WallScan(0.4), Pose2{0.2, 0.0, 0.0}));
+    // Turning 0.1 rad on the spot and stopping is a stop too.
+    EXPECT_FALSE(slam.AddScan(WallScan(0.5), Pose2{0.2, 0.0, 0.1}));
+    EXPECT_EQ(slam.AddScan(WallScan(0.6), Pose2{0.2, 0.0, 0.1}), stop_update);
+    // Odometry jitter below 2 cm and 0.02 rad since the last processed scan is not a stop.
+    EXPECT_FALSE(slam.AddScan(WallScan(0.7), Pose2{0.21, 0.0, 0.1}));
+    EXPECT_FALSE(slam.AddScan(WallScan(0.8), Pose2{0.21, 0.0, 0.1}));
+    // Slowing to a crawl (a millimetre a scan) is not a stop; the stop after it is.
+    EXPECT_FALSE(slam.AddScan(WallScan(0.9), Pose2{0.215, 0.0, 0.1}));
+    EXPECT_FALSE(slam.AddScan(WallScan(1.0), Pose2{0.25, 0.0, 0.1}));
+    EXPECT_FALSE(slam.AddScan(WallScan(1.1), Pose2{0.252, 0.0, 0.1}));
+    EXPECT_EQ(slam.AddScan(WallScan(1.2), Pose2{0.2525, 0.0, 0.1}), stop_update);
+    EXPECT_EQ(slam.processed_scans(), stop_update ? 4 : 1);
+  }
+}
+
 TEST(RbpfSlamTest, PoseBetweenProcessedScansFollowsOdometry) {
   GmappingOptions o;
   o.particles = 4;

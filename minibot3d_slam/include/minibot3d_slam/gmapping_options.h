@@ -21,6 +21,7 @@ struct GmappingOptions {
   double linearUpdate = 1.0;    // m travelled
   double angularUpdate = 0.5;   // rad turned
   double temporalUpdate = -1.0;  // s since the last processed scan; < 0 disables
+  bool stopUpdate = false;       // also the scan where the robot comes to rest
   // Scan matcher (the improved proposal).
   double sigma = 0.05;        // endpoint matching standard deviation (m)
   int kernelSize = 1;         // search window for the correspondence of an endpoint (cells)
