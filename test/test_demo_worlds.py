@@ -42,8 +42,8 @@ WORLDS = {
 
 
 # Passing runs (lock-step: a world's run is the same every time; arena, default, flat,
-# tight_spaces): map accuracy 100.0, 100.0, 100.0, 100.0 %; global localization 0.022, 0.041, 0.022,
-# 0.052 m; at the goals truly at most 0.16, 0.22, 0.18, 0.17 m and 0.13, 0.14, 0.14, 0.14 rad off.
+# tight_spaces): map accuracy 100.0, 100.0, 100.0, 100.0 %; global localization 0.016, 0.037, 0.030,
+# 0.048 m; at the goals truly at most 0.16, 0.19, 0.17, 0.18 m and 0.15, 0.11, 0.09, 0.10 rad off.
 # The map is allowed 10 % of wrong walls, the fix about five times the worst error; the goals twice the
 # controller's xy_goal_tolerance and yaw_goal_tolerance (0.15 m, 0.15 rad;
 # config/trajectory_planner.yaml), the rest for the localization's error, as mapless_clutter.
