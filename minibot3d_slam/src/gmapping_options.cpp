@@ -130,6 +130,9 @@ const options::OptionTable<GmappingOptions>& GmappingOptionTable() {
        Field("loopMinScore", &O::loopMinScore,
              "Lowest score of a revisit match (mean blurred occupancy of the submap at the "
              "scan's endpoints, 0 to 1)."),
+       Field("loopMaxConflict", &O::loopMaxConflict,
+             "Largest share of a revisit match's scan endpoints that may fall where the submap "
+             "saw free space with no wall within two cells (0 to 1; 1: no such check)."),
        Field("loopSubmapScans", &O::loopSubmapScans, "Processed scans per submap."),
        Field("loopMinTravel", &O::loopMinTravel,
              "Path (m) driven since a submap ended before scans are matched against it."),
@@ -219,6 +222,7 @@ void ValidateOptions(const GmappingOptions& o) {
           o.loopSearchAngle, "in (0, pi] rad");
   p.Check(o.loopMinScore > 0.0 && o.loopMinScore <= 1.0, "loopMinScore", o.loopMinScore,
           "in (0, 1]");
+  p.InUnitInterval("loopMaxConflict", o.loopMaxConflict);
   p.Check(o.loopSubmapScans >= 2 && o.loopSubmapScans <= 1000, "loopSubmapScans",
           o.loopSubmapScans, "in [2, 1000]");
   p.Check(o.loopMinTravel >= 0.0 && finite(o.loopMinTravel), "loopMinTravel", o.loopMinTravel,

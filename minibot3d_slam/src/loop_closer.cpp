@@ -234,6 +234,31 @@ bool LoopCloser::Detect(const std::vector<Pose2>& trajectory) {
   return pending_ > 0 && (big_pending_ || size() - last_optimized_ >= kOptimizeEvery);
 }
 
+double LoopCloser::Conflict(const StoredScan& s, const Pose2& pose, const Grid& grid) {
+  const Pose2 lp = Compose(pose, s.sensor_in_base);
+  const double c = std::cos(lp.yaw), sn = std::sin(lp.yaw);
+  int observed = 0, conflicts = 0;
+  for (std::size_t i = 0; i < s.range.size(); ++i) {
+    if (!s.Hit(i)) continue;
+    const double dx = c * s.Cos(i) - sn * s.Sin(i);
+    const double dy = sn * s.Cos(i) + c * s.Sin(i);
+    const int ix = grid.CellX(lp.x + s.range[i] * dx), iy = grid.CellY(lp.y + s.range[i] * dy);
+    const GridCell& cell = grid.At(ix, iy);
+    if (cell.visits == 0) continue;  // the submap did not see there: no opinion
+    ++observed;
+    if (cell.Occupied() || cell.visits < 2) continue;
+    bool wall_near = false;
+    for (int y = iy - kConflictCells; y <= iy + kConflictCells && !wall_near; ++y) {
+      for (int x = ix - kConflictCells; x <= ix + kConflictCells && !wall_near; ++x) {
+        const GridCell& n = grid.At(x, y);
+        wall_near = n.visits > 0 && n.Occupied();
+      }
+    }
+    if (!wall_near) ++conflicts;
+  }
+  return observed > 0 ? static_cast<double>(conflicts) / observed : 0.0;
+}
+
 bool LoopCloser::Match(const SubmapCandidate& cand, const std::vector<Pose2>& trajectory,
                        const std::vector<Eigen::Vector2d>& points, const PreparedScan& prepared,
                        LoopConstraint* c, Pose2* refined_pose) {
@@ -269,6 +294,12 @@ bool LoopCloser::Match(const SubmapCandidate& cand, const std::vector<Pose2>& tr
   Pose2 refined = matcher_->Refine(submap->grid, prepared, climbed);
   if (measured(refined.x - match.pose.x, refined.y - match.pose.y) > 3.0 * options_.delta ||
       std::fabs(NormalizeAngle(refined.yaw - match.pose.yaw)) > 0.05) {
+    return false;
+  }
+  // Free-space check: a look-alike place scores well on its walls but has part of this scan end
+  // where it saw through.
+  if (Conflict(scans_[cur], refined, submap->grid) > options_.loopMaxConflict) {
+    ++conflicting_;
     return false;
   }
   if (along_axis) {

@@ -23,8 +23,14 @@
 // localization uses) in that window and ±loopSearchAngle around the current estimate; a match must
 // reach `loopMinScore` (mean blurred occupancy at the endpoints) and be unambiguous (no other place
 // kAmbiguitySeparation away scoring kAmbiguityRatio of it). It is then refined on the submap's grid
-// with the RBPF's own scan matcher (hill climber + sub-cell refinement) and becomes a constraint
-// between the submap's first node and the current node.
+// with the RBPF's own scan matcher (hill climber + sub-cell refinement), and checked against the
+// submap's free space: at most `loopMaxConflict` of the scan's endpoints may fall in cells the
+// submap saw through, with no wall within kConflictCells. The score counts only the endpoints
+// that land on walls, so a room or corridor bay that merely looks like the robot's (an office's
+// row of rooms, one door apart) scores as well as the right place — but there part of the scan
+// ends in the look-alike's open floor. (The negative information of scan-to-map consistency, as
+// in map_consistency.h.) A match that passes becomes a constraint between the submap's first node
+// and the current node.
 //
 // Corridors: a scan between two doors of a long corridor matches equally well anywhere along it.
 // Such a match is ambiguous, but when every look-alike place lies on one line through the best at
@@ -115,6 +121,8 @@ class LoopCloser {
   static constexpr int kMaxCandidates = 3;
   static constexpr double kAxisOffLine = 0.1, kAxisTurn = 0.02;  // m, rad
   static constexpr double kAlongSigma = 10.0;                     // m
+  // An endpoint in a submap's free cell conflicts only with no wall within this many cells.
+  static constexpr int kConflictCells = 2;
   static constexpr int kOptimizeEvery = 10;        // nodes
   static constexpr int kTentativeNodes = 30;       // how long a large correction waits for a second
   static constexpr double kBigCorrection = 0.3;    // m (or 10× that in rad)
@@ -148,6 +156,7 @@ class LoopCloser {
   int searches() const { return searches_; }
   int outliers() const { return outliers_; }
   int ambiguous() const { return ambiguous_; }
+  int conflicting() const { return conflicting_; }  // matches dropped by the free-space check
   std::size_t ScanBytes() const;  // memory of the stored scans
   // Half-width of the search in a submap that ended `path` metres of path ago.
   double SearchWindow(double path) const;
@@ -192,6 +201,9 @@ class LoopCloser {
   RenderedSubmap* Submap(int index, const std::vector<Pose2>& trajectory);
   // The submaps to search the newest node's scan in, nearest first (see Detection above).
   std::vector<SubmapCandidate> Candidates(const std::vector<Pose2>& trajectory) const;
+  // The share of the scan's endpoints at `pose`, among those in cells `grid` has seen, that fall
+  // in a free cell with no wall within kConflictCells (0 when it has seen none of them).
+  static double Conflict(const StoredScan& s, const Pose2& pose, const Grid& grid);
   // A stored scan's beams that end in a hit, as the scan matcher takes them.
   static PreparedScan MatchingBeams(const StoredScan& s);
   // Searches the newest scan in the candidate submap and refines the match there; false when
@@ -230,7 +242,7 @@ class LoopCloser {
   bool big_pending_ = false;  // two of them agree on a large correction of the estimate
   std::vector<LoopConstraint> tentative_;  // large corrections waiting for a second opinion
   int last_optimized_ = 0;    // node count at the last optimisation
-  int optimizations_ = 0, searches_ = 0, outliers_ = 0, ambiguous_ = 0;
+  int optimizations_ = 0, searches_ = 0, outliers_ = 0, ambiguous_ = 0, conflicting_ = 0;
 };
 
 }  // namespace minibot3d_slam

@@ -82,6 +82,11 @@ struct GmappingOptions {
   int loopCorridors = 0;
   double loopSearchAngle = 0.35;   // rad: half-width of the heading window
   double loopMinScore = 0.6;       // correlative score (mean blurred occupancy at the endpoints) to accept
+  // Largest share of a revisit match's scan endpoints that may fall where the submap saw free space
+  // with no wall within two cells (1: no such check). A look-alike room or corridor bay that is
+  // not the one the robot is in scores well on its walls but puts part of the scan inside its free
+  // space.
+  double loopMaxConflict = 0.1;
   int loopSubmapScans = 20;        // processed scans per submap
   double loopMinTravel = 10.0;     // m of path since a submap ended before the scan is matched against it
   // Random seed of the particle filter (for reproducible runs).
