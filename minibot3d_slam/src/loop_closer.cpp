@@ -246,6 +246,7 @@ double LoopCloser::Conflict(const StoredScan& s, const Pose2& pose, const Grid& 
     const GridCell& cell = grid.At(ix, iy);
     if (cell.visits == 0) continue;  // the submap did not see there: no opinion
     ++observed;
+    // A wall, or free space seen by one beam only (too little to call a contradiction).
     if (cell.Occupied() || cell.visits < 2) continue;
     bool wall_near = false;
     for (int y = iy - kConflictCells; y <= iy + kConflictCells && !wall_near; ++y) {
