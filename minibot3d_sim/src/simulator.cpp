@@ -406,16 +406,8 @@ void Simulator::Build(std::vector<RobotEntry> robots, const BackendFactory& make
   actor_states_.resize(world_.actors.size());
   if (!agents.empty()) {
     const WorldSlice* legs = slices_.At(0.1);
-    auto wall = [legs](const Eigen::Vector2d& p, double reach, Eigen::Vector2d* away) {
-      const double d = legs->Distance(p);
-      if (!(d < reach)) return d;
-      const double h = 0.01;
-      const Eigen::Vector2d g(legs->Distance(p + Eigen::Vector2d(h, 0)) -
-                                  legs->Distance(p - Eigen::Vector2d(h, 0)),
-                              legs->Distance(p + Eigen::Vector2d(0, h)) -
-                                  legs->Distance(p - Eigen::Vector2d(0, h)));
-      *away = g.norm() > 1e-12 ? Eigen::Vector2d(g.normalized()) : Eigen::Vector2d::Zero();
-      return d;
+    auto wall = [legs](const Eigen::Vector2d& p, double /*reach*/, Eigen::Vector2d* away) {
+      return legs->Distance(p, away);
     };
     crowd_ = std::make_unique<SocialForceCrowd>(std::move(agents), options_.social_force, wall,
                                                 options_.seed + 2750159u);
@@ -436,7 +428,11 @@ void Simulator::UpdateActors() {
     std::vector<SocialForceObstacle> robots;
     for (const auto& r : robots_) {
       const Pose2 p = r->true_pose();
-      robots.push_back(SocialForceObstacle{Eigen::Vector2d(p.x, p.y), r->collider().radius()});
+      const Twist2 v = r->true_twist();  // in the robot's frame
+      const double c = std::cos(p.yaw), s = std::sin(p.yaw);
+      robots.push_back(SocialForceObstacle{Eigen::Vector2d(p.x, p.y), r->collider().radius(),
+                                           Eigen::Vector2d(c * v.vx - s * v.vy,
+                                                           s * v.vx + c * v.vy)});
     }
     crowd_->Step(robots);
   }

@@ -1,10 +1,16 @@
 #include "minibot3d_sim/social_force.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
 
 namespace minibot3d_sim {
+namespace {
+
+constexpr double kNegligible = 1e-3;  // m/s^2
+
+}  // namespace
 
 void ValidateSocialForceAgent(const SocialForceAgentOptions& o, const std::string& what) {
   auto bad = [&](const std::string& m) { throw std::invalid_argument(what + ": " + m); };
@@ -37,25 +43,36 @@ Eigen::Vector2d SocialForceCrowd::Force(size_t i,
   const Eigen::Vector2d e = goal_distance > 1e-9 ? Eigen::Vector2d(to_goal / goal_distance)
                                                  : Eigen::Vector2d::Zero();
   Eigen::Vector2d f = (a.options.desired_speed * e - a.velocity) / a.options.relaxation_time;
-  // The direction the pedestrian looks in: where it walks, or where it wants to go when standing.
-  const double speed = a.velocity.norm();
-  const Eigen::Vector2d heading = speed > 1e-6 ? Eigen::Vector2d(a.velocity / speed) : e;
-  const auto repel = [&](const Eigen::Vector2d& other, double other_radius) {
-    const Eigen::Vector2d d = a.position - other;
-    const double dist = d.norm();
+  // Pairs whose force is below kNegligible are skipped: exp(-d/B) A < kNegligible where
+  // d / B > log(A / kNegligible).
+  const double cutoff = std::log(params_.interaction_strength / kNegligible);
+  const auto interact = [&](const Eigen::Vector2d& other, const Eigen::Vector2d& other_velocity,
+                            double other_radius) {
+    const Eigen::Vector2d to = other - a.position;
+    const double dist = to.norm();
     if (dist < 1e-9) return;
-    const Eigen::Vector2d n = d / dist;
-    // cos(phi) between the heading and the direction towards the other.
-    const double cos_phi = -n.dot(heading);
-    const double w = params_.anisotropy + (1.0 - params_.anisotropy) * 0.5 * (1.0 + cos_phi);
+    const Eigen::Vector2d e_ij = to / dist;
     const double overlap = a.radius + other_radius - dist;
-    f += params_.agent_strength * std::exp(overlap / params_.agent_range) * w * n;
-    if (overlap > 0.0) f += params_.body_stiffness * overlap * n;
+    if (overlap > 0.0) f -= params_.body_stiffness * overlap * e_ij;
+    const Eigen::Vector2d d = params_.interaction_lambda * (a.velocity - other_velocity) + e_ij;
+    const double d_norm = d.norm();
+    const double b = params_.interaction_gamma * d_norm;
+    if (!(dist < cutoff * b)) return;
+    const Eigen::Vector2d t = d / d_norm;
+    const Eigen::Vector2d n(-t.y(), t.x());
+    const double theta =
+        std::atan2(t.x() * e_ij.y() - t.y() * e_ij.x(), t.dot(e_ij)) + 0.005 * b;
+    const double k = theta >= 0.0 ? 1.0 : -1.0;
+    const double slow = params_.interaction_n_prime * b * theta;
+    const double turn = params_.interaction_n * b * theta;
+    const double near = -dist / b;
+    f -= params_.interaction_strength *
+         (std::exp(near - slow * slow) * t + k * std::exp(near - turn * turn) * n);
   };
   for (size_t j = 0; j < agents_.size(); ++j) {
-    if (j != i) repel(agents_[j].position, agents_[j].radius);
+    if (j != i) interact(agents_[j].position, agents_[j].velocity, agents_[j].radius);
   }
-  for (const SocialForceObstacle& o : obstacles) repel(o.position, o.radius);
+  for (const SocialForceObstacle& o : obstacles) interact(o.position, o.velocity, o.radius);
   if (wall_distance_) {
     Eigen::Vector2d away = Eigen::Vector2d::Zero();
     const double reach = a.radius + 10.0 * params_.wall_range;

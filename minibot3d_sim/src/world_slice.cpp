@@ -645,36 +645,60 @@ double WorldSlice::ItemDistance(std::uint32_t item, const Eigen::Vector2d& p) co
   return std::max(0.0, (p - Eigen::Vector2d(q.x, q.y)).norm() - q.v);
 }
 
-double WorldSlice::Distance(const Eigen::Vector2d& p) const {
+double WorldSlice::Distance(const Eigen::Vector2d& p, Eigen::Vector2d* away) const {
+  if (away) *away = Eigen::Vector2d::Zero();
   if (prims_.empty()) return kInf;
+  double best = kInf;
+  std::uint32_t nearest = 0;
+  const auto consider = [&](std::uint32_t item) {
+    const double d = ItemDistance(item, p);
+    if (d < best) {
+      best = d;
+      nearest = item;
+    }
+  };
   const Eigen::Vector2d g = (p - grid_origin_) / cell_size_;
   if (!(g.x() >= 0.0 && g.y() >= 0.0 && g.x() < grid_w_ && g.y() < grid_h_)) {
     // Outside the grid the rings would mostly be empty: a plain scan is simpler and as fast.
-    double best = kInf;
-    for (std::uint32_t k = 0; k < prims_.size(); ++k) best = std::min(best, ItemDistance(k, p));
-    return best;
-  }
-  const int ci = static_cast<int>(g.x()), cj = static_cast<int>(g.y());
-  double best = kInf;
-  for (int ring = 0;; ++ring) {
-    for (int j = cj - ring; j <= cj + ring; ++j) {
-      if (j < 0 || j >= grid_h_) continue;
-      const bool edge_row = j == cj - ring || j == cj + ring;
-      for (int i = ci - ring; i <= ci + ring; i += (edge_row ? 1 : 2 * ring)) {
-        if (i >= 0 && i < grid_w_) {
-          const std::size_t cell = static_cast<std::size_t>(j) * grid_w_ + i;
-          for (std::uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
-            best = std::min(best, ItemDistance(cell_items_[k], p));
+    for (std::uint32_t k = 0; k < prims_.size(); ++k) consider(k);
+  } else {
+    const int ci = static_cast<int>(g.x()), cj = static_cast<int>(g.y());
+    for (int ring = 0;; ++ring) {
+      for (int j = cj - ring; j <= cj + ring; ++j) {
+        if (j < 0 || j >= grid_h_) continue;
+        const bool edge_row = j == cj - ring || j == cj + ring;
+        for (int i = ci - ring; i <= ci + ring; i += (edge_row ? 1 : 2 * ring)) {
+          if (i >= 0 && i < grid_w_) {
+            const std::size_t cell = static_cast<std::size_t>(j) * grid_w_ + i;
+            for (std::uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
+              consider(cell_items_[k]);
+            }
           }
+          if (ring == 0) break;
         }
-        if (ring == 0) break;
+      }
+      // Cells of ring + 1 and beyond are at least ring·cell_size away from p.
+      if (best <= ring * cell_size_) break;
+      if (ci - ring <= 0 && cj - ring <= 0 && ci + ring >= grid_w_ - 1 &&
+          cj + ring >= grid_h_ - 1) {
+        break;
       }
     }
-    // Cells of ring + 1 and beyond are at least ring·cell_size away from p.
-    if (best <= ring * cell_size_) break;
-    if (ci - ring <= 0 && cj - ring <= 0 && ci + ring >= grid_w_ - 1 && cj + ring >= grid_h_ - 1) {
-      break;
+  }
+  if (away && std::isfinite(best)) {
+    Eigen::Vector2d from;
+    if (nearest < segments_.size()) {
+      const Eigen::Vector2d& a = segments_[nearest].a;
+      const Eigen::Vector2d ab = segments_[nearest].b - a;
+      const double len2 = ab.squaredNorm();
+      const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+      from = p - (a + t * ab);
+    } else {
+      const Prim& q = prims_[nearest];
+      from = p - Eigen::Vector2d(q.x, q.y);
     }
+    const double n = from.norm();
+    if (n > 1e-12) *away = from / n;
   }
   return best;
 }

@@ -1,11 +1,13 @@
 // The social force model: a lone pedestrian relaxes to its desired speed as v0 (1 - exp(-t/tau))
 // and covers v0 (t - tau (1 - exp(-t/tau))); two walking head-on swerve and pass each other, their
-// bodies at most brushing (the body force holds them within 5 cm of touching); one walking beside
+// bodies at most brushing (the body force holds them within 5 cm of touching), and two on one line
+// down a corridor step aside and pass without stopping; one walking beside
 // a wall keeps off it; one passes a standing robot, at most brushing it;
 // goals are visited in turn; the same crowd replays bit for bit; bad settings are refused by name.
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -67,6 +69,33 @@ TEST(SocialForceTest, TwoWalkingHeadOnSwerveAndPassEachOther) {
   // Both got past each other and to their goals' neighbourhood (15 s for 10 m at 1.2 m/s).
   EXPECT_GT(crowd.agents()[0].position.x(), 4.0);
   EXPECT_LT(crowd.agents()[1].position.x(), -4.0);
+}
+
+TEST(SocialForceTest, TwoMeetingDeadAheadInACorridorStepAsideAndPass) {
+  // On one line down a corridor 2 m wide, 10 m apart, at 1 m/s: they step aside (to their right
+  // unless the fluctuation tips them the other way) and pass without stopping, in every seed,
+  // about when walking straight through would have them meet (5 s).
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    SocialForceCrowd crowd({Walker(-5, 0.0, {Eigen::Vector2d(20, 0)}, 1.0),
+                            Walker(5, 0.0, {Eigen::Vector2d(-20, 0)}, 1.0)},
+                           SocialForceParams(), Corridor, seed);
+    double passed = -1.0, slowest = 1e9, closest = 1e9;
+    for (int i = 1; i <= 1200 && passed < 0.0; ++i) {
+      crowd.Step({});
+      const auto& a = crowd.agents();
+      if (i > 200) slowest = std::min(slowest, a[0].velocity.norm());
+      closest = std::min(closest, (a[0].position - a[1].position).norm());
+      if (a[0].position.x() > a[1].position.x()) {
+        passed = i * 0.01;
+        EXPECT_GT(std::abs(a[0].position.y() - a[1].position.y()), 0.5 - 0.05) << "side by side";
+      }
+    }
+    EXPECT_GT(passed, 0.0) << "they never got past each other";
+    EXPECT_LT(passed, 7.0);
+    EXPECT_GT(slowest, 0.5) << "m/s: they slow, but never stand";
+    EXPECT_GT(closest, 0.5 - 0.05);
+  }
 }
 
 TEST(SocialForceTest, APedestrianBesideAWallKeepsOffIt) {

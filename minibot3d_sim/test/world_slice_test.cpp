@@ -397,6 +397,15 @@ TEST(WorldSliceTest, Distance) {
   EXPECT_NEAR(slice.Distance(Eigen::Vector2d(3.0, 0.2)), 0.3, 1e-12);  // inside: to the outline
   EXPECT_NEAR(slice.Distance(Eigen::Vector2d(20.0, 0.0)), 16.5, 1e-12);  // outside the grid
   EXPECT_TRUE(std::isinf(WorldSlice(WorldOf({}), 0.11).Distance(Eigen::Vector2d(0, 0))));
+  // With the direction away from the nearest geometry: the gradient of the distance.
+  Eigen::Vector2d away;
+  EXPECT_NEAR(slice.Distance(Eigen::Vector2d(0.0, 1.5), &away), 1.0, 1e-12);
+  EXPECT_NEAR((away - Eigen::Vector2d(0.0, -1.0)).norm(), 0.0, 1e-12) << "from the cylinder";
+  slice.Distance(Eigen::Vector2d(2.0, 1.0), &away);
+  EXPECT_NEAR((away - Eigen::Vector2d(-1.0, 1.0).normalized()).norm(), 0.0, 1e-12)
+      << "from the box's corner";
+  slice.Distance(Eigen::Vector2d(2.0, 0.2), &away);
+  EXPECT_NEAR((away - Eigen::Vector2d(-1.0, 0.0)).norm(), 0.0, 1e-12) << "from its side";
 
   // Against a brute-force minimum for random points.
   std::mt19937 rng(3);
@@ -414,6 +423,17 @@ TEST(WorldSliceTest, Distance) {
       expected = std::min(expected, std::max(0.0, (p - c.center).norm() - c.radius));
     }
     EXPECT_NEAR(big.Distance(p), expected, 1e-12) << p.transpose();
+    // The direction agrees with a central difference of the distance, off the medial axis.
+    const double h = 1e-6;
+    const Eigen::Vector2d diff(big.Distance(p + Eigen::Vector2d(h, 0)) -
+                                   big.Distance(p - Eigen::Vector2d(h, 0)),
+                               big.Distance(p + Eigen::Vector2d(0, h)) -
+                                   big.Distance(p - Eigen::Vector2d(0, h)));
+    Eigen::Vector2d away_p;
+    big.Distance(p, &away_p);
+    if (expected > 1e-3 && std::abs(diff.norm() / (2 * h) - 1.0) < 1e-4) {
+      EXPECT_NEAR((away_p - diff / (2 * h)).norm(), 0.0, 1e-4) << p.transpose();
+    }
   }
 }
 

@@ -166,6 +166,11 @@ const options::OptionTable<DwaOptions>& DwaOptionTable() {
              "A command whose way to a stop (one control period, then braking) brings the "
              "footprint nearer than this (m) to a moving obstacle's predicted position is "
              "illegal; the robot brakes and stands instead."),
+       Field("moving_obstacle_deviation", &O::moving_obstacle_deviation,
+             "Speed (m/s) at which a moving obstacle may stray from its constant-velocity "
+             "prediction (a person turning, slowing, stepping aside): the margin of the way to "
+             "a stop grows by this times the time ahead; 0 trusts the prediction. Raise it when "
+             "the tracker's velocities lag (the robot then stands for more people)."),
        Field("personal_distance", &O::personal_distance,
              "Distance (m) from a moving obstacle's predicted position within which a trajectory "
              "costs."),
@@ -328,6 +333,7 @@ void ValidateDwaOptions(const DwaOptions& o) {
   problems.NonNegative("moving_obstacle_scale", o.moving_obstacle_scale);
   problems.Positive("moving_obstacle_horizon", o.moving_obstacle_horizon);
   problems.NonNegative("moving_obstacle_margin", o.moving_obstacle_margin);
+  problems.NonNegative("moving_obstacle_deviation", o.moving_obstacle_deviation);
   problems.Positive("personal_distance", o.personal_distance);
   problems.NonNegative("moving_obstacle_wait", o.moving_obstacle_wait);
 

@@ -109,7 +109,8 @@ DwaPlanner::DwaPlanner(const DwaOptions& options, const Footprint& footprint)
       goal_critic_(footprint_),
       obstacle_critic_(footprint_),
       moving_critic_(footprint_, options_.moving_obstacle_horizon,
-                     options_.moving_obstacle_margin, options_.personal_distance),
+                     options_.moving_obstacle_margin, options_.moving_obstacle_deviation,
+                     options_.personal_distance),
       critics_{&oscillation_critic_, &path_critic_, &goal_critic_,
                &obstacle_critic_, &moving_critic_} {
   oscillation_critic_.set_scale(0.0);

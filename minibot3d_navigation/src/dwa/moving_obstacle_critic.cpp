@@ -47,7 +47,7 @@ bool MovingObstacleCritic::ScorePose(const Pose2& pose, double t, bool binding,
   const double weight = 1.0 - t / horizon_;
   for (size_t k = 0; k < obstacles_.size(); ++k) {
     const double d = Distance(pose, k, t);
-    if (d < margin_ && binding) {
+    if (binding && d < margin_ + deviation_ * t) {
       // Within the margin: legal only when backing out is allowed, away from
       // an obstacle that is not closing in (a standoff); never towards or
       // along one, nor while one comes at the robot (it stands for the

@@ -1,22 +1,27 @@
 // Pedestrians that react: the social force model (Helbing & Molnár 1995, "Social force model for
-// pedestrian dynamics", Phys. Rev. E 51), in the circular form with anisotropy of Helbing, Farkas
-// & Vicsek 2000 as pedestrian simulators (pedsim, PedSim ROS, crowd studies) use it.
+// pedestrian dynamics", Phys. Rev. E 51), with the interaction between walkers that Moussaïd,
+// Helbing, Garnier, Johansson, Combe & Theraulaz measured on pairs of people avoiding each other
+// ("Experimental study of the behavioural mechanisms underlying self-organization in human
+// crowds", Proc. R. Soc. B 276, 2009), as PedSim and pedsim_ros use it.
 //
 // Each pedestrian i walks towards its current goal with a desired speed v0, relaxing its velocity
-// towards v0 e_i in tau seconds, and is pushed away from other pedestrians j, from robots and from
-// walls by forces that fall off exponentially with the gap between the bodies:
+// towards v0 e_i in tau seconds, and reacts to each other walker or robot j and to the walls:
 //   f_goal = (v0 e_i - v_i) / tau
-//   f_ij   = A exp((r_i + r_j - d_ij) / B) n_ij w(phi),   w = lambda + (1 - lambda)(1 + cos phi) / 2
+//   f_ij   = -A exp(-d_ij / B) [exp(-(n' B theta)^2) t_ij + K exp(-(n B theta)^2) n_ij]
 //   f_iW   = A_w exp((r_i - d_iW) / B_w) n_iW
-// (n: unit vector from the other towards i; phi: angle between i's heading and -n, so what is
-// ahead weighs more than what is behind), plus, where bodies overlap, the body force k (overlap) n
-// of Helbing, Farkas & Vicsek 2000 ("Simulating dynamical features of escape panic", Nature 407)
-// with their k / m = 1500 s^-2, so bodies stay apart in a dense crowd. The velocity is integrated with semi-implicit Euler in
-// fixed steps and capped at 1.3 v0. A goal is reached within `goal_radius`; the pedestrian then
-// heads for the next one, cycling through its list. A fluctuation force (Helbing & Molnár's
-// xi: Gaussian, `fluctuation` m/s^2 per axis, drawn each step from the crowd's seeded stream)
-// breaks the symmetric standoffs a deterministic model locks into; the same seed replays the
-// crowd exactly.
+// where e_ij points from i to j at the distance d_ij between their centres; the interaction
+// direction t_ij is that of D = lambda (v_i - v_j) + e_ij (what i is heading into, given how fast
+// they close), n_ij its left normal, B = gamma |D|, theta the angle from t_ij to e_ij and K its
+// sign: a walker slows along t_ij and turns away from the side the other is on, the more the
+// faster they close and the more head-on they meet. Dead ahead (theta = 0) the tie is broken by
+// adding B / 200 to theta, so both step to their right and pass, as people do, instead of
+// pressing into each other. Where bodies overlap, the body force k (overlap) of Helbing, Farkas &
+// Vicsek 2000 ("Simulating dynamical features of escape panic", Nature 407) with their k / m = 1500
+// s^-2 pushes them apart. The velocity is integrated with semi-implicit Euler in fixed steps and
+// capped at 1.3 v0. A goal is reached within `goal_radius`; the pedestrian then heads for the next
+// one, cycling through its list. A fluctuation force (Helbing & Molnár's xi: Gaussian,
+// `fluctuation` m/s^2 per axis, drawn each step from the crowd's seeded stream) varies the walks;
+// the same seed replays the crowd exactly.
 #ifndef MINIBOT3D_SIM_SOCIAL_FORCE_H_
 #define MINIBOT3D_SIM_SOCIAL_FORCE_H_
 
@@ -37,27 +42,28 @@ struct SocialForceAgentOptions {
   double goal_radius = 0.3;            // m
 };
 
-// The model's constants, per unit mass: the circular specification calibrated on video of
-// pedestrians (Johansson, Helbing & Shukla 2007, as tabulated by Helbing & Johansson 2009: A 0.42
-// m/s^2, B 1.65 m, lambda 0.12), the walls' 10 m/s^2 and 0.2 m of Helbing & Molnár and the body
-// force of Helbing, Farkas & Vicsek. Walkers meeting head-on swerve early and may brush shoulders,
-// as people do.
+// The model's constants, per unit mass: Moussaïd et al. 2009's interaction (A 4.5 m/s^2, gamma
+// 0.35, lambda 2, n 2, n' 3, fitted to their experiments), the walls' 10 m/s^2 and 0.2 m of Helbing
+// & Molnár and the body force of Helbing, Farkas & Vicsek.
 struct SocialForceParams {
-  double agent_strength = 0.42;  // A, m/s^2
-  double agent_range = 1.65;     // B, m
-  double wall_strength = 10.0;   // A_w, m/s^2
-  double wall_range = 0.2;       // B_w, m
-  double anisotropy = 0.12;      // lambda
-  double body_stiffness = 1500;  // k / m, 1/s^2
-  double fluctuation = 0.3;      // standard deviation of xi, m/s^2 per axis
-  double step = 0.01;            // s of sim time per integration step
+  double interaction_strength = 4.5;  // A, m/s^2
+  double interaction_gamma = 0.35;    // gamma
+  double interaction_lambda = 2.0;    // lambda: weight of the relative velocity, s/m
+  double interaction_n = 2.0;         // n: angular reach of the turning term
+  double interaction_n_prime = 3.0;   // n': angular reach of the slowing term
+  double wall_strength = 10.0;        // A_w, m/s^2
+  double wall_range = 0.2;            // B_w, m
+  double body_stiffness = 1500;       // k / m, 1/s^2
+  double fluctuation = 0.3;           // standard deviation of xi, m/s^2 per axis
+  double step = 0.01;                 // s of sim time per integration step
   double max_speed_factor = 1.3;
 };
 
-// A disc another pedestrian must keep away from (a robot's bounding circle).
+// A disc another pedestrian must keep away from (a robot's bounding circle), and its velocity.
 struct SocialForceObstacle {
   Eigen::Vector2d position;
   double radius = 0.0;
+  Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
 };
 
 struct SocialForceAgent {

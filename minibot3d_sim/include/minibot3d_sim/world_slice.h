@@ -60,8 +60,10 @@ class WorldSlice {
   // does and `shape` is not null, the index of one shape it touches.
   bool PolygonCollides(const std::vector<Eigen::Vector2d>& polygon, int* shape = nullptr) const;
 
-  // Distance from p to the nearest geometry (inf when the slice is empty).
-  double Distance(const Eigen::Vector2d& p) const;
+  // Distance from p to the nearest geometry (inf when the slice is empty); with `away`, also the
+  // unit vector from the nearest geometry's closest point to p (zero where p touches it and
+  // inside a disc's centre).
+  double Distance(const Eigen::Vector2d& p, Eigen::Vector2d* away = nullptr) const;
 
   // Whether `other` holds exactly the same segments and circles (same shapes, same order) on the
   // same grid: every query answers the same on both.

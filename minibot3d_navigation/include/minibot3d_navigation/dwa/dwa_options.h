@@ -124,6 +124,10 @@ struct DwaOptions {
   // m: a trajectory whose footprint comes nearer than this to a predicted
   // obstacle (nearer than standing still would) is illegal.
   double moving_obstacle_margin = 0.05;
+  // m/s: how fast an obstacle may stray from its constant-velocity
+  // prediction; the margin grows by this times the prediction's time
+  // (0: the prediction is trusted).
+  double moving_obstacle_deviation = 0.0;
   // m: nearer than this to a predicted obstacle costs (proxemics' intimate
   // zone, Hall 1966, is 0.45 m).
   double personal_distance = 0.45;

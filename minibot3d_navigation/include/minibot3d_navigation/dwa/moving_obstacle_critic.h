@@ -12,8 +12,14 @@
 // obstacle (the outline the sensor saw of it, or a disc) is moved to where it
 // will be at t, and d(t) is the distance from the footprint at the pose to it
 // (negative when they overlap).
-//  - Illegal: d(t) < moving_obstacle_margin on the way the command still has
-//    to stop (its first control period and its braking tail), unless the
+//  - Illegal: d(t) < moving_obstacle_margin + moving_obstacle_deviation * t
+//    on the way the command still has to stop (its first control period and
+//    its braking tail): the margin grows with the time ahead at the speed at
+//    which a person may stray from the constant-velocity prediction (slowing,
+//    turning, stepping towards the robot), as the reachable sets of passive
+//    motion safety do (Bouraine, Fraichard & Salhi, "Provably safe
+//    navigation for mobile robots with limited field-of-views in dynamic
+//    environments", Autonomous Robots 32(3), 2012); unless the
 //    trajectory brakes to a standstill (kind kStop) or, once the planner has
 //    waited (set_backing_out), the obstacle is not closing in on a robot
 //    standing still and the trajectory keeps farther from it than standing
@@ -54,8 +60,8 @@ struct MovingObstacle {
 class MovingObstacleCritic : public TrajectoryCritic {
  public:
   MovingObstacleCritic(const Footprint& footprint, double horizon, double margin,
-                       double personal_distance)
-      : footprint_(footprint), horizon_(horizon), margin_(margin),
+                       double deviation, double personal_distance)
+      : footprint_(footprint), horizon_(horizon), margin_(margin), deviation_(deviation),
         personal_distance_(personal_distance) {}
   std::string name() const override { return "MovingObstacle"; }
   bool Prepare(const Pose2& pose, const Twist2& velocity, const Path& plan,
@@ -78,7 +84,7 @@ class MovingObstacleCritic : public TrajectoryCritic {
   bool ScorePose(const Pose2& pose, double t, bool binding, double* worst) const;
 
   Footprint footprint_;
-  double horizon_, margin_, personal_distance_;
+  double horizon_, margin_, deviation_, personal_distance_;
   std::vector<MovingObstacle> obstacles_;
   Pose2 start_;
   bool backing_out_ = false;
