@@ -1,6 +1,5 @@
 #include "minibot3d_sim/social_force.h"
 
-#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>

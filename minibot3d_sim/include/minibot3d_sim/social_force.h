@@ -14,8 +14,8 @@
 // they close), n_ij its left normal, B = gamma |D|, theta the angle from t_ij to e_ij and K its
 // sign: a walker slows along t_ij and turns away from the side the other is on, the more the
 // faster they close and the more head-on they meet. Dead ahead (theta = 0) the tie is broken by
-// adding B / 200 to theta, so both step to their right and pass, as people do, instead of
-// pressing into each other. Where bodies overlap, the body force k (overlap) of Helbing, Farkas &
+// adding B / 200 to theta, so both step aside, to their right unless the fluctuation tips them
+// the other way, and pass, as people do, instead of pressing into each other. Where bodies overlap, the body force k (overlap) of Helbing, Farkas &
 // Vicsek 2000 ("Simulating dynamical features of escape panic", Nature 407) with their k / m = 1500
 // s^-2 pushes them apart. The velocity is integrated with semi-implicit Euler in fixed steps and
 // capped at 1.3 v0. A goal is reached within `goal_radius`; the pedestrian then heads for the next
