@@ -1,7 +1,8 @@
 """tools/generators/crowd_world.py: the shipped crowd worlds regenerate byte-identically; nobody
 starts near the robot or inside a wall, the scripted obstacles keep their speed, every person's
-route stays inside the walls; make bench's set has 50 mixed worlds with obstacles up to 0.5 m/s
-and 10 head-on corridors; bad arguments are named."""
+route stays inside the walls; the doorway world's person stands in its one door for the time drawn,
+then steps aside and stays; make bench's set has 50 mixed worlds with obstacles up to 0.5 m/s and
+10 head-on corridors; bad arguments are named."""
 import json
 import math
 import os
@@ -68,12 +69,39 @@ def test_scripted_obstacles_keep_their_speed_and_loop():
             assert math.hypot(x1 - x0, y1 - y0) / (t1 - t0) == pytest.approx(p['speed'], rel=1e-6)
 
 
+def test_the_doorway_person_stands_in_the_door_then_steps_aside_and_stays():
+    for seed in range(1, 30):
+        desc = cw.generate('doorway', seed, 1, (0.5, 1.0), 'd')
+        (p,) = desc['people']
+        dx, dy = desc['door']
+        assert p['start'] == [dx, dy] and cw.STAND[0] <= p['stand'] <= cw.STAND[1]
+        wps = cw._doorway_waypoints(p)
+        assert all(t1 > t0 for (t0, *_), (t1, *_) in zip(wps, wps[1:]))
+        standing = [w for w in wps if w[0] <= p['stand']]
+        assert standing[0][0] == 0.0 and standing[-1][0] == p['stand']
+        assert all(w[1:3] == (dx, dy) for w in standing)
+        ax, ay = p['goals'][0]
+        assert wps[-1][1:3] == (ax, ay) and wps[-1][0] > 1e4, 'they stay aside'
+        assert abs(ay) > abs(dy), 'aside: off the line from the door to the goal'
+        # One door in the wall across the hall, the person's cylinder inside it.
+        sdf = cw.world_sdf(desc)
+        assert '<loop>false</loop>' in sdf
+        sizes = re.findall(r'<collision name="door_(south|north)">\s*<pose>([-0-9. ]+)</pose>\s*'
+                           r'<geometry><box><size>([-0-9. ]+)</size>', sdf)
+        assert len(sizes) == 2
+        (_, ps, ss), (_, pn, sn) = sizes
+        south_top = float(ps.split()[1]) + float(ss.split()[1]) / 2
+        north_bottom = float(pn.split()[1]) - float(sn.split()[1]) / 2
+        assert north_bottom - south_top == pytest.approx(cw.DOOR_WIDTH, abs=1e-3)
+        assert (south_top + north_bottom) / 2 == pytest.approx(dy, abs=1e-3)
+
+
 def test_bench_set():
     jobs = cw.bench_set()
     mixed = [j for j in jobs if j[4].startswith('mixed_')]
     headon = [j for j in jobs if j[4].startswith('headon_')]
     assert len(mixed) == 50 and len(headon) == 10
-    assert {j[0] for j in mixed} == set(cw.KINDS)
+    assert {j[0] for j in mixed} == set(cw.BENCH_KINDS)
     assert all(j[3][1] <= 0.5 for j in mixed)
     assert all(j[0] == 'corridor' and j[2] == 3 for j in headon)
     assert len({j[4] for j in jobs}) == len(jobs)
@@ -94,6 +122,7 @@ def test_the_same_seed_gives_the_same_world_and_another_seed_another():
     (['--speed', '0.5', '0.2'], r'speed 0.5 0.2: must be MIN <= MAX'),
     (['--speed', '0.1', '3.0'], r'speed 0.1 3: must be MIN <= MAX within'),
     (['--name', '../x'], r"--name '../x': must be a plain file name"),
+    (['--kind', 'doorway', '--people', '2'], r'doorway: --people 2: must be 1'),
 ])
 def test_bad_arguments_are_named(tmp_path, args, message):
     base = {'--kind': 'hall', '--seed': '1', '--people': '3', '--speed': ['0.2', '0.5']}

@@ -237,6 +237,28 @@ for mode in off on; do
     "${picture[@]}" || true
 done
 
+echo "== a doorway shut by someone standing in it: amcl_navigation.launch on the map of each of 10"
+echo "   doorway worlds of tools/generators/crowd_world.py (seeds 1-10: the hall cut by a wall with one"
+echo "   0.9 m door, someone standing in it for 20-40 s, then stepping aside), the goal 10 m ahead"
+echo "   beyond it, with the shipped move_base parameters (the wait recovery) and with wait_duration 0"
+echo "   (move_base's own recovery list)"
+rm -rf build/bench/doorway_worlds build/bench/doorway_wait build/bench/doorway_no_wait
+for seed in $(seq 1 10); do
+  /usr/bin/python3 tools/generators/crowd_world.py one --kind doorway --seed "$seed" --people 1 \
+    --speed 0.5 1.0 --name "$(printf 'doorway_%02d' "$seed")" --out build/bench/doorway_worlds \
+    > /dev/null
+done
+sed 's/^wait_duration:.*/wait_duration: 0.0/' config/move_base_params.yaml \
+  > build/bench/move_base_no_wait.yaml
+for mode in wait no_wait; do
+  echo "-- $mode"
+  args=""
+  [ "$mode" = no_wait ] && args="move_base_params:=$PWD/build/bench/move_base_no_wait.yaml"
+  ON_MAP=1 LAUNCH_ARGS="$args" OUT=build/bench/doorway_$mode TIMEOUT=120 \
+    tools/bench/mapless_smoke.sh build/bench/doorway_worlds/*.world > build/bench/doorway_$mode.txt 2>&1 || true
+  /usr/bin/python3 tools/bench/crowd_bench.py build/bench/doorway_$mode build/bench/doorway_worlds || true
+done
+
 echo "== SLAM on a CARMEN log (slam_offline, gmapping defaults, 30 particles, loop closure on, the"
 echo "   readings between processed scans placed by odometry between the processed poses and matched"
 echo "   against the final map): 5 seeds, scored against the log's relations"

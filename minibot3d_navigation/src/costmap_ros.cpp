@@ -174,6 +174,7 @@ void CostmapRos::OnScan(const sensor_msgs::LaserScan::ConstPtr& scan, Source* so
     nav::Observation obs =
         nav::ObservationFromScan(s, sensor, o.marking ? o.obstacle_range : 0.0,
                                  o.clearing ? o.raytrace_range : 0.0, o.inf_is_valid);
+    obs.stamp = scan->header.stamp.toSec();
     layered_->obstacle_layer()->AddObservation(obs);
     if (observation_callback_) observation_callback_(scan->header.stamp.toSec(), obs);
   } catch (const std::invalid_argument& e) {
@@ -241,6 +242,7 @@ void CostmapRos::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud, Source
     nav::Observation obs = nav::ObservationFromPoints(
         xyz, nav::Point2{origin.x(), origin.y()}, o.min_obstacle_height, o.max_obstacle_height,
         o.marking ? o.obstacle_range : 0.0, o.clearing ? o.raytrace_range : 0.0);
+    obs.stamp = cloud->header.stamp.toSec();
     layered_->obstacle_layer()->AddObservation(obs);
     if (observation_callback_) observation_callback_(cloud->header.stamp.toSec(), obs);
   } catch (const std::exception& e) {

@@ -200,10 +200,11 @@ class MoveBaseNode {
   bool Spin() { return lockstep_.Spin(); }
 
  private:
-  // recovery_behaviors, or move_base's default list (after back_out when it is on).
+  // recovery_behaviors, or move_base's default list (after wait and back_out when they are on).
   std::vector<std::string> RecoveryNames() const {
     std::vector<std::string> names = mb_.recovery_behaviors;
     if (names.empty()) {
+      if (mb_.wait_duration > 0.0) names.push_back("wait");
       if (mb_.back_out_distance > 0.0) names.push_back("back_out");
       names.push_back("conservative_reset");
       if (mb_.clearing_rotation_allowed) names.push_back("rotate_recovery");
@@ -225,8 +226,13 @@ class MoveBaseNode {
     back.vel = mb_.back_out_vel;
     back.max_rotational_vel = dwa_.max_vel_theta;
     back.min_rotational_vel = dwa_.min_in_place_vel_theta;
+    nav::WaitOptions wait;
+    wait.duration = mb_.wait_duration;
+    wait.backoff_vel = mb_.back_out_vel;
     for (const std::string& n : names) {
-      if (n == "back_out") {
+      if (n == "wait") {
+        recoveries_.push_back(std::make_unique<nav::WaitRecovery>(n, wait, local_costmap_.footprint()));
+      } else if (n == "back_out") {
         recoveries_.push_back(
             std::make_unique<nav::BackOutRecovery>(n, back, local_costmap_.footprint()));
       } else if (n == "rotate_recovery") {
@@ -436,6 +442,16 @@ class MoveBaseNode {
         moving.push_back({t.position, t.velocity, t.radius, t.outline});
       }
       local_planner_->SetMovingObstacles(moving);
+    }
+    if (const nav::InflationLayer* inflation = global_costmap_.layered().inflation_layer()) {
+      // The wait recovery's test of an open way: the robot fits at any heading.
+      // (Inflation that ends inside the circumscribed radius gives no such cost: then the
+      // planner's own test.)
+      const double circumscribed = global_costmap_.layered().circumscribed_radius();
+      const uint8_t cost =
+          inflation->ComputeCost(circumscribed / global_costmap_.costmap().resolution());
+      executive_->SetOpenWayTest(cost > 0 ? cost : nav::kInscribedInflatedObstacle,
+                                 circumscribed);
     }
     const nav::CycleResult r = executive_->Step(state, global_to_local);
 

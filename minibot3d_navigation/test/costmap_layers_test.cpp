@@ -360,6 +360,114 @@ TEST(RollingWindowTest, ObstaclesStayFixedInTheWorldWhileTheRobotMoves) {
   EXPECT_EQ(CostAt(c, obstacle.x, obstacle.y), kFreeSpace);
 }
 
+// One hit seen from (5, 5) at `stamp`. In the decay tests someone is seen at t = 0, then walks off
+// behind another who stands between them and the sensor: the rays towards the other never reach
+// the first one's cell, so only a decay forgets it.
+Observation SeenAt(double stamp, Point2 hit) {
+  Observation obs = OneHit({5.0, 5.0}, hit);
+  obs.stamp = stamp;
+  return obs;
+}
+
+TEST(ObstacleLayerTest, ADecayForgetsWhatNoObservationMarksAgain) {
+  CostmapOptions o = SmallRobotOptions();
+  o.obstacle_decay_time = 2.0;
+  LayeredCostmap costmap = FixedCostmap(o);
+  const Pose2 robot{5.0, 5.0, 0.0};
+  const Point2 person{7.02, 5.02}, other{6.02, 5.02};  // the other in front of the person
+  costmap.obstacle_layer()->AddObservation(SeenAt(0.0, person));
+  costmap.UpdateMap(robot);
+  for (double t = 0.5; t <= 4.0; t += 0.5) {
+    costmap.obstacle_layer()->AddObservation(SeenAt(t, other));
+    costmap.UpdateMap(robot);
+    // Marked at 0, never again: lethal before 2 s, forgotten from 2 s on; the one in front,
+    // marked every time, stays.
+    EXPECT_EQ(CostAt(costmap.costmap(), person.x, person.y) == kLethalObstacle, t < 2.0) << t;
+    EXPECT_EQ(CostAt(costmap.costmap(), other.x, other.y), kLethalObstacle) << t;
+  }
+  // And its inflation went with it.
+  EXPECT_EQ(CostAt(costmap.costmap(), person.x + 0.05, person.y), kFreeSpace);
+}
+
+TEST(ObstacleLayerTest, WithoutADecayTheMarkStaysAsInCostmap2d) {
+  LayeredCostmap costmap = FixedCostmap();
+  const Pose2 robot{5.0, 5.0, 0.0};
+  costmap.obstacle_layer()->AddObservation(SeenAt(0.0, {7.02, 5.02}));
+  costmap.UpdateMap(robot);
+  for (double t = 0.5; t <= 60.0; t += 0.5) {
+    costmap.obstacle_layer()->AddObservation(SeenAt(t, {6.02, 5.02}));
+    costmap.UpdateMap(robot);
+  }
+  EXPECT_EQ(CostAt(costmap.costmap(), 7.02, 5.02), kLethalObstacle);
+}
+
+TEST(ObstacleLayerTest, ADecayedCellIsUnknownAgainWhenUnknownSpaceIsTracked) {
+  CostmapOptions o = SmallRobotOptions();
+  o.obstacle_decay_time = 1.0;
+  o.track_unknown_space = true;
+  LayeredCostmap costmap = FixedCostmap(o);
+  const Pose2 robot{5.0, 5.0, 0.0};
+  costmap.obstacle_layer()->AddObservation(SeenAt(0.0, {7.02, 5.02}));
+  costmap.UpdateMap(robot);
+  EXPECT_EQ(CostAt(costmap.obstacle_layer()->grid(), 7.02, 5.02), kLethalObstacle);
+  costmap.obstacle_layer()->AddObservation(SeenAt(1.0, {6.02, 5.02}));
+  costmap.UpdateMap(robot);
+  EXPECT_EQ(CostAt(costmap.obstacle_layer()->grid(), 7.02, 5.02), kNoInformation);
+}
+
+TEST(ObstacleLayerTest, NothingDecaysWhileNoSensorReports) {
+  CostmapOptions o = SmallRobotOptions();
+  o.obstacle_decay_time = 1.0;
+  LayeredCostmap costmap = FixedCostmap(o);
+  costmap.obstacle_layer()->AddObservation(SeenAt(3.0, {7.02, 5.02}));
+  for (int i = 0; i < 100; ++i) costmap.UpdateMap({5.0, 5.0, 0.0});
+  EXPECT_EQ(CostAt(costmap.costmap(), 7.02, 5.02), kLethalObstacle);
+}
+
+TEST(ObstacleLayerTest, RejectsABadDecayTimeNamingIt) {
+  CostmapOptions o = SmallRobotOptions();
+  o.obstacle_decay_time = -1.0;
+  try {
+    ValidateCostmapOptions(o);
+    FAIL() << "expected invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("obstacle_decay_time=-1 must be >= 0"),
+              std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ObstacleLayer(false, std::nan("")), std::invalid_argument);
+}
+
+TEST(RollingWindowTest, AMarkDecaysWhereItWasInTheWorldWhileTheWindowMoves) {
+  CostmapOptions o = SmallRobotOptions();
+  o.rolling_window = true;
+  o.static_map = false;
+  o.width = 6.0;
+  o.height = 6.0;
+  o.obstacle_decay_time = 2.0;
+  LayeredCostmap costmap = BuildLayeredCostmap(o);
+  const Point2 gone{1.52, 0.47}, kept{-1.48, -0.53};
+  Observation first = OneHit({0.0, 0.0}, gone);
+  first.hits.push_back(kept);
+  costmap.obstacle_layer()->AddObservation(first);
+  costmap.UpdateMap({0.0, 0.0, 0.0});
+  const Costmap2D& c = costmap.costmap();
+  // The window moves by whole cells as the robot drives; `kept` is seen again each time.
+  double t = 0.0;
+  for (const Pose2& robot : {Pose2{0.37, -0.21, 0.0}, Pose2{-0.52, 0.33, 0.0},
+                              Pose2{0.11, 0.64, 0.0}, Pose2{-0.23, -0.4, 0.0}}) {
+    t += 0.75;
+    Observation again = OneHit({robot.x, robot.y}, kept);
+    again.stamp = t;
+    costmap.obstacle_layer()->AddObservation(again);
+    costmap.UpdateMap(robot);
+    EXPECT_EQ(CostAt(c, gone.x, gone.y) == kLethalObstacle, t < 2.0) << t;
+    EXPECT_EQ(CostAt(c, kept.x, kept.y), kLethalObstacle) << t;
+    int lethal = 0;
+    for (uint8_t v : c.cells()) lethal += v == kLethalObstacle;
+    EXPECT_EQ(lethal, t < 2.0 ? 2 : 1) << t;
+  }
+}
+
 TEST(RollingWindowTest, StaticLayerIsCopiedIntoTheWindow) {
   CostmapOptions o = SmallRobotOptions();
   o.rolling_window = true;

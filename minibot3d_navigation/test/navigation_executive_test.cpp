@@ -1,6 +1,7 @@
 // The move_base state machine with scripted planners: success, planner and
 // controller failures through the recovery list to an abort that says why,
-// oscillation, cancel and preemption.
+// oscillation, cancel and preemption; the recoveries of its own (back_out,
+// wait) and waiting for someone who shuts the only way.
 #include "minibot3d_navigation/move_base/navigation_executive.h"
 
 #include <gtest/gtest.h>
@@ -554,6 +555,270 @@ TEST(NavigationExecutive, TrailDropsTheLoopsOfARobotShufflingToAndFro) {
   EXPECT_NEAR(trail.back().x, 1.0, 0.02);
   EXPECT_LT(trail.size(), 60u);  // ~1 m at 2 cm spacing
   for (size_t i = 1; i < trail.size(); ++i) EXPECT_GT(trail[i].x, trail[i - 1].x);
+}
+
+
+// Plans the straight line from start to goal (a pose every 0.05 m); no path when a pose of it lies
+// on a cell of cost inscribed or more, as A* would find none through a doorway someone stands in.
+class LinePlanner : public GlobalPlanner {
+ public:
+  std::string name() const override { return "line"; }
+  Path MakePlan(const Costmap2D& costmap, const Pose2& start, const Pose2& goal) override {
+    ++calls;
+    const double length = std::hypot(goal.x - start.x, goal.y - start.y);
+    const int n = std::max(1, static_cast<int>(std::ceil(length / 0.05)));
+    Path path;
+    for (int i = 0; i <= n; ++i) {
+      const double u = static_cast<double>(i) / n;
+      Pose2 p{start.x + u * (goal.x - start.x), start.y + u * (goal.y - start.y), 0.0};
+      int mx, my;
+      if (costmap.WorldToMap(p.x, p.y, &mx, &my) &&
+          costmap.cost(mx, my) >= kInscribedInflatedObstacle) {
+        throw PlanningError(PlanningError::Code::kNoPath, "no path: the doorway is shut");
+      }
+      path.push_back(p);
+    }
+    return path;
+  }
+  int calls = 0;
+};
+
+// GoToGoal that finds no command when the costmap 0.15 m ahead is inscribed or lethal, as the
+// DWA finds none into an obstacle.
+class StopsShortOfObstacles : public GoToGoal {
+ public:
+  Twist2 ComputeVelocity(const Pose2& pose, const Twist2& v, const Path& plan,
+                         const Costmap2D& costmap) override {
+    int mx, my;
+    if (costmap.WorldToMap(pose.x + 0.15 * std::cos(pose.yaw), pose.y + 0.15 * std::sin(pose.yaw),
+                           &mx, &my) &&
+        costmap.cost(mx, my) >= kInscribedInflatedObstacle) {
+      throw ControlError("every trajectory ends in the inscribed band");
+    }
+    return GoToGoal::ComputeVelocity(pose, v, plan, costmap);
+  }
+};
+
+// Someone standing across the line y = 0 at x = 2: lethal, with an inscribed band round them.
+void StandIn(Costmap2D* costmap, uint8_t band = kInscribedInflatedObstacle) {
+  for (double y = -0.5; y <= 0.5; y += 0.05) {
+    for (double x = 1.85; x <= 2.15; x += 0.05) {
+      int mx, my;
+      costmap->WorldToMapNoBounds(x, y, &mx, &my);
+      costmap->set_cost(mx, my, std::abs(x - 2.0) < 0.03 ? kLethalObstacle : band);
+    }
+  }
+}
+
+void StepAside(Costmap2D* costmap) { costmap->ResetAll(); }
+
+TEST(WaitRecovery, DoesNothingUnlessTheWayIsShut) {
+  WaitRecovery rec("wait", WaitOptions(), MakeCircleFootprint(0.12));
+  RobotState state;
+  state.control_failed = true;  // a path exists; the robot could not follow it
+  EXPECT_EQ(RunRecovery(&rec, &state), 0);
+  EXPECT_NE(rec.outcome().find("not needed"), std::string::npos) << rec.outcome();
+}
+
+TEST(WaitRecovery, StandsUntilAPathExistsAgain) {
+  WaitRecovery rec("wait", WaitOptions(), MakeCircleFootprint(0.12));
+  Costmap2D costmap(80, 80, 0.05, -2.0, -2.0);
+  RobotState state;
+  state.local_costmap = &costmap;
+  state.no_path = true;
+  int asked = 0;
+  state.path_exists = [&] {
+    ++asked;
+    return state.time > 2.9;  // from the check at 3 s
+  };
+  double max_vx = -1.0;
+  RunRecovery(&rec, &state, 0.05, &max_vx);
+  EXPECT_EQ(max_vx, 0.0);  // it stood still
+  EXPECT_NEAR(state.time, 3.0, 0.051);
+  EXPECT_EQ(asked, 6);  // twice a second
+  EXPECT_EQ(rec.outcome(), "the way opened after 3.0 s");
+}
+
+TEST(WaitRecovery, GivesUpAfterItsDuration) {
+  WaitOptions o;
+  o.duration = 4.0;
+  WaitRecovery rec("wait", o, MakeCircleFootprint(0.12));
+  RobotState state;
+  state.no_path = true;
+  state.path_exists = [] { return false; };
+  RunRecovery(&rec, &state);
+  EXPECT_NEAR(state.time, 4.0, 0.051);
+  EXPECT_EQ(rec.outcome(), "still no path to the goal after 4.0 s");
+}
+
+TEST(WaitRecovery, BacksOffToTheClearanceFirst) {
+  // A wall across the robot's way 0.18 m in front of its footprint (circle of 0.12 m at the
+  // origin, facing +x): it backs off until the wall is 0.45 m from the footprint, then stands.
+  Costmap2D costmap(80, 80, 0.05, -2.0, -2.0);
+  for (double y = -0.5; y <= 0.5; y += 0.05) SetLethal(&costmap, 0.325, y);
+  WaitRecovery rec("wait", WaitOptions(), MakeCircleFootprint(0.12));
+  RobotState state;
+  state.local_costmap = &costmap;
+  state.no_path = true;
+  state.path_exists = [] { return false; };
+  EXPECT_LT(rec.ClearanceAhead(costmap, state.local_pose, 0.45), 0.45);
+  rec.Start(state);
+  Twist2 cmd;
+  double backed_at = -1.0;
+  for (int i = 0; i < 200 && rec.Step(state, &cmd); ++i) {
+    EXPECT_LE(cmd.vx, 0.0);
+    if (cmd.vx < 0.0) backed_at = state.time;
+    state.local_pose.x += cmd.vx * 0.05;
+    state.time += 0.05;
+  }
+  EXPECT_GE(rec.ClearanceAhead(costmap, state.local_pose, 0.45), 0.45);
+  EXPECT_LT(rec.ClearanceAhead(costmap, state.local_pose, 0.45), 0.45 + 0.02);
+  EXPECT_LT(backed_at, 3.0);  // then it stood for the rest of the wait
+}
+
+TEST(WaitRecovery, BacksOffNoFurtherThanItsBackAllows) {
+  Costmap2D costmap(80, 80, 0.05, -2.0, -2.0);
+  for (double y = -0.5; y <= 0.5; y += 0.05) {
+    SetLethal(&costmap, 0.325, y);   // in front
+    SetLethal(&costmap, -0.275, y);  // behind
+  }
+  WaitRecovery rec("wait", WaitOptions(), MakeCircleFootprint(0.12));
+  RobotState state;
+  state.local_costmap = &costmap;
+  state.no_path = true;
+  state.path_exists = [] { return false; };
+  RunRecovery(&rec, &state);
+  EXPECT_LT(state.local_pose.x, -0.02);  // it made what room there was
+  EXPECT_EQ(FootprintCost(costmap, MakeCircleFootprint(0.12), state.local_pose) ==
+                kLethalObstacle, false);
+}
+
+// Drives at a goal 3 m ahead through a doorway at x = 2 where someone stands from t = 1 s to
+// t = 20 s; the recoveries are wait, then two that count their starts.
+struct DoorwayHarness {
+  explicit DoorwayHarness(double wait_duration)
+      : costmap(200, 200, 0.05, -5.0, -5.0),
+        wait("wait", Waiting(wait_duration), MakeCircleFootprint(0.12)),
+        r1("conservative_reset"),
+        r2("rotate_recovery"),
+        exec(Options(wait_duration), &planner, &controller, {&wait, &r1, &r2}) {
+    state.global_costmap = &costmap;
+    state.local_costmap = &costmap;
+  }
+  static WaitOptions Waiting(double duration) {
+    WaitOptions o;
+    o.duration = duration;
+    return o;
+  }
+  static MoveBaseOptions Options(double wait_duration) {
+    MoveBaseOptions o;
+    o.wait_duration = wait_duration;
+    o.planner_frequency = 1.0;
+    o.planner_patience = 5.0;
+    return o;
+  }
+  CycleResult Run(double max_time, double dt = 0.05) {
+    CycleResult r;
+    for (; state.time < max_time; state.time += dt) {
+      if (!stood && state.time >= shut - 1e-6) StandIn(&costmap), stood = true;
+      if (!left && state.time >= leaves - 1e-6) StepAside(&costmap), left = true;
+      r = exec.Step(state, Pose2());
+      if (!r.message.empty()) messages.push_back(r.message);
+      if (r.status != GoalStatus::kActive) return r;
+      Pose2& p = state.global_pose;
+      p.x += r.cmd.vx * std::cos(p.yaw) * dt;
+      p.y += r.cmd.vx * std::sin(p.yaw) * dt;
+      p.yaw = NormalizeAngle(p.yaw + r.cmd.wz * dt);
+      state.local_pose = p;
+      closest_x = std::max(closest_x, p.x);
+      if (state.time < leaves) x_while_shut = std::max(x_while_shut, p.x);
+    }
+    return r;
+  }
+  double shut = 1.0, leaves = 20.0;  // s
+  bool stood = false, left = false;
+  double closest_x = -1e9, x_while_shut = -1e9;
+  std::vector<std::string> messages;
+  Costmap2D costmap;
+  LinePlanner planner;
+  StopsShortOfObstacles controller;
+  WaitRecovery wait;
+  CountingRecovery r1, r2;
+  NavigationExecutive exec;
+  RobotState state;
+};
+
+TEST(NavigationExecutive, WaitsForSomeoneInTheDoorwayAtADistanceThenDrivesOn) {
+  DoorwayHarness h(30.0);
+  h.exec.SetGoal({3.0, 0.0, 0.0}, 0.0);
+  const CycleResult r = h.Run(60.0);
+  ASSERT_EQ(r.status, GoalStatus::kSucceeded) << r.message;
+  EXPECT_GT(h.state.time, 20.0);
+  EXPECT_LT(h.state.time, 25.0);
+  // Once replanning found no way, the old plan was followed only to 0.45 m short of the
+  // inscribed band (x = 1.85), and no recovery but the wait ran.
+  EXPECT_LE(h.x_while_shut, 1.85 - 0.45 + 0.03);
+  EXPECT_GT(h.x_while_shut, 1.85 - 0.45 - 0.1);
+  EXPECT_EQ(h.r1.starts, 0);
+  EXPECT_EQ(h.r2.starts, 0);
+  bool opened = false;
+  for (const std::string& m : h.messages) opened |= m.find("the way opened after") != std::string::npos;
+  EXPECT_TRUE(opened);
+}
+
+TEST(NavigationExecutive, WithoutTheWaitTheRecoveriesRunBesideThem) {
+  // The control, wait_duration 0: the robot drives on up to the band (its controller stops it
+  // there) and goes through the other recoveries while the doorway is shut.
+  DoorwayHarness h(0.0);
+  h.exec.SetGoal({3.0, 0.0, 0.0}, 0.0);
+  h.Run(60.0);
+  EXPECT_GT(h.x_while_shut, 1.85 - 0.2);
+  EXPECT_EQ(h.r1.starts, 1);
+  EXPECT_EQ(h.r2.starts, 1);
+}
+
+TEST(NavigationExecutive, AWayOpensOnlyWhereTheRobotFitsAtAnyHeading) {
+  // Once the one in the doorway leaves a band of cost 220 behind (below inscribed: the planner
+  // passes it), the way is not open yet by the open-way test of cost 200 (the cost at the
+  // footprint's circumscribed radius): the wait goes on. At cost 100 the way is open.
+  DoorwayHarness h(30.0);
+  h.exec.SetOpenWayTest(200, 0.17);
+  h.leaves = 1e9;
+  h.exec.SetGoal({3.0, 0.0, 0.0}, 0.0);
+  h.Run(12.0);  // shut at 1 s; replanning fails; the wait from about 6 s
+  ASSERT_EQ(h.exec.state(), NavState::kClearing);
+  auto band = [&h](uint8_t cost) {
+    h.costmap.ResetAll();
+    for (double y = -0.5; y <= 0.5; y += 0.05) {
+      for (double x = 1.85; x <= 2.15; x += 0.05) {
+        int mx, my;
+        h.costmap.WorldToMapNoBounds(x, y, &mx, &my);
+        h.costmap.set_cost(mx, my, cost);
+      }
+    }
+  };
+  band(220);
+  h.Run(h.state.time + 5.0);
+  EXPECT_EQ(h.exec.state(), NavState::kClearing);  // still waiting
+  band(100);
+  const CycleResult r = h.Run(h.state.time + 20.0);
+  EXPECT_EQ(r.status, GoalStatus::kSucceeded) << r.message;
+  EXPECT_EQ(h.r1.starts, 0);
+}
+
+TEST(NavigationExecutive, AWaitThatDoesNotApplyIsPassedOverAtOnce) {
+  // Control fails with a path there (nothing shuts the way): the wait does not apply, so the next
+  // recovery starts at the same cycle, not after another controller_patience.
+  DoorwayHarness h(30.0);
+  h.shut = 1e9;
+  h.controller.fail = true;
+  h.exec.SetGoal({3.0, 0.0, 0.0}, 0.0);
+  while (h.r1.starts == 0 && h.state.time < 30.0) {
+    h.exec.Step(h.state, Pose2());
+    h.state.time += 0.05;
+  }
+  EXPECT_EQ(h.r1.starts, 1);
+  EXPECT_NEAR(h.state.time, MoveBaseOptions().controller_patience, 0.2);
 }
 
 }  // namespace

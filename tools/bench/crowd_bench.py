@@ -2,21 +2,24 @@
 """make bench, crowds section: summarises tools/bench/mapless_smoke.sh's runs (the NAME.json files
 tools/bench/mapless_run.py writes) through tools/generators/crowd_world.py's bench worlds: per
 group (the 50 mixed worlds with obstacles up to 0.5 m/s, by kind and in all; the corridors with 3
-people head-on) the runs reached within 3x the optimal time (optimal length / max_vel_x), the
-collisions with a person with the robot at fault (moving at the contact's onset) and in all, the
-closest approach of the footprint to a person, and the sim time within 0.45 m of one. With
---picture, draws the hardest run (a failure, else the one with the most time within 0.45 m) with
-the robot's path and the people's tracks.
+people head-on; the doorway worlds, run on their maps) the runs reached within 3x the optimal time
+(optimal length / max_vel_x), the collisions with a person with the robot at fault (moving at the
+contact's onset) and in all, the closest approach of the footprint to a person, and the sim time
+within 0.45 m of one; then how often each recovery behaviour ran (from the stacks' logs beside the
+runs). With --picture, draws the hardest run (a failure, else the one with the most time within
+0.45 m) with the robot's path and the people's tracks.
 
   crowd_bench.py RUNS_DIR WORLDS_DIR [--max-vel-x 0.5] [--picture OUT.png] [--json OUT.json]"""
 import argparse
 import glob
 import json
 import os
+import re
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 TIME_FACTOR = 3.0
+RECOVERY = re.compile(r'move_base: recovering: ([a-z_]+)')
 
 
 def load_runs(runs_dir, worlds_dir):
@@ -122,10 +125,16 @@ def main():
                  '--out %s makes them)' % (args.worlds_dir, args.worlds_dir))
     mixed = [p for p in runs if p[0]['name'].startswith('mixed_')]
     headon = [p for p in runs if p[0]['name'].startswith('headon_')]
-    rows = [group_row('mixed, %s' % k, [p for p in mixed if p[0]['kind'] == k], args.max_vel_x)
-            for k in ('corridor', 'hall', 'random')]
-    rows.append(group_row('mixed, all', mixed, args.max_vel_x))
-    rows.append(group_row('corridor, 3 people head-on', headon, args.max_vel_x))
+    doorway = [p for p in runs if p[0]['kind'] == 'doorway']
+    rows = []
+    if mixed:
+        rows += [group_row('mixed, %s' % k, [p for p in mixed if p[0]['kind'] == k],
+                           args.max_vel_x) for k in ('corridor', 'hall', 'random')]
+        rows.append(group_row('mixed, all', mixed, args.max_vel_x))
+    if headon:
+        rows.append(group_row('corridor, 3 people head-on', headon, args.max_vel_x))
+    if doorway:
+        rows.append(group_row('doorway shut by one standing in it', doorway, args.max_vel_x))
     print('| worlds | runs | reached within %gx optimal | robot-at-fault collisions | '
           'collisions with a person | closest approach (m) | mean s within 0.45 m | '
           'mean time / optimal |' % TIME_FACTOR)
@@ -137,6 +146,15 @@ def main():
             '%.2f' % r['closest'] if r['closest'] is not None else '-',
             '%.1f' % r['intimate_mean'] if r['intimate_mean'] is not None else '-',
             '%.2f' % r['time_ratio_mean'] if r['time_ratio_mean'] is not None else '-'))
+    recoveries = {}
+    for w, _ in runs:
+        log = os.path.join(args.runs_dir, w['name'] + '.launch.log')
+        if os.path.isfile(log):
+            with open(log, errors='replace') as f:
+                for name in RECOVERY.findall(f.read()):
+                    recoveries[name] = recoveries.get(name, 0) + 1
+    print('recoveries run: %s' % (', '.join('%s %d' % kv for kv in sorted(recoveries.items()))
+                                  or 'none'))
     for w, r in runs:
         if r is None:
             print('%s: no run' % w['name'])

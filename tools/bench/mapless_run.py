@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """One mapless run (tools/bench/mapless_smoke.sh starts mapless_navigation.launch; this drives and
-records it): sends the world's goal in odom with simple_navi_goals.py, records the true path and
+records it): sends the world's goal in odom with simple_navi_goals.py (with --frame map: in map,
+once amcl publishes map -> odom, for a run on the world's map), records the true path and
 the simulator's collision count, prints one summary line and writes OUT.json (the world, the
 result, sim time, collisions and the path driven, for tools/bench/mapless_bench.py's and
 tools/bench/crowd_bench.py's pictures).
@@ -12,7 +13,7 @@ person's body (the actor's cylinder), the sim time spent closer than 0.45 m (the
 proxemics, Hall 1966), and the collisions with a person split by fault: the robot at fault when it
 was moving at the contact's onset (its true speed above 0.02 m/s or turn rate above 0.05 rad/s).
 
-  mapless_run.py WORLD_JSON OUT_JSON [--timeout SIM_S]
+  mapless_run.py WORLD_JSON OUT_JSON [--timeout SIM_S] [--frame odom|map]
 
 Under lock-step time this script is a participant, so the run (and the path) is the same at any
 real-time factor and machine load."""
@@ -181,6 +182,9 @@ def main():
     parser.add_argument('world_json')
     parser.add_argument('out_json')
     parser.add_argument('--timeout', type=float, default=150.0, help='sim seconds for the goal')
+    parser.add_argument('--frame', choices=('odom', 'map'), default='odom',
+                        help="the goal's frame (the world's, both starting at the spawn pose); "
+                             'map waits for the localizer first')
     args = parser.parse_args(rospy.myargv()[1:])
     with open(args.world_json) as f:
         world = json.load(f)
@@ -194,10 +198,19 @@ def main():
     if not lockstep.wait_for(lambda: rec.truth is not None, 60.0):
         print('%s: no /ground_truth/odom within 60 s of sim time' % world['name'], flush=True)
         return 1
+    if args.frame == 'map':
+        import tf2_ros
+        tf_buffer = tf2_ros.Buffer()
+        tf2_ros.TransformListener(tf_buffer)
+        if not lockstep.wait_for(lambda: tf_buffer.can_transform('map', 'odom', rospy.Time(0)),
+                                 60.0):
+            print('%s: no map -> odom transform (the localizer) within 60 s of sim time'
+                  % world['name'], flush=True)
+            return 1
     goal = world['goal']
     finished, proc = lockstep.run(
         '/simple_navi_goals',
-        ['rosrun', 'minibot3d_navigation', 'simple_navi_goals.py', '--frame', 'odom',
+        ['rosrun', 'minibot3d_navigation', 'simple_navi_goals.py', '--frame', args.frame,
          str(goal['x']), str(goal['y']), str(goal['yaw']), '--timeout', str(args.timeout)],
         args.timeout + 60.0, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
         universal_newlines=True)

@@ -8,6 +8,8 @@
 # tools/bench/mapless_bench.py and tools/bench/crowd_bench.py.
 # A world is a clutter world's index or a .world file with NAME.json beside it (the generators'
 # worlds). Exits 0 whatever the outcome (it reports, the rostest asserts).
+# ON_MAP=1 runs the same on the world's own map instead (NAME.yaml beside it, as the generators
+# write it): amcl_navigation.launch, the robot localized by amcl, the goal sent in map.
 #   tools/bench/mapless_smoke.sh [INDEX|WORLD ...]      (default: 0 12 25 37 49)
 #   TIMEOUT=150 tools/bench/mapless_smoke.sh 30   # sim seconds for the goal
 #   tools/bench/mapless_smoke.sh minibot3d_sim/worlds/crowds/corridor_01.world
@@ -43,14 +45,28 @@ for i in "${indices[@]}"; do
   fi
   ros_start_core || exit 1
   case "$world" in /*) ;; *) world="$PWD/$world" ;; esac
-  roslaunch minibot3d_navigation mapless_navigation.launch world:="$world" \
-      lockstep:=true real_time_factor:=0 lockstep_participants:="/move_base /mapless_run" ${LAUNCH_ARGS:-} \
-      > "$OUT/$name.launch.log" 2>&1 &
+  if [ "${ON_MAP:-0}" = 1 ]; then
+    if [ ! -f "${world%.world}.yaml" ]; then
+      echo "$name: ON_MAP=1 but no map ${world%.world}.yaml beside the world" >&2
+      ros_stop_core
+      continue
+    fi
+    roslaunch minibot3d_navigation amcl_navigation.launch world:="$world" \
+        map_file:="${world%.world}.yaml" x:=0 y:=0 yaw:=0 lockstep:=true real_time_factor:=0 \
+        lockstep_participants:="/amcl /move_base /mapless_run" ${LAUNCH_ARGS:-} \
+        > "$OUT/$name.launch.log" 2>&1 &
+    frame=map
+  else
+    roslaunch minibot3d_navigation mapless_navigation.launch world:="$world" \
+        lockstep:=true real_time_factor:=0 lockstep_participants:="/move_base /mapless_run" \
+        ${LAUNCH_ARGS:-} > "$OUT/$name.launch.log" 2>&1 &
+    frame=odom
+  fi
   launch_pid=$!
   ros_wait_launch 30
   start=$SECONDS
   if ! /usr/bin/python3 tools/bench/mapless_run.py "${world%.world}.json" \
-      "$OUT/$name.json" --timeout "$TIMEOUT" > "$OUT/$name.run.log" 2>&1; then
+      "$OUT/$name.json" --timeout "$TIMEOUT" --frame "$frame" > "$OUT/$name.run.log" 2>&1; then
     echo "$name: mapless_run.py failed (see $OUT/$name.run.log)"
   fi
   grep "^$name " "$OUT/$name.run.log" | sed "s/\$/, $((SECONDS - start)) s wall/"

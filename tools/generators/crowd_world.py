@@ -3,6 +3,7 @@
 obstacles.
 
     tools/generators/crowd_world.py one --kind corridor --seed 3 --people 3 --speed 0.8 1.2 --out DIR
+    tools/generators/crowd_world.py one --kind doorway --seed 1 --people 1 --speed 0.5 1.0 --out DIR
     tools/generators/crowd_world.py set [--out minibot3d_sim/worlds/crowds]   # the shipped worlds
     tools/generators/crowd_world.py bench --out DIR   # make bench's 50 + 10 worlds
 
@@ -19,7 +20,12 @@ max_vel_x. Kinds:
   * random: the same hall with moving obstacles as DynaBARN makes them (Nair et al. 2022): each
     follows a looping scripted trajectory through 3-5 random points at its own constant speed and
     does not react to anything (an SDF <actor> <script>, waypoints every 0.25 m so that Gazebo's
-    spline keeps the speed constant on the straight stretches).
+    spline keeps the speed constant on the straight stretches);
+  * doorway: the same hall cut in two by a wall across it at x = DOOR_X with one DOOR_WIDTH door
+    (its centre drawn within +-DOOR_SPAN of the hall's centre line), and one person (--people 1)
+    standing in the door, which the robot must pass, for a time drawn from STAND (s), then walking
+    aside into the far room, where they stay (scripted: they do not react to the robot). The
+    optimal path runs through the door's centre.
 No person starts within START_CLEAR of the robot. Each person's speed is drawn from the range
 given (the social force pedestrians' desired speed; they may walk faster when pushed).
 
@@ -41,7 +47,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 DEFAULT_RENDERER = os.path.join(ROOT, 'devel', 'lib', 'minibot3d_sim', 'render_world_map')
 SHIPPED_DIR = os.path.join(ROOT, 'minibot3d_sim', 'worlds', 'crowds')
 
-KINDS = ('corridor', 'hall', 'random')
+KINDS = ('corridor', 'hall', 'random', 'doorway')
 GOAL_DISTANCE = 10.0          # m, start (0, 0) to goal (GOAL_DISTANCE, 0)
 CORRIDOR_WIDTH = 2.0          # m between the walls' inner faces
 CORRIDOR_MARGIN = 3.0         # m of corridor behind the start and past the goal
@@ -53,10 +59,17 @@ START_CLEAR = 1.5             # m round the robot's start with nobody in it at t
 SPACING = 0.7                 # m between two people's starting points, at least
 WAYPOINT_STEP = 0.25          # m between a scripted actor's waypoints
 SPEED_LIMIT = (0.05, 2.5)     # m/s, the speeds a person may be given
+DOOR_X = 5.0                  # m, the doorway world's wall's near face
+DOOR_WIDTH = 0.9              # m, its door
+DOOR_SPAN = 1.9               # m, the door's centre within +-DOOR_SPAN of y = 0
+STAND = (20.0, 40.0)          # s, how long the person stands in the door
+ASIDE = 1.5                   # m the person then walks into the far room and sideways
 
 # Shipped worlds (loaded by the tests) and make bench's set.
-SHIPPED = [('corridor', 1, 3, (0.8, 1.2)), ('hall', 1, 6, (0.2, 0.5)), ('random', 1, 8, (0.1, 0.5))]
+SHIPPED = [('corridor', 1, 3, (0.8, 1.2)), ('hall', 1, 6, (0.2, 0.5)), ('random', 1, 8, (0.1, 0.5)),
+           ('doorway', 1, 1, (0.5, 1.0))]
 BENCH_SEEDS = 50                      # mixed worlds, obstacles up to 0.5 m/s
+BENCH_KINDS = ('corridor', 'hall', 'random')
 BENCH_PEOPLE = {'corridor': (2, 4), 'hall': (4, 8), 'random': (5, 10)}
 BENCH_SPEED = (0.1, 0.5)
 HEAD_ON_RUNS, HEAD_ON_PEOPLE, HEAD_ON_SPEED = 10, 3, (0.8, 1.2)
@@ -95,6 +108,25 @@ def _place_on(rng, route, placed):
         if _far_enough(p, placed):
             return p, k + 1
     return None, None
+
+
+def _door_y(desc):
+    return desc['door'][1]
+
+
+def _doorway(rng, count, speed):
+    """The doorway world's door (its centre) and its one person, who stands in it."""
+    if count != 1:
+        raise CrowdError('doorway: --people %d: must be 1 (the person standing in the door)'
+                         % count)
+    door = (DOOR_X + WALL / 2, round(rng.uniform(-DOOR_SPAN, DOOR_SPAN), 3))
+    stand = round(rng.uniform(*STAND), 1)
+    side = 1.0 if door[1] >= 0 else -1.0   # away from the hall's centre line, off the route
+    aside = (door[0] + ASIDE, door[1] + side * ASIDE)
+    person = {'name': 'person_0', 'speed': round(rng.uniform(*speed), 3), 'route': 'doorway',
+              'stand': stand, 'start': [_r(door[0]), _r(door[1])],
+              'goals': [[_r(aside[0]), _r(aside[1])]]}
+    return [_r(door[0]), _r(door[1])], person
 
 
 def _people_routes(rng, kind, count, speed):
@@ -166,6 +198,25 @@ def _script_waypoints(person):
     return out
 
 
+def _doorway_waypoints(person):
+    """The doorway person's trajectory (not looping): standing in the door until `stand` s (a
+    waypoint every second, so that Gazebo's spline keeps them still), walking aside at their speed,
+    then standing there."""
+    (dx, dy), (ax, ay) = person['start'], person['goals'][0]
+    yaw = math.atan2(ay - dy, ax - dx)
+    out = [(float(t), dx, dy, yaw) for t in range(int(person['stand']))]
+    out.append((person['stand'], dx, dy, yaw))
+    length = math.hypot(ax - dx, ay - dy)
+    steps = max(1, int(math.ceil(length / WAYPOINT_STEP)))
+    for k in range(1, steps + 1):
+        u = k / steps
+        out.append((person['stand'] + u * length / person['speed'], dx + u * (ax - dx),
+                    dy + u * (ay - dy), yaw))
+    end = out[-1][0]
+    out += [(end + 1.0, ax, ay, yaw), (end + 100000.0, ax, ay, yaw)]
+    return out
+
+
 def world_sdf(desc):
     x0, y0, x1, y1 = bounds(desc['kind'])
     cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
@@ -176,6 +227,12 @@ def world_sdf(desc):
         % (desc['name'], desc['kind'], x1 - x0, y1 - y0, len(desc['people']),
            desc['speed'][0], desc['speed'][1]),
         '     origin facing +x, its goal is (%g, 0).' % GOAL_DISTANCE,
+    ]
+    if desc['kind'] == 'doorway':
+        lines.append('     A %g m door at (%.3f, %.3f); %s stands in it for %g s.'
+                     % (DOOR_WIDTH, desc['door'][0], desc['door'][1], desc['people'][0]['name'],
+                        desc['people'][0]['stand']))
+    lines += [
         '     Regenerate with: tools/generators/crowd_world.py one --kind %s --seed %d --people %d'
         % (desc['kind'], desc['seed'], len(desc['people'])),
         '     --speed %g %g --name %s -->' % (desc['speed'][0], desc['speed'][1], desc['name']),
@@ -189,6 +246,11 @@ def world_sdf(desc):
     ]
     walls = [('south', cx, y0 - WALL / 2, lx, WALL), ('north', cx, y1 + WALL / 2, lx, WALL),
              ('west', x0 - WALL / 2, cy, WALL, ly), ('east', x1 + WALL / 2, cy, WALL, ly)]
+    if desc['kind'] == 'doorway':
+        wx, dy = DOOR_X + WALL / 2, _door_y(desc)
+        lo, hi = dy - DOOR_WIDTH / 2, dy + DOOR_WIDTH / 2
+        walls += [('door_south', wx, (y0 + lo) / 2, WALL, lo - y0),
+                  ('door_north', wx, (hi + y1) / 2, WALL, y1 - hi)]
     for name, x, y, sx, sy in walls:
         lines += ['        <collision name="%s">' % name,
                   '          <pose>%.4f %.4f %.4f 0 0 0</pose>' % (x, y, WALL_HEIGHT / 2),
@@ -202,10 +264,12 @@ def world_sdf(desc):
         yaw = math.atan2(gy - sy, gx - sx)
         lines += ['    <actor name="%s">' % p['name'],
                   '      <pose>%.4f %.4f 0 0 0 %.4f</pose>' % (sx, sy, yaw)]
-        if desc['kind'] == 'random':
-            lines += ['      <script>', '        <loop>true</loop>',
+        if desc['kind'] in ('random', 'doorway'):
+            doorway = desc['kind'] == 'doorway'
+            lines += ['      <script>',
+                      '        <loop>%s</loop>' % ('false' if doorway else 'true'),
                       '        <trajectory id="0" type="walking">']
-            for t, x, y, a in _script_waypoints(p):
+            for t, x, y, a in _doorway_waypoints(p) if doorway else _script_waypoints(p):
                 lines.append('          <waypoint><time>%.3f</time><pose>%.4f %.4f 0 0 0 %.4f'
                              '</pose></waypoint>' % (t, x, y, a))
             lines += ['        </trajectory>', '      </script>']
@@ -230,12 +294,20 @@ def generate(kind, seed, people, speed, name):
                          % (lo, hi, SPEED_LIMIT[0], SPEED_LIMIT[1]))
     rng = random.Random('%s/%d' % (kind, seed))
     x0, y0, x1, y1 = bounds(kind)
-    return {'name': name, 'kind': kind, 'seed': seed, 'speed': [lo, hi],
+    desc = {'name': name, 'kind': kind, 'seed': seed, 'speed': [lo, hi],
             'bounds': [x0, y0, x1, y1],
             'start': {'x': 0.0, 'y': 0.0, 'yaw': 0.0},
             'goal': {'x': GOAL_DISTANCE, 'y': 0.0, 'yaw': 0.0},
-            'optimal_length': GOAL_DISTANCE,
-            'people': _people_routes(rng, kind, people, (lo, hi))}
+            'optimal_length': GOAL_DISTANCE}
+    if kind == 'doorway':
+        door, person = _doorway(rng, people, (lo, hi))
+        desc['door'] = door
+        desc['optimal_length'] = _r(math.hypot(door[0], door[1]) +
+                                    math.hypot(GOAL_DISTANCE - door[0], door[1]))
+        desc['people'] = [person]
+    else:
+        desc['people'] = _people_routes(rng, kind, people, (lo, hi))
+    return desc
 
 
 def write_world(desc, out, renderer):
@@ -257,7 +329,7 @@ def bench_set():
     walking head-on at pedestrian speeds."""
     jobs = []
     for s in range(BENCH_SEEDS):
-        kind = KINDS[s % len(KINDS)]
+        kind = BENCH_KINDS[s % len(BENCH_KINDS)]
         lo, hi = BENCH_PEOPLE[kind]
         n = random.Random('people/%d' % s).randint(lo, hi)
         jobs.append((kind, s, n, BENCH_SPEED, 'mixed_%02d_%s' % (s, kind)))

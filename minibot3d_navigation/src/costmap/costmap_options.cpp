@@ -99,6 +99,13 @@ const options::OptionTable<CostmapOptions>& CostmapOptionTable() {
        Field("inf_is_valid", &O::inf_is_valid,
              "Default of every observation source: a reading of +inf means nothing within "
              "range_max and clears the whole beam; false: it is dropped."),
+       Field("obstacle_decay_time", &O::obstacle_decay_time,
+             "An obstacle no observation has marked for this long (s, by the sensors' stamps) "
+             "is forgotten: its cell returns to unknown (track_unknown_space) or free, so "
+             "someone who walked off where no beam reaches (behind another person, beyond "
+             "raytrace_range) leaves no obstacle behind; 0: obstacles stay until a beam clears "
+             "them (costmap_2d). Not in costmap_2d: the spatio-temporal voxel layer's "
+             "voxel_decay."),
        Field("inflation_radius", &O::inflation_radius,
              "Distance (m) from an obstacle up to which costs are inflated."),
        Field("cost_scaling_factor", &O::cost_scaling_factor,
@@ -247,6 +254,7 @@ void ValidateCostmapOptions(const CostmapOptions& o) {
   p.NonNegative("footprint_padding", o.footprint_padding);
   p.NonNegative("obstacle_range", o.obstacle_range);
   p.NonNegative("raytrace_range", o.raytrace_range);
+  p.NonNegative("obstacle_decay_time", o.obstacle_decay_time);
   p.NonNegative("inflation_radius", o.inflation_radius);
   p.NonNegative("cost_scaling_factor", o.cost_scaling_factor);
   p.ThrowIfAny();

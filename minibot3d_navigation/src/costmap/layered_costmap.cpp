@@ -126,7 +126,7 @@ LayeredCostmap BuildLayeredCostmap(const CostmapOptions& o) {
                          o.resolution, o.origin_x, o.origin_y, o.rolling_window,
                          o.track_unknown_space);
   if (o.static_map) costmap.AddLayer(std::make_unique<StaticLayer>(o));
-  costmap.AddLayer(std::make_unique<ObstacleLayer>(o.track_unknown_space));
+  costmap.AddLayer(std::make_unique<ObstacleLayer>(o.track_unknown_space, o.obstacle_decay_time));
   costmap.AddLayer(std::make_unique<InflationLayer>(o.inflation_radius, o.cost_scaling_factor));
   costmap.SetFootprint(EffectiveFootprint(o));
   return costmap;

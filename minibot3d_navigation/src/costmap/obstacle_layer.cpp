@@ -4,6 +4,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 
 #include "minibot3d_common/line_walker.h"
@@ -78,13 +79,59 @@ Observation ObservationFromPoints(const std::vector<double>& xyz, const Point2& 
   return obs;
 }
 
-ObstacleLayer::ObstacleLayer(bool track_unknown_space)
-    : track_unknown_space_(track_unknown_space) {}
+ObstacleLayer::ObstacleLayer(bool track_unknown_space, double decay_time)
+    : track_unknown_space_(track_unknown_space),
+      decay_time_(decay_time),
+      newest_stamp_(-std::numeric_limits<double>::infinity()) {
+  if (!(decay_time >= 0.0) || !std::isfinite(decay_time)) {
+    throw std::invalid_argument("obstacle layer: obstacle_decay_time=" +
+                                options::Num(decay_time) + " must be >= 0 s (0 = never)");
+  }
+}
 
 void ObstacleLayer::MatchSize(const Costmap2D& master) {
   grid_.Resize(master.size_x(), master.size_y(), master.resolution(), master.origin_x(),
                master.origin_y(), track_unknown_space_ ? kNoInformation : kFreeSpace);
+  ForgetMarks();
   extra_full_bounds_ = true;
+}
+
+namespace {
+uint64_t CellKey(int64_t x, int64_t y) {
+  return (static_cast<uint64_t>(static_cast<uint32_t>(x)) << 32) |
+         static_cast<uint64_t>(static_cast<uint32_t>(y));
+}
+}  // namespace
+
+void ObstacleLayer::ForgetMarks() {
+  marks_.clear();
+  last_marked_.clear();
+  shift_x_ = shift_y_ = 0;
+}
+
+void ObstacleLayer::RememberMark(int mx, int my, double stamp) {
+  const int64_t x = mx + shift_x_, y = my + shift_y_;
+  last_marked_[CellKey(x, y)] = stamp;
+  marks_.push_back({x, y, stamp});
+}
+
+void ObstacleLayer::Decay(Bounds* bounds) {
+  const double before = newest_stamp_ - decay_time_;
+  const uint8_t unseen = track_unknown_space_ ? kNoInformation : kFreeSpace;
+  while (!marks_.empty() && marks_.front().stamp <= before) {
+    const Mark m = marks_.front();
+    marks_.pop_front();
+    const auto it = last_marked_.find(CellKey(m.x, m.y));
+    if (it == last_marked_.end() || it->second != m.stamp) continue;  // marked again since
+    last_marked_.erase(it);
+    const int64_t mx = m.x - shift_x_, my = m.y - shift_y_;
+    if (mx < 0 || my < 0 || mx >= grid_.size_x() || my >= grid_.size_y()) continue;
+    if (grid_.cost(static_cast<int>(mx), static_cast<int>(my)) != kLethalObstacle) continue;
+    grid_.set_cost(static_cast<int>(mx), static_cast<int>(my), unseen);
+    double wx, wy;
+    grid_.MapToWorld(static_cast<int>(mx), static_cast<int>(my), &wx, &wy);
+    bounds->Touch(wx, wy);
+  }
 }
 
 void ObstacleLayer::OnFootprintChanged(const Footprint& padded_footprint, double /*inscribed*/,
@@ -93,7 +140,12 @@ void ObstacleLayer::OnFootprintChanged(const Footprint& padded_footprint, double
 }
 
 void ObstacleLayer::UpdateOrigin(double new_origin_x, double new_origin_y) {
-  if (grid_.size_x() > 0) grid_.UpdateOrigin(new_origin_x, new_origin_y);
+  if (grid_.size_x() <= 0) return;
+  const double old_x = grid_.origin_x(), old_y = grid_.origin_y();
+  grid_.UpdateOrigin(new_origin_x, new_origin_y);
+  // The grid moves by whole cells: the marks' cells, counted from where it started, stay put.
+  shift_x_ += std::llround((grid_.origin_x() - old_x) / grid_.resolution());
+  shift_y_ += std::llround((grid_.origin_y() - old_y) / grid_.resolution());
 }
 
 void ObstacleLayer::AddObservation(const Observation& obs) {
@@ -112,6 +164,7 @@ void ObstacleLayer::AddObservation(const Observation& obs) {
   copy.origin = obs.origin;
   copy.obstacle_range = obs.obstacle_range;
   copy.raytrace_range = obs.raytrace_range;
+  copy.stamp = obs.stamp;
   copy.hits.reserve(obs.hits.size());
   for (const Point2& p : obs.hits) {
     if (FinitePoint(p)) copy.hits.push_back(p); else ++skipped_points_;
@@ -246,9 +299,12 @@ void ObstacleLayer::UpdateBounds(const Pose2& robot, Bounds* bounds) {
       if (!grid_.WorldToMap(p.x, p.y, &mx, &my)) continue;
       grid_.set_cost(mx, my, kLethalObstacle);
       layer.Touch(p.x, p.y);
+      if (decay_time_ > 0.0) RememberMark(mx, my, obs.stamp);
     }
+    if (std::isfinite(obs.stamp)) newest_stamp_ = std::max(newest_stamp_, obs.stamp);
   }
   pending_.clear();
+  if (decay_time_ > 0.0) Decay(&layer);
   ClearFootprint(robot, &layer);
   // One cell of margin so that points on the edge are processed.
   const double r = grid_.resolution();
@@ -292,6 +348,8 @@ void ObstacleLayer::ClearOutsideSquare(double cx, double cy, double side, bool i
 void ObstacleLayer::Reset() {
   if (grid_.size_x() > 0) grid_.ResetAll();
   pending_.clear();
+  marks_.clear();
+  last_marked_.clear();
   extra_full_bounds_ = true;
 }
 

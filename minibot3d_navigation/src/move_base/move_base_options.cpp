@@ -58,9 +58,10 @@ const options::OptionTable<MoveBaseOptions>& MoveBaseOptionTable() {
        Field("shutdown_costmaps", &O::shutdown_costmaps,
              "Accepted and not used: the costmaps always run."),
        Field("recovery_behaviors", &O::recovery_behaviors,
-             "Recovery behaviours in order, by name (back_out, conservative_reset, "
+             "Recovery behaviours in order, by name (wait, back_out, conservative_reset, "
              "rotate_recovery, aggressive_reset; a {name, type} list as in move_base); empty: "
-             "move_base's list, after back_out if back_out_distance > 0."),
+             "move_base's list, after back_out if back_out_distance > 0 and, first of all, wait "
+             "if wait_duration > 0."),
        Field("back_out_distance", &O::back_out_distance,
              "Distance (m) the back_out recovery reverses along the way the robot came when "
              "the way ahead is blocked; 0: no back_out in the default list."),
@@ -73,7 +74,15 @@ const options::OptionTable<MoveBaseOptions>& MoveBaseOptionTable() {
              "Distance (m) along the plan ahead of the robot of the centre of a blocked disc."),
        Field("recovery_reset_distance", &O::recovery_reset_distance,
              "The recovery list starts again from its first behaviour once the robot is this far "
-             "(m) from where the last recovery began; 0: never within a goal.")});
+             "(m) from where the last recovery began; 0: never within a goal."),
+       Field("wait_duration", &O::wait_duration,
+             "Longest time (s) the wait recovery stands when the planner finds no path between "
+             "a free start and a free goal (someone stands in the only doorway): it backs off "
+             "until nothing is within 0.45 m in front of it, then checks twice a second whether "
+             "a way the robot fits through at any heading exists again, and ends as soon as one "
+             "does (the robot replans). While replanning finds no path the old plan is followed "
+             "only to 0.45 m short of what shut the way. 0: neither; no wait in the default "
+             "list.")});
   return table;
 }
 
@@ -97,10 +106,10 @@ void ValidateMoveBaseOptions(const MoveBaseOptions& o) {
   p.Require(Finite(o.conservative_reset_dist) && o.conservative_reset_dist >= 0.0,
             "conservative_reset_dist=" + Num(o.conservative_reset_dist) + " must be >= 0");
   for (const std::string& r : o.recovery_behaviors) {
-    p.Require(r == "back_out" || r == "conservative_reset" || r == "rotate_recovery" ||
-                  r == "aggressive_reset",
+    p.Require(r == "wait" || r == "back_out" || r == "conservative_reset" ||
+                  r == "rotate_recovery" || r == "aggressive_reset",
               "recovery_behaviors entry '" + r +
-                  "' is not one of back_out, conservative_reset, rotate_recovery, "
+                  "' is not one of wait, back_out, conservative_reset, rotate_recovery, "
                   "aggressive_reset");
   }
   p.Require(Finite(o.back_out_distance) && o.back_out_distance >= 0.0 &&
@@ -116,6 +125,13 @@ void ValidateMoveBaseOptions(const MoveBaseOptions& o) {
   p.Require(Finite(o.recovery_reset_distance) && o.recovery_reset_distance >= 0.0,
             "recovery_reset_distance=" + Num(o.recovery_reset_distance) +
                 " must be >= 0 (0 = never restart the list)");
+  p.Require(Finite(o.wait_duration) && o.wait_duration >= 0.0 && o.wait_duration <= 3600.0,
+            "wait_duration=" + Num(o.wait_duration) + " must be in [0, 3600] s (0 = off)");
+  for (const std::string& r : o.recovery_behaviors) {
+    p.Require(r != "wait" || o.wait_duration > 0.0,
+              "recovery_behaviors lists wait but wait_duration=" + Num(o.wait_duration) +
+                  ": set wait_duration > 0 (s) for it to wait at all");
+  }
   p.ThrowIfAny();
 }
 

@@ -1,6 +1,7 @@
 #include "minibot3d_navigation/move_base/navigation_executive.h"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <utility>
 
@@ -47,6 +48,7 @@ void NavigationExecutive::SetGoal(const Pose2& goal, double time) {
   recovery_index_ = 0;
   recovery_running_ = false;
   blocked_.clear();
+  plan_shut_ = false;
   local_planner_->Reset();
 }
 
@@ -60,6 +62,9 @@ constexpr double kTrailSpacing = 0.02;     // m between recorded trail poses
 constexpr double kTrailYawSpacing = 0.1;   // rad (turns on the spot are recorded too)
 constexpr size_t kTrailMaxPoses = 500;     // >= 10 m of trail at kTrailSpacing
 constexpr size_t kMaxBlocked = 32;
+// m kept, beyond the circumscribed radius, between the robot and what shut its way (the edge of
+// proxemics' intimate zone, Hall 1966).
+constexpr double kStandOffShut = 0.45;
 }  // namespace
 
 void NavigationExecutive::RecordTrail(const Pose2& p) {
@@ -161,8 +166,57 @@ bool NavigationExecutive::TryPlan(const RobotState& state, double time) {
     return true;
   } catch (const PlanningError& e) {
     last_error_ = e.what();
+    last_error_code_ = e.code();
     ++planning_retries_;
     if (e.code() == PlanningError::Code::kGoalOffMap) throw;
+    return false;
+  }
+}
+
+double NavigationExecutive::DistanceToShutPose(const RobotState& state) const {
+  const Costmap2D& g = *state.global_costmap;
+  const Pose2& r = state.global_pose;
+  size_t i = 0;
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < plan_.size(); ++k) {
+    const double d = std::hypot(plan_[k].x - r.x, plan_[k].y - r.y);
+    if (d < best) best = d, i = k;
+  }
+  double along = 0.0;
+  for (; i < plan_.size(); ++i) {
+    if (i > 0) along += std::hypot(plan_[i].x - plan_[i - 1].x, plan_[i].y - plan_[i - 1].y);
+    int mx, my;
+    if (!g.WorldToMap(plan_[i].x, plan_[i].y, &mx, &my)) continue;
+    const uint8_t c = g.cost(mx, my);
+    if (c >= kInscribedInflatedObstacle && c != kNoInformation) return along;
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+bool NavigationExecutive::PathExists(const RobotState& state) {
+  const Costmap2D* costmap = state.global_costmap;
+  if (open_way_cost_ < kInscribedInflatedObstacle) {
+    open_way_costmap_ = *costmap;
+    const double keep = open_way_keep_ + costmap->resolution();
+    uint8_t* data = open_way_costmap_.mutable_data();
+    for (int my = 0; my < costmap->size_y(); ++my) {
+      for (int mx = 0; mx < costmap->size_x(); ++mx) {
+        uint8_t& v = data[costmap->Index(mx, my)];
+        if (v < open_way_cost_ || v >= kLethalObstacle) continue;
+        double wx, wy;
+        costmap->MapToWorld(mx, my, &wx, &wy);
+        if (std::hypot(wx - state.global_pose.x, wy - state.global_pose.y) < keep ||
+            std::hypot(wx - goal_.x, wy - goal_.y) < keep) {
+          continue;
+        }
+        v = kLethalObstacle;
+      }
+    }
+    costmap = &open_way_costmap_;
+  }
+  try {
+    return !global_planner_->MakePlan(*costmap, state.global_pose, goal_).empty();
+  } catch (const PlanningError&) {
     return false;
   }
 }
@@ -180,10 +234,17 @@ CycleResult NavigationExecutive::EnterClearing(Trigger trigger, const RobotState
   trigger_ = trigger;
   if (trigger == Trigger::kControlling) RememberBlocked(state);
   recovery_pose_ = state.global_pose;
+  RobotState s = state;
+  s.control_failed = trigger == Trigger::kControlling;
+  s.no_path = trigger == Trigger::kPlanning && last_error_code_ == PlanningError::Code::kNoPath;
+  s.path_exists = [this, &s] { return PathExists(s); };
+  if (options_.recovery_behavior_enabled) {
+    while (recovery_index_ < recoveries_.size() && !recoveries_[recovery_index_]->Applies(s)) {
+      ++recovery_index_;
+    }
+  }
   if (options_.recovery_behavior_enabled && recovery_index_ < recoveries_.size()) {
     state_ = NavState::kClearing;
-    RobotState s = state;
-    s.control_failed = trigger == Trigger::kControlling;
     recoveries_[recovery_index_]->Start(s);
     recovery_running_ = true;
     CycleResult r;
@@ -226,6 +287,8 @@ CycleResult NavigationExecutive::Step(const RobotState& input, const Pose2& glob
   RobotState state = input;
   state.trail = &trail_;
   state.control_failed = trigger_ == Trigger::kControlling;
+  state.no_path = trigger_ == Trigger::kPlanning && last_error_code_ == PlanningError::Code::kNoPath;
+  state.path_exists = [this, &state] { return PathExists(state); };
   result.status = GoalStatus::kActive;
   const double t = state.time;
 
@@ -275,14 +338,18 @@ CycleResult NavigationExecutive::Step(const RobotState& input, const Pose2& glob
         return result;
       }
       result.new_plan = true;
+      plan_shut_ = false;
       state_ = NavState::kControlling;
     } else if (t >= next_plan_time_) {
       // Periodic replanning; on failure keep following the old plan until
       // planner_patience runs out.
       if (TryPlan(state, t)) {
         result.new_plan = true;
+        plan_shut_ = false;
       } else if (t - last_valid_plan_ > options_.planner_patience) {
         return EnterClearing(Trigger::kPlanning, state);
+      } else {
+        plan_shut_ = last_error_code_ == PlanningError::Code::kNoPath;
       }
     }
   } catch (const PlanningError& e) {
@@ -303,6 +370,14 @@ CycleResult NavigationExecutive::Step(const RobotState& input, const Pose2& glob
   if (options_.oscillation_timeout > 0.0 &&
       t - last_oscillation_reset_ > options_.oscillation_timeout) {
     return EnterClearing(Trigger::kOscillation, state);
+  }
+  if (options_.wait_duration > 0.0 && plan_shut_ &&
+      DistanceToShutPose(state) < open_way_keep_ + kStandOffShut) {
+    // The plan runs into what shut the way and no other exists: stand off it (planner_patience
+    // then starts the recoveries), rather than drive up to whoever stands there.
+    result.cmd = Twist2();
+    last_valid_control_ = t;
+    return result;
   }
   try {
     result.cmd = local_planner_->ComputeVelocity(state.local_pose, state.velocity, local_plan_,

@@ -59,6 +59,11 @@ struct CostmapOptions {
   // Laser readings of +inf mean "nothing within range_max": clear along the
   // whole beam instead of dropping it.
   bool inf_is_valid = false;
+  // Seconds after which an obstacle no observation has marked again is
+  // forgotten (not in costmap_2d; the spatio-temporal voxel layer's
+  // voxel_decay): a person who walked off where no ray reaches leaves no
+  // obstacle behind.  0 = never (costmap_2d).
+  double obstacle_decay_time = 0.0;
 
   // --- Inflation layer ---
   double inflation_radius = 0.55;

@@ -13,7 +13,17 @@
 //      a sensor off the grid clears nothing.
 //   2. marking: every hit closer than obstacle_range to the origin (strictly,
 //      as costmap_2d) that falls on the grid becomes lethal (254).
-//   3. the robot's padded footprint, filled, is set free (costmap_2d's
+//   3. with a decay time (obstacle_decay_time, not in costmap_2d; the
+//      spatio-temporal voxel layer's voxel_decay, Macenski et al. 2020), a
+//      lethal cell no observation has marked for that long returns to what it
+//      was before anything was seen there (unknown with track_unknown_space,
+//      else free): someone who walked off where no ray reaches (behind
+//      another, beyond raytrace_range) leaves no obstacle behind. Time is the
+//      newest observation's stamp, so nothing decays while no sensor reports.
+//      The marks wait in a queue, oldest first, keyed by their cell counted
+//      from where the grid started (a rolling window's shifts are whole
+//      cells), so a decay pass costs only the marks that expire.
+//   4. the robot's padded footprint, filled, is set free (costmap_2d's
 //      footprint_clearing_enabled): the robot is never its own obstacle.
 // All clearing happens before any marking, so a hit on one ray is not erased
 // by a neighbouring ray that passes through it.  Each observation is used by
@@ -29,7 +39,9 @@
 #define MINIBOT3D_NAVIGATION_COSTMAP_OBSTACLE_LAYER_H_
 
 #include <cstdint>
+#include <deque>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "minibot3d_navigation/costmap/layer.h"
@@ -44,6 +56,7 @@ struct Observation {
   std::vector<Point2> clear_endpoints;  // endpoints that only clear (no return)
   double obstacle_range = 2.5;  // 0: marks nothing (a clearing-only source)
   double raytrace_range = 3.0;  // 0: clears nothing (a marking-only source)
+  double stamp = 0.0;           // s, when the sensor saw it (the decay's clock)
 };
 
 // A planar laser scan as an Observation in the costmap's frame, converted as
@@ -70,7 +83,10 @@ Observation ObservationFromPoints(const std::vector<double>& xyz, const Point2& 
 
 class ObstacleLayer : public Layer {
  public:
-  explicit ObstacleLayer(bool track_unknown_space);
+  // decay_time: s after which a mark no observation renewed is forgotten
+  // (step 3 above); 0: never (costmap_2d). Throws std::invalid_argument for a
+  // negative or non-finite value.
+  explicit ObstacleLayer(bool track_unknown_space, double decay_time = 0.0);
 
   // Buffers an observation for the next UpdateBounds.  Throws
   // std::invalid_argument (nothing buffered) if the origin is not finite or a
@@ -103,6 +119,14 @@ class ObstacleLayer : public Layer {
   void RaytraceFreespace(const Observation& obs, Bounds* bounds);
   void ClearRay(int x0, int y0, int x1, int y1, unsigned int max_cells, bool include_end);
   void ClearFootprint(const Pose2& robot, Bounds* bounds);
+  void RememberMark(int mx, int my, double stamp);
+  void Decay(Bounds* bounds);
+  void ForgetMarks();
+
+  struct Mark {
+    int64_t x, y;  // cell, counted from where the grid started
+    double stamp;
+  };
 
   bool track_unknown_space_;
   Costmap2D grid_;
@@ -111,6 +135,11 @@ class ObstacleLayer : public Layer {
   bool extra_full_bounds_ = false;  // after Reset/Clear: request everything
   uint64_t skipped_points_ = 0;
   std::vector<std::pair<int, int>> scratch_cells_;
+  double decay_time_;
+  double newest_stamp_;
+  int64_t shift_x_ = 0, shift_y_ = 0;  // whole cells the grid has moved
+  std::deque<Mark> marks_;              // oldest first
+  std::unordered_map<uint64_t, double> last_marked_;  // cell -> newest stamp
 };
 
 }  // namespace nav

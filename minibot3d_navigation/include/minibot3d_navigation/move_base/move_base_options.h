@@ -31,9 +31,10 @@ struct MoveBaseOptions {
   // Recovery clearing keeps a square of this side centred on the robot.
   double conservative_reset_dist = 3.0;
   bool shutdown_costmaps = false;  // accepted, has no effect (documented)
-  // Names of the recovery behaviours, in order: "back_out",
+  // Names of the recovery behaviours, in order: "wait", "back_out",
   // "conservative_reset", "rotate_recovery", "aggressive_reset".  When empty,
-  // move_base's default list, preceded by back_out when back_out_distance > 0.
+  // move_base's default list, preceded by back_out when back_out_distance > 0
+  // and, before that, by wait when wait_duration > 0.
   std::vector<std::string> recovery_behaviors;
 
   // --- Not in ROS move_base: getting out of clutter ---
@@ -59,6 +60,13 @@ struct MoveBaseOptions {
   // restarts it after any valid command; with 0 the list is never restarted
   // within a goal).
   double recovery_reset_distance = 0.0;
+  // wait: when the planner finds no path the robot stands off what shut the
+  // way, then stands for up to this many seconds until a path to the goal
+  // exists again (someone standing in the only doorway steps out of it), then
+  // replans; 0 = neither (no wait in the default list).
+  // config/move_base_params.yaml sets 30; mapless navigation and exploration,
+  // whose maps are still being made, 0.
+  double wait_duration = 0.0;
 };
 
 // Throws std::invalid_argument listing every offending value.

@@ -25,6 +25,12 @@
 // forgetting them only if no plan exists without them; and it restarts the
 // recovery list once the robot has driven recovery_reset_distance from where
 // the last recovery began (move_base restarts it after any valid command).
+// With wait_duration > 0, when replanning finds no path (someone stands in the
+// only doorway), the old plan is followed only up to 0.45 m (proxemics'
+// intimate zone) plus the
+// circumscribed radius short of its first pose now inscribed or lethal, and
+// the wait recovery (recovery_behavior.h) asks PathExists whether the way has
+// opened, by the stricter test SetOpenWayTest gives.
 // Differences, on purpose: planning runs synchronously in the control cycle
 // (our planners take milliseconds, and a simulator at 10x real time would
 // otherwise see plans arrive at random points of sim time), and a goal off the
@@ -64,6 +70,19 @@ class NavigationExecutive {
   NavigationExecutive(const MoveBaseOptions& options, GlobalPlanner* global_planner,
                       LocalPlanner* local_planner, std::vector<RecoveryBehavior*> recoveries);
 
+  // Cells of this cost or more (up to lethal) count as closed when the wait
+  // recovery asks whether the way to the goal has opened: the node gives the
+  // inflated cost at the footprint's circumscribed radius, so a way counts as
+  // open only where the robot fits at any heading, not through a gap beside
+  // someone that only looks wide enough because the laser sees the front of
+  // them. Cells within keep_radius (m; the circumscribed radius) of the robot
+  // and of the goal are left as they are, so a robot standing close to a wall
+  // can still start. Default: 253, the planner's own test.
+  void SetOpenWayTest(uint8_t cost, double keep_radius) {
+    open_way_cost_ = cost;
+    open_way_keep_ = keep_radius;
+  }
+
   // A new goal in the global frame replaces any current one (preemption).
   void SetGoal(const Pose2& goal, double time);
   // Drops the goal; the next Step returns a zero command and kNone.
@@ -88,6 +107,13 @@ class NavigationExecutive {
   enum class Trigger { kPlanning, kControlling, kOscillation };
 
   bool TryPlan(const RobotState& state, double time);
+  // A path from the robot to the goal on the global costmap as it is, cells of
+  // open_way_cost or more closed (SetOpenWayTest; the plan is not kept): what
+  // the wait recovery asks.
+  bool PathExists(const RobotState& state);
+  // Distance (m) along the plan from the robot to the first pose of cost
+  // inscribed or more on the global costmap (infinity if none).
+  double DistanceToShutPose(const RobotState& state) const;
   void RecordTrail(const Pose2& local_pose);
   void RememberBlocked(const RobotState& state);
   // The global costmap with the blocked discs made lethal (except round the
@@ -106,6 +132,7 @@ class NavigationExecutive {
   Path plan_;
   Path local_plan_;
   std::string last_error_;
+  PlanningError::Code last_error_code_ = PlanningError::Code::kNoPath;
   double last_valid_plan_ = 0.0;
   double last_valid_control_ = 0.0;
   double last_oscillation_reset_ = 0.0;
@@ -117,7 +144,12 @@ class NavigationExecutive {
   std::vector<Pose2> trail_;
   std::vector<Point2> blocked_;
   Costmap2D planning_costmap_;
+  Costmap2D open_way_costmap_;
+  uint8_t open_way_cost_ = kInscribedInflatedObstacle;
+  double open_way_keep_ = 0.0;
   bool recovery_running_ = false;
+  // The last replanning found no path: the plan may run into what shut the way.
+  bool plan_shut_ = false;
   Trigger trigger_ = Trigger::kPlanning;
 };
 
