@@ -10,9 +10,19 @@
 #include <string>
 #include <vector>
 
+#include "minibot3d_navigation/move_base/back_out_recovery.h"
+#include "minibot3d_navigation/move_base/wait_recovery.h"
+
 namespace minibot3d_navigation {
 namespace nav {
 namespace {
+
+// A unicycle driven by `cmd` for dt seconds.
+void Drive(const Twist2& cmd, double dt, Pose2* p) {
+  p->x += cmd.vx * std::cos(p->yaw) * dt;
+  p->y += cmd.vx * std::sin(p->yaw) * dt;
+  p->yaw = NormalizeAngle(p->yaw + cmd.wz * dt);
+}
 
 class StraightPlanner : public GlobalPlanner {
  public:
@@ -85,11 +95,8 @@ struct Harness {
       r = exec.Step(state, Pose2());
       if (!r.message.empty()) messages.push_back(r.message);
       if (r.status != GoalStatus::kActive) return r;
-      Pose2& p = state.global_pose;
-      p.x += r.cmd.vx * std::cos(p.yaw) * dt;
-      p.y += r.cmd.vx * std::sin(p.yaw) * dt;
-      p.yaw = NormalizeAngle(p.yaw + r.cmd.wz * dt);
-      state.local_pose = p;
+      Drive(r.cmd, dt, &state.global_pose);
+      state.local_pose = state.global_pose;
     }
     return r;
   }
@@ -265,10 +272,7 @@ int RunRecovery(RecoveryBehavior* rec, RobotState* state, double dt = 0.05,
   int steps = 0;
   while (rec->Step(*state, &cmd) && steps < 2000) {
     if (max_vx != nullptr) *max_vx = std::max(*max_vx, cmd.vx);
-    Pose2& p = state->local_pose;
-    p.x += cmd.vx * std::cos(p.yaw) * dt;
-    p.y += cmd.vx * std::sin(p.yaw) * dt;
-    p.yaw = NormalizeAngle(p.yaw + cmd.wz * dt);
+    Drive(cmd, dt, &state->local_pose);
     state->time += dt;
     ++steps;
   }
@@ -325,12 +329,9 @@ TEST(BackOutRecovery, ReversesAlongTheTrailItDroveThrough) {
   const Pose2 start = state.local_pose;
   while (rec.Step(state, &cmd) && steps++ < 2000) {
     EXPECT_LE(cmd.vx, 0.0);
-    Pose2& p = state.local_pose;
-    p.x += cmd.vx * std::cos(p.yaw) * 0.05;
-    p.y += cmd.vx * std::sin(p.yaw) * 0.05;
-    p.yaw = NormalizeAngle(p.yaw + cmd.wz * 0.05);
+    Drive(cmd, 0.05, &state.local_pose);
     state.time += 0.05;
-    worst = std::max(worst, DistanceToTrail(trail, p));
+    worst = std::max(worst, DistanceToTrail(trail, state.local_pose));
   }
   EXPECT_LT(worst, 0.03);
   // It got `distance` away (to within the last target's tolerance).
@@ -668,7 +669,7 @@ TEST(WaitRecovery, BacksOffToTheClearanceFirst) {
   for (int i = 0; i < 200 && rec.Step(state, &cmd); ++i) {
     EXPECT_LE(cmd.vx, 0.0);
     if (cmd.vx < 0.0) backed_at = state.time;
-    state.local_pose.x += cmd.vx * 0.05;
+    Drive(cmd, 0.05, &state.local_pose);
     state.time += 0.05;
   }
   EXPECT_GE(rec.ClearanceAhead(costmap, state.local_pose, 0.45), 0.45);
@@ -725,19 +726,15 @@ struct DoorwayHarness {
       r = exec.Step(state, Pose2());
       if (!r.message.empty()) messages.push_back(r.message);
       if (r.status != GoalStatus::kActive) return r;
-      Pose2& p = state.global_pose;
-      p.x += r.cmd.vx * std::cos(p.yaw) * dt;
-      p.y += r.cmd.vx * std::sin(p.yaw) * dt;
-      p.yaw = NormalizeAngle(p.yaw + r.cmd.wz * dt);
-      state.local_pose = p;
-      closest_x = std::max(closest_x, p.x);
-      if (state.time < leaves) x_while_shut = std::max(x_while_shut, p.x);
+      Drive(r.cmd, dt, &state.global_pose);
+      state.local_pose = state.global_pose;
+      if (state.time < leaves) x_while_shut = std::max(x_while_shut, state.global_pose.x);
     }
     return r;
   }
   double shut = 1.0, leaves = 20.0;  // s
   bool stood = false, left = false;
-  double closest_x = -1e9, x_while_shut = -1e9;
+  double x_while_shut = -1e9;
   std::vector<std::string> messages;
   Costmap2D costmap;
   LinePlanner planner;
