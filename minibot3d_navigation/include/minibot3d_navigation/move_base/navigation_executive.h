@@ -27,10 +27,9 @@
 // the last recovery began (move_base restarts it after any valid command).
 // With wait_duration > 0, when replanning finds no path (someone stands in the
 // only doorway), the old plan is followed only up to 0.45 m (proxemics'
-// intimate zone) plus the
-// circumscribed radius short of its first pose now inscribed or lethal, and
-// the wait recovery (recovery_behavior.h) asks PathExists whether the way has
-// opened, by the stricter test SetOpenWayTest gives.
+// intimate zone) plus the circumscribed radius short of its first pose now
+// inscribed or lethal, and the wait recovery (wait_recovery.h) asks PathExists
+// whether the way has opened, by the stricter test SetOpenWayTest gives.
 // Differences, on purpose: planning runs synchronously in the control cycle
 // (our planners take milliseconds, and a simulator at 10x real time would
 // otherwise see plans arrive at random points of sim time), and a goal off the
