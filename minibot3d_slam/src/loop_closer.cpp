@@ -130,16 +130,30 @@ void LoopCloser::RenderMap(const std::vector<Pose2>& trajectory, Grid* grid) con
 }
 
 LoopCloser::RenderedSubmap* LoopCloser::Submap(int index, const std::vector<Pose2>& trajectory) {
+  const int first = index * options_.loopSubmapScans;
+  const int last = std::min(first + options_.loopSubmapScans, size());
+  const auto at_current_poses = [&](const RenderedSubmap& r) {
+    for (int i = first; i < last; ++i) {
+      const Pose2& a = r.poses[static_cast<std::size_t>(i - first)];
+      if (a.x != trajectory[i].x || a.y != trajectory[i].y || a.yaw != trajectory[i].yaw) return false;
+    }
+    return true;
+  };
   for (auto it = cache_.begin(); it != cache_.end(); ++it) {
     if ((*it)->index != index) continue;
+    if (!at_current_poses(**it)) {  // rendered from another history: render again
+      cache_.erase(it);
+      break;
+    }
     cache_.splice(cache_.begin(), cache_, it);
     return cache_.front().get();
   }
   auto submap = std::make_unique<RenderedSubmap>(options_.delta);
   submap->index = index;
-  const int first = index * options_.loopSubmapScans;
-  const int last = std::min(first + options_.loopSubmapScans, size());
-  for (int i = first; i < last; ++i) Render(scans_[i], trajectory[i], &submap->grid);
+  for (int i = first; i < last; ++i) {
+    Render(scans_[i], trajectory[i], &submap->grid);
+    submap->poses.push_back(trajectory[i]);
+  }
   int ix0, iy0, ix1, iy1;
   if (!submap->grid.AllocatedBounds(&ix0, &iy0, &ix1, &iy1)) return nullptr;
   GridMap map;
@@ -461,7 +475,7 @@ std::vector<Pose2> LoopCloser::Optimize(const std::vector<Pose2>& trajectory) {
   big_pending_ = false;
   last_optimized_ = size();
   ++optimizations_;
-  cache_.clear();  // submaps were rendered at the old poses
+  cache_.clear();  // every node moved: no rendering can be used again
   return result.poses;
 }
 

@@ -8,7 +8,10 @@
 // indices into a table of float directions shared by the scans of one laser geometry). Consecutive nodes are joined by edges equal to the best particle's relative poses
 // (scan-matched odometry). Every `loopSubmapScans` consecutive nodes form a submap; a submap is not
 // stored as a grid (a building-sized log has hundreds) but rendered on demand from its scans at
-// the current poses, with a few recent ones cached.
+// the current poses, with a few recent ones cached. A cached rendering is used only while the
+// trajectory still holds the poses it was rendered at: the best particle changes from scan to
+// scan, and with it the history (by up to decimetres on the real logs), and a match made on a
+// rendering of another history would be a constraint in the wrong frame.
 //
 // Detection, after each processed scan: the submaps that ended at least `loopMinTravel` metres of
 // path ago (older parts of the map — recent ones are the RBPF's own business) and have a node
@@ -179,6 +182,7 @@ class LoopCloser {
   };
   struct RenderedSubmap {
     int index = -1;
+    std::vector<Pose2> poses;  // of the submap's nodes, as rendered
     Grid grid;
     std::unique_ptr<CorrelativeSearch> search;
     explicit RenderedSubmap(double resolution) : grid(resolution) {}

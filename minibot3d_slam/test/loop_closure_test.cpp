@@ -314,5 +314,47 @@ TEST(LoopClosureTest, ALookAlikeRoomIsNotALoopClosure) {
   EXPECT_EQ(right.second, 0);
 }
 
+// The best particle's history can change between two searches in one submap (another particle
+// takes the lead). A scan taken where the first room was mapped, searched in that room's submap
+// twice: first while the best history has the room's nodes 0.2 m off (so the submap is rendered
+// there, and the match agrees with that history), then once the best history has them right. The
+// second constraint must be measured against the submap as the current history places it; matched
+// on the first rendering it would be 0.2 m off.
+TEST(LoopClosureTest, ASubmapIsMatchedAsTheCurrentHistoryPlacesIt) {
+  const LookAlikeRooms rooms;
+  GmappingOptions o;
+  o.maxUrange = 11.5;
+  o.maxRange = 12.0;
+  const ScanMatcher matcher(o);
+  LoopCloser closer(o, &matcher);
+  std::vector<Pose2> right, shifted;  // two histories of the same nodes
+  const auto add = [&](const Pose2& at, const Pose2& off, const std::vector<Pose2>& history) {
+    closer.AddNode(matcher.Prepare(rooms.world.Scan(at, 360, 2.0 * M_PI * 359.0 / 360.0, 12.0)));
+    right.push_back(at);
+    shifted.push_back(Pose2{at.x + off.x, at.y + off.y, at.yaw});
+    closer.Detect(history);
+  };
+  const Pose2 none{0.0, 0.0, 0.0}, off{0.2, 0.0, 0.0};
+  for (int i = 0; i < o.loopSubmapScans; ++i) add(Pose2{2.0, 3.6, NormalizeAngle(0.3 * i)}, off, right);
+  const auto far_away = [&]() {
+    const Pose2 p{100.0 + closer.size(), 0.0, 0.0};
+    add(p, none, right);
+  };
+  while (closer.size() % LoopCloser::kSearchEvery != 0 || closer.size() < 2 * o.loopSubmapScans) far_away();
+  const Pose2 scan_at{2.0, 3.6, M_PI / 2};
+  add(scan_at, none, shifted);  // searched while the room's nodes are 0.2 m off in the best history
+  ASSERT_EQ(closer.constraints().size(), 1u);
+  while (closer.size() % LoopCloser::kSearchEvery != 0) far_away();
+  // The same place again, the best history now the right one.
+  add(scan_at, none, right);
+  ASSERT_EQ(closer.constraints().size(), 2u);
+  const LoopConstraint& c = closer.constraints().back();
+  const Pose2 expected = Between(right[static_cast<std::size_t>(c.from)], right[static_cast<std::size_t>(c.to)]);
+  const double error = std::hypot(c.measurement.x - expected.x, c.measurement.y - expected.y);
+  std::printf("second constraint off by %.3f m (the first history's nodes were 0.2 m off)\n", error);
+  EXPECT_LT(error, 0.05);
+  EXPECT_LT(std::fabs(NormalizeAngle(c.measurement.yaw - expected.yaw)), 0.01);
+}
+
 }  // namespace
 }  // namespace minibot3d_slam
