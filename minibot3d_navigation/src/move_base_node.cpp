@@ -24,22 +24,21 @@
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
-
-#include "minibot3d_lockstep/participant.h"
-#include "minibot3d_lockstep/transform_listener.h"
 #include <std_srvs/Empty.h>
 #include <tf2/utils.h>
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 #include <tf2_ros/buffer.h>
 
 #include "costmap_ros.h"
+#include "minibot3d_lockstep/participant.h"
+#include "minibot3d_lockstep/transform_listener.h"
 #include "minibot3d_navigation/costmap/costmap_options.h"
 #include "minibot3d_navigation/dwa/dwa_options.h"
 #include "minibot3d_navigation/dwa/dwa_planner.h"
-#include "minibot3d_navigation/move_base/move_base_options.h"
-#include "minibot3d_navigation/move_base/navigation_executive.h"
 #include "minibot3d_navigation/move_base/back_out_recovery.h"
 #include "minibot3d_navigation/move_base/clear_costmap_recovery.h"
+#include "minibot3d_navigation/move_base/move_base_options.h"
+#include "minibot3d_navigation/move_base/navigation_executive.h"
 #include "minibot3d_navigation/move_base/recovery_behavior.h"
 #include "minibot3d_navigation/move_base/rotate_recovery.h"
 #include "minibot3d_navigation/move_base/wait_recovery.h"

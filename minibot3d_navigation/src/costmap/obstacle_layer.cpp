@@ -348,8 +348,7 @@ void ObstacleLayer::ClearOutsideSquare(double cx, double cy, double side, bool i
 void ObstacleLayer::Reset() {
   if (grid_.size_x() > 0) grid_.ResetAll();
   pending_.clear();
-  marks_.clear();
-  last_marked_.clear();
+  ForgetMarks();
   extra_full_bounds_ = true;
 }
 

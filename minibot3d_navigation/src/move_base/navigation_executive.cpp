@@ -230,14 +230,18 @@ CycleResult NavigationExecutive::Abort(const std::string& message) {
   return r;
 }
 
+void NavigationExecutive::DescribeFailure(Trigger trigger, RobotState* state) {
+  state->control_failed = trigger == Trigger::kControlling;
+  state->no_path = trigger == Trigger::kPlanning && last_error_code_ == PlanningError::Code::kNoPath;
+  state->path_exists = [this, state] { return PathExists(*state); };
+}
+
 CycleResult NavigationExecutive::EnterClearing(Trigger trigger, const RobotState& state) {
   trigger_ = trigger;
   if (trigger == Trigger::kControlling) RememberBlocked(state);
   recovery_pose_ = state.global_pose;
   RobotState s = state;
-  s.control_failed = trigger == Trigger::kControlling;
-  s.no_path = trigger == Trigger::kPlanning && last_error_code_ == PlanningError::Code::kNoPath;
-  s.path_exists = [this, &s] { return PathExists(s); };
+  DescribeFailure(trigger, &s);
   if (options_.recovery_behavior_enabled) {
     while (recovery_index_ < recoveries_.size() && !recoveries_[recovery_index_]->Applies(s)) {
       ++recovery_index_;
@@ -286,9 +290,7 @@ CycleResult NavigationExecutive::Step(const RobotState& input, const Pose2& glob
   if (state_ == NavState::kIdle) return result;
   RobotState state = input;
   state.trail = &trail_;
-  state.control_failed = trigger_ == Trigger::kControlling;
-  state.no_path = trigger_ == Trigger::kPlanning && last_error_code_ == PlanningError::Code::kNoPath;
-  state.path_exists = [this, &state] { return PathExists(state); };
+  DescribeFailure(trigger_, &state);
   result.status = GoalStatus::kActive;
   const double t = state.time;
 

@@ -118,6 +118,9 @@ class NavigationExecutive {
   // The global costmap with the blocked discs made lethal (except round the
   // robot and the goal), in planning_costmap_.
   const Costmap2D& PlanningCostmap(const RobotState& state);
+  // What the recoveries are told of the failure `trigger` (control_failed,
+  // no_path) and how they ask for a path (path_exists, which refers to *state).
+  void DescribeFailure(Trigger trigger, RobotState* state);
   CycleResult EnterClearing(Trigger trigger, const RobotState& state);
   CycleResult Abort(const std::string& message);
 
