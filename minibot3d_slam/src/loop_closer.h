@@ -133,7 +133,7 @@ class LoopCloser {
   // with the search window grown past loopSearchWindow (see Detect).
   static constexpr double kSameSubmapApart = 6.0;  // m
   // An optimisation is applied to the filter only when it moves the newest node by this much.
-  static constexpr double kApplyShift = 0.25, kApplyTurn = 0.035;  // m, rad
+  static constexpr double kApplyShift = 0.10, kApplyTurn = 0.0175;  // m, rad (1°)
   // Edge standard deviations: consecutive nodes (scan-matched) and loop closures.
   static constexpr double kSequentialSigmaXy = 0.02, kSequentialSigmaTheta = 0.005;
   static constexpr double kLoopSigmaXy = 0.03, kLoopSigmaTheta = 0.01;

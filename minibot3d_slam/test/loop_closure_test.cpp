@@ -167,16 +167,30 @@ TEST(LoopClosureTest, DriftingOdometryOnALoopIsCorrectedByClosingIt) {
   EXPECT_GT(closed.closures, 0);
   // Dead reckoning: metres off at the end, well beyond a cell.
   EXPECT_GT(EndError(open), 1.0) << "open loop end error " << EndError(open);
-  // Closed: the blind front-end drifts on after each applied correction, and a correction is
-  // applied only when it moves the newest node by kApplyShift or turns it by kApplyTurn
-  // (loop_closer.h), so that, plus the drift since, bounds the error — a sixth of the open loop's.
-  EXPECT_LT(EndError(closed), LoopCloser::kApplyShift + 0.05) << "closed loop end error " << EndError(closed);
-  EXPECT_LT(closed.worst_node_error, LoopCloser::kApplyShift + 0.1)
+  // Closed: the blind front-end drifts on after each applied correction, so what is left at the
+  // end is its drift since the last one: under a sixth of the open loop's error.
+  EXPECT_LT(EndError(closed), EndError(open) / 6.0) << "closed loop end error " << EndError(closed);
+  EXPECT_LT(closed.worst_node_error, open.worst_node_error / 5.0)
       << "worst node " << closed.worst_node_error << " (open " << open.worst_node_error << ")";
-  // The heading likewise, with the drift of the scans between optimisations on top.
-  EXPECT_LT(std::fabs(NormalizeAngle(closed.end_estimate.yaw - closed.end_truth.yaw)),
-            2.0 * LoopCloser::kApplyTurn);
-  EXPECT_GT(std::fabs(NormalizeAngle(open.end_estimate.yaw - open.end_truth.yaw)), 0.15);
+  // The heading likewise: under a quarter of the open loop's.
+  const double open_turn = std::fabs(NormalizeAngle(open.end_estimate.yaw - open.end_truth.yaw));
+  EXPECT_GT(open_turn, 0.15);
+  EXPECT_LT(std::fabs(NormalizeAngle(closed.end_estimate.yaw - closed.end_truth.yaw)), open_turn / 4.0);
+}
+
+// Slow drift: 0.0005 rad/m brings the blind front-end back round the ring about 0.2 m off, a few
+// cells, as a long exploration's map drifts between its loops. A correction of that size is
+// applied too (it is past loop_closer.h's kApplyShift), so the corrected trajectory stays within
+// 0.1 m (a map is judged by its walls within 0.1 m of the truth).
+TEST(LoopClosureTest, ADriftOfAFewCellsIsCorrectedWhenTheLoopCloses) {
+  const DriveResult open = Drive(0, CorridorRing(), 14.0, 0.0005);
+  const DriveResult closed = Drive(1, CorridorRing(), 14.0, 0.0005);
+  std::printf("end error: open %.3f m, closed %.3f m; worst node: open %.3f m, closed %.3f m; %d closures\n",
+              EndError(open), EndError(closed), open.worst_node_error, closed.worst_node_error, closed.closures);
+  EXPECT_GT(open.worst_node_error, 0.15);
+  EXPECT_GT(closed.closures, 0);
+  EXPECT_LT(closed.worst_node_error, 0.1) << "worst node (open " << open.worst_node_error << ")";
+  EXPECT_LT(EndError(closed), 0.1) << "closed loop end error";
 }
 
 // A building-sized loop: round an 80 m ring (312 m of corridor) the blind front-end comes back
