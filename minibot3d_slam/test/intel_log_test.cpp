@@ -29,7 +29,7 @@ const std::string kIntelRelations = kIntelDir + "intel.relations";
 constexpr std::size_t kScans = 2000;
 constexpr int kRelationsInScans = 246;
 // Mean relation errors the filter must stay under. On the whole log make bench measures
-// 0.0175 m and 0.287° over five seeds (docs/benchmarks.md).
+// 0.0169 m and 0.284° over five seeds (docs/benchmarks.md).
 constexpr double kMaxTranslation = 0.03;         // m
 constexpr double kMaxRotation = 0.5 * M_PI / 180;  // rad
 
