@@ -1,7 +1,10 @@
-"""tools/demo_report.py's figures worked out by hand: the driven path's length and each goal's time
-against that length at max_vel_x."""
+"""tools/demo_report.py's figures worked out by hand: the driven path's length, each goal's time
+against that length at max_vel_x, and which of the saved map's walls lie near a true one."""
+import math
 import os
 import sys
+
+import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, 'tools'))
@@ -56,3 +59,21 @@ def test_reach_clearance_is_the_robots_inscribed_radius_when_larger(tmp_path):
     assert abs(demo_report.reach_clearance(d) - 0.22) < 1e-12
     write_set(tmp_path, costmap_common_params='robot_radius: 0.3\n')
     assert demo_report.reach_clearance(d) == 0.3
+
+
+def test_wall_errors_moves_the_slam_map_into_the_world_frame_and_marks_walls_off_by_more_than_the_tolerance():
+    # The true world: one wall along x = 2.0-2.1 m (column 20 of a 0.1 m grid at the origin).
+    gocc = np.zeros((40, 40), dtype=bool)
+    gocc[:, 20] = True
+    # The SLAM map frame is the world moved to the spawn pose (1, 0, 90 deg): the map's -y axis
+    # points along the world's x. Two occupied cells in column 5 (map x = 0.5 m): row 9 (map
+    # y = -1.05 m, world (2.05, 0.5): on the wall) and row 5 (map y = -1.45 m, world (2.45, 0.5):
+    # 0.35 m beside it).
+    occ = np.zeros((30, 10), dtype=bool)
+    occ[9, 5] = True
+    occ[5, 5] = True
+    walls, right = demo_report.wall_errors(occ, 0.1, (-0.05, -2.0), gocc, 0.1, (0.0, 0.0),
+                                           (1.0, 0.0, math.pi / 2))
+    order = np.argsort(walls[:, 0])
+    assert np.allclose(walls[order], [[2.05, 0.5], [2.45, 0.5]])
+    assert right[order].tolist() == [True, False]

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""`make demo`'s summary: the table on the terminal and out/demo.png (the saved map with the
-exploration path and the navigation paths drawn on it).
+"""`make demo`'s summary: the table on the terminal, out/demo.png (the saved map with the
+exploration path and the navigation paths drawn on it) and out/demo_map_accuracy.png (the saved
+map's walls on the true ones, those more than 0.1 m off in red).
 
   demo_report.py --out DIR --truth-map GT.yaml --spawn X,Y,YAW [--config-dir CONFIG]
   demo_report.py --reachable-area --out DIR --truth-map GT.yaml --spawn X,Y,YAW [--config-dir CONFIG]
@@ -32,6 +33,7 @@ from minibot3d_map_io import load_map
 HERE = os.path.dirname(os.path.abspath(__file__))
 MIN_COVERAGE = 0.97  # make demo's bar: exploration maps >= 97 % of the reachable free area
 REACH_CLEARANCE = 0.15  # m from walls for a free cell to count as reachable, at least
+ACCURACY_TOLERANCE = 0.1  # m: an occupied cell this near a true wall is right
 
 
 def route_driver():
@@ -95,6 +97,46 @@ def coverage(reach, gres, gorigin, known, res, origin, spawn):
     hit = np.zeros(len(xs), dtype=bool)
     hit[inside] = known[my[inside], mx[inside]]
     return float(hit.mean())
+
+
+def wall_errors(occ, res, origin, gocc, gres, gorigin, spawn, tolerance=ACCURACY_TOLERANCE):
+    """The SLAM map's occupied cells in the world frame (an N x 2 array of cell centres) and, for
+    each, whether a ground-truth occupied cell lies within `tolerance` metres."""
+    near = route_driver().inflate(gocc, int(round(tolerance / gres)))
+    ys, xs = np.nonzero(occ)
+    world = np.array([map_to_world(spawn, origin[0] + (x + 0.5) * res, origin[1] + (y + 0.5) * res)
+                      for y, x in zip(ys, xs)]).reshape(-1, 2)
+    gx = np.floor((world[:, 0] - gorigin[0]) / gres).astype(int)
+    gy = np.floor((world[:, 1] - gorigin[1]) / gres).astype(int)
+    inside = (gx >= 0) & (gy >= 0) & (gx < near.shape[1]) & (gy < near.shape[0])
+    right = np.zeros(len(world), dtype=bool)
+    right[inside] = near[gy[inside], gx[inside]]
+    return world, right
+
+
+def draw_wall_errors(gocc, gres, gorigin, walls, right, png):
+    """The true walls (grey) with the SLAM map's occupied cells on them: green within
+    ACCURACY_TOLERANCE of a true wall, red farther. Written atomically."""
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    h, w = gocc.shape
+    fig, ax = plt.subplots(figsize=(8, 7))
+    ax.imshow(np.where(gocc, 0.6, 1.0), cmap='gray', origin='lower', vmin=0, vmax=1,
+              extent=(gorigin[0], gorigin[0] + w * gres, gorigin[1], gorigin[1] + h * gres))
+    for mask, colour, label in ((right, 'tab:green', 'within %.1f m of a true wall' % ACCURACY_TOLERANCE),
+                                (~right, 'tab:red', 'farther')):
+        if mask.any():
+            ax.plot(walls[mask, 0], walls[mask, 1], 's', ms=1.0, color=colour, mec='none', label=label)
+    ax.set_aspect('equal')
+    ax.set_xlabel('x (m, world)')
+    ax.set_ylabel('y (m, world)')
+    ax.set_title('make demo: map accuracy %.1f %% (true walls grey)' % (
+        100.0 * right.sum() / max(len(walls), 1)))
+    ax.legend(loc='upper center', bbox_to_anchor=(0.5, -0.08), ncol=2, markerscale=6)
+    fig.savefig(png + '.tmp.png', dpi=110, bbox_inches='tight')
+    plt.close(fig)
+    os.replace(png + '.tmp.png', png)
 
 
 def load_yaml(path):
@@ -203,20 +245,13 @@ def main():
             100.0 * covered, 100.0 * MIN_COVERAGE))
 
     # Map accuracy: SLAM occupied cells (world frame) near a ground-truth occupied cell.
-    near = route_driver().inflate(gocc, int(round(0.1 / gres)))
-    ys, xs = np.nonzero(occ)
-    good = 0
-    for y, x in zip(ys, xs):
-        wx, wy = map_to_world(spawn, origin[0] + (x + 0.5) * res, origin[1] + (y + 0.5) * res)
-        gx, gy = int((wx - gorigin[0]) / gres), int((wy - gorigin[1]) / gres)
-        if 0 <= gy < near.shape[0] and 0 <= gx < near.shape[1] and near[gy, gx]:
-            good += 1
-    accuracy = good / max(len(xs), 1)
+    walls, right = wall_errors(occ, res, origin, gocc, gres, gorigin, spawn)
+    accuracy = right.sum() / max(len(walls), 1)
 
     rows = [('explored', '%.1f %% of the %.1f m^2 reachable free area mapped (%.1f m^2 known '
              'free)' % (100.0 * covered, world_free, explored)),
-            ('map accuracy', '%.1f %% of %d occupied cells within 0.1 m of a true wall' % (
-                100.0 * accuracy, len(xs))),
+            ('map accuracy', '%.1f %% of %d occupied cells within %.1f m of a true wall' % (
+                100.0 * accuracy, len(walls), ACCURACY_TOLERANCE)),
             ('exploration time', '%.0f s sim, %.0f s wall (%.1fx real time)' % (
                 ex['sim_s'], ex['wall_s'], ex['sim_s'] / max(ex['wall_s'], 1e-9))),
             ('collisions while exploring', str(ex['collisions']))]
@@ -286,6 +321,9 @@ def main():
     fig.savefig(png + '.tmp.png', dpi=110, bbox_inches='tight')
     os.replace(png + '.tmp.png', png)
     print('map with paths: %s' % png)
+    png = os.path.join(args.out, 'demo_map_accuracy.png')
+    draw_wall_errors(gocc, gres, gorigin, walls, right, png)
+    print('map with the true walls: %s' % png)
     if failures:
         print('demo: FAILED: %s' % ', '.join(failures), file=sys.stderr)
         return 1
