@@ -104,8 +104,7 @@ def wall_errors(occ, res, origin, gocc, gres, gorigin, spawn, tolerance=ACCURACY
     each, whether a ground-truth occupied cell lies within `tolerance` metres."""
     near = route_driver().inflate(gocc, int(round(tolerance / gres)))
     ys, xs = np.nonzero(occ)
-    world = np.array([map_to_world(spawn, origin[0] + (x + 0.5) * res, origin[1] + (y + 0.5) * res)
-                      for y, x in zip(ys, xs)]).reshape(-1, 2)
+    world = np.column_stack(map_to_world(spawn, origin[0] + (xs + 0.5) * res, origin[1] + (ys + 0.5) * res))
     gx = np.floor((world[:, 0] - gorigin[0]) / gres).astype(int)
     gy = np.floor((world[:, 1] - gorigin[1]) / gres).astype(int)
     inside = (gx >= 0) & (gy >= 0) & (gx < near.shape[1]) & (gy < near.shape[0])
