@@ -227,4 +227,30 @@ ConsistencyReport EvaluateConsistency(const std::vector<PlacedScan>& scans,
   return report;
 }
 
+namespace {
+
+std::vector<long long> RangesInCm(const LaserScan& scan) {
+  std::vector<long long> key;
+  key.reserve(scan.ranges.size());
+  for (const double r : scan.ranges) {
+    key.push_back(std::isfinite(r) ? std::llround(r * 100.0) : std::numeric_limits<long long>::min());
+  }
+  return key;
+}
+
+}  // namespace
+
+ReferenceScans::ReferenceScans(const std::vector<LaserScan>& reference)
+    : size_(static_cast<int>(reference.size())) {
+  for (const LaserScan& scan : reference) ++left_[RangesInCm(scan)];
+}
+
+bool ReferenceScans::Take(const LaserScan& scan) {
+  const auto it = left_.find(RangesInCm(scan));
+  if (it == left_.end() || it->second == 0) return false;
+  --it->second;
+  ++taken_;
+  return true;
+}
+
 }  // namespace minibot3d_slam

@@ -1,14 +1,17 @@
 // map_consistency: how well a trajectory's scans of a CARMEN log agree where the robot came back
 // (map_consistency.h), for logs without relations.
 //
-//   map_consistency LOG [TRAJECTORY] [--param NAME=VALUE ...] [--worst N]
+//   map_consistency LOG [TRAJECTORY] [--scans-of REFERENCE_LOG] [--param NAME=VALUE ...] [--worst N]
 //
 // With TRAJECTORY ("timestamp x y theta", what slam_offline writes), each reading of LOG is placed
 // at the trajectory's pose of the same timestamp (within 1e-3 s; readings without one are left
 // out and counted). Without it, at the log's own poses: raw odometry for a raw log, the corrected
-// poses for a corrected one (e.g. GMapping's .gfs logs). Prints one line:
+// poses for a corrected one (e.g. GMapping's .gfs logs). With --scans-of, only the readings that
+// REFERENCE_LOG also holds (the same ranges) are placed, so that a trajectory and a reference that
+// kept only some of the log's scans are scored on the same ones. Prints one line:
 //   "consistency conflict_pct P scans_inconsistent K of J agreed A conflicts C not_revisited U
 //    scans N checked M placed Q of R"
+// (with --scans-of, followed by "reference_scans_found F of G"),
 // then the N (default 5) most inconsistent scans by time. Exit codes: 0 evaluated, 1 a file is
 // bad or no reading could be placed, 2 bad arguments.
 #include <algorithm>
@@ -30,11 +33,14 @@ using minibot3d_slam::ConsistencyOptions;
 using minibot3d_slam::PlacedScan;
 
 constexpr char kUsage[] =
-    "Usage: map_consistency LOG [TRAJECTORY] [--param NAME=VALUE ...] [--worst N]\n"
+    "Usage: map_consistency LOG [TRAJECTORY] [--scans-of REFERENCE_LOG] [--param NAME=VALUE ...]\n"
+    "                       [--worst N]\n"
     "  LOG:        CARMEN log (FLASER / ROBOTLASER1).\n"
     "  TRAJECTORY: 'timestamp x y theta' per line (e.g. slam_offline's trajectory.txt); each\n"
     "              reading is placed at the pose with its timestamp (within 1e-3 s). Without it\n"
     "              the log's own poses are used.\n"
+    "  --scans-of  place only the readings REFERENCE_LOG also holds (the same ranges), e.g. the\n"
+    "              scans GMapping processed, kept in its corrected .gfs log\n"
     "  --param     resolution, max_range, tolerance, separation, every_distance, every_angle,\n"
     "              min_scan_endpoints, scan_conflict_fraction (docs/parameters/map_consistency.md)\n"
     "  --worst N   list the N most inconsistent scans (default 5)\n";
@@ -50,6 +56,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> files;
   ConsistencyOptions options;
   int worst = 5;
+  std::string reference_log;
   try {
     for (int i = 1; i < argc; ++i) {
       const std::string arg = argv[i];
@@ -67,6 +74,9 @@ int main(int argc, char** argv) {
           return Usage(std::string("--worst expects a count >= 0, got '") + argv[i] + "'");
         }
         worst = static_cast<int>(n);
+      } else if (arg == "--scans-of") {
+        if (i + 1 >= argc) return Usage("--scans-of expects a log");
+        reference_log = argv[++i];
       } else if (arg == "-h" || arg == "--help") {
         std::fputs(kUsage, stdout);
         return 0;
@@ -85,12 +95,25 @@ int main(int argc, char** argv) {
   try {
     std::vector<minibot3d_slam::StampedPose> trajectory;
     if (files.size() == 2) trajectory = minibot3d_slam::ReadTrajectory(files[1]);
+    std::unique_ptr<minibot3d_slam::ReferenceScans> reference;
+    minibot3d_slam::LogScan reading;
+    if (!reference_log.empty()) {
+      std::unique_ptr<minibot3d_slam::LogReader> ref = minibot3d_slam::OpenCarmenLog(reference_log);
+      std::vector<minibot3d_slam::LaserScan> ref_scans;
+      while (ref->Next(&reading)) ref_scans.push_back(std::move(reading.scan));
+      if (ref_scans.empty()) {
+        std::fprintf(stderr, "map_consistency: the reference log %s holds no laser reading\n",
+                     reference_log.c_str());
+        return 1;
+      }
+      reference = std::make_unique<minibot3d_slam::ReferenceScans>(ref_scans);
+    }
     std::unique_ptr<minibot3d_slam::LogReader> log = minibot3d_slam::OpenCarmenLog(files[0]);
     std::vector<PlacedScan> scans;
-    minibot3d_slam::LogScan reading;
     int readings = 0;
     while (log->Next(&reading)) {
       ++readings;
+      if (reference && !reference->Take(reading.scan)) continue;
       PlacedScan ps;
       ps.time = reading.timestamp;
       if (trajectory.empty()) {
@@ -106,16 +129,23 @@ int main(int argc, char** argv) {
       scans.push_back(std::move(ps));
     }
     if (scans.empty()) {
-      std::fprintf(stderr, "map_consistency: none of the %d readings of %s has a pose in %s\n",
-                   readings, files[0].c_str(), files.size() == 2 ? files[1].c_str() : "the log");
+      if (reference && reference->taken() == 0) {
+        std::fprintf(stderr, "map_consistency: none of the %d readings of %s is in %s (not a log of the same run?)\n",
+                     readings, files[0].c_str(), reference_log.c_str());
+      } else {
+        std::fprintf(stderr, "map_consistency: none of the %d readings of %s has a pose in %s\n",
+                     readings, files[0].c_str(), files.size() == 2 ? files[1].c_str() : "the log");
+      }
       return 1;
     }
     const minibot3d_slam::ConsistencyReport r = minibot3d_slam::EvaluateConsistency(scans, options);
     std::printf(
         "consistency conflict_pct %.2f scans_inconsistent %zu of %d agreed %lld conflicts %lld "
-        "not_revisited %lld scans %d checked %d placed %zu of %d\n",
+        "not_revisited %lld scans %d checked %d placed %zu of %d",
         100.0 * r.conflict_fraction, r.inconsistent.size(), r.scans_judged, r.agreed, r.conflicts,
         r.not_revisited, r.scans, r.scans_checked, scans.size(), readings);
+    if (reference) std::printf(" reference_scans_found %d of %d", reference->taken(), reference->size());
+    std::printf("\n");
     for (int i = 0; i < worst && i < static_cast<int>(r.inconsistent.size()); ++i) {
       const auto& s = r.inconsistent[i];
       std::printf("inconsistent scan at time %.6f: %d of %d endpoints where another pass saw free space\n",

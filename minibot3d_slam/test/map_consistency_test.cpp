@@ -146,5 +146,26 @@ TEST(MapConsistency, OptionsAreSetByName) {
   EXPECT_THROW(ConsistencyOptionTable().Set("tolerance", "wide", &o), std::invalid_argument);
 }
 
+TEST(ReferenceScans, TakesTheReadingsAReferenceLogHoldsEachOnce) {
+  const auto scan = [](std::vector<double> ranges) {
+    LaserScan s;
+    s.ranges = std::move(ranges);
+    return s;
+  };
+  const double inf = std::numeric_limits<double>::infinity();
+  // A reference that kept two of a run's readings, one of them written twice (the robot stood).
+  ReferenceScans reference({scan({1.25, 2.5, inf}), scan({3.0, 3.0, 3.0}), scan({3.0, 3.0, 3.0})});
+  EXPECT_EQ(reference.size(), 3);
+  EXPECT_FALSE(reference.Take(scan({1.25, 2.5, 4.0})));    // a no-return is not a reading
+  EXPECT_FALSE(reference.Take(scan({1.25, 2.53, inf})));   // 3 cm off: another reading
+  EXPECT_FALSE(reference.Take(scan({1.25, 2.5})));         // fewer beams
+  EXPECT_TRUE(reference.Take(scan({1.2504, 2.4998, inf})));  // the same to the log's precision
+  EXPECT_FALSE(reference.Take(scan({1.25, 2.5, inf})));    // taken already
+  EXPECT_TRUE(reference.Take(scan({3.0, 3.0, 3.0})));
+  EXPECT_TRUE(reference.Take(scan({3.0, 3.0, 3.0})));
+  EXPECT_FALSE(reference.Take(scan({3.0, 3.0, 3.0})));
+  EXPECT_EQ(reference.taken(), 3);
+}
+
 }  // namespace
 }  // namespace minibot3d_slam

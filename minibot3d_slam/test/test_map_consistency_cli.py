@@ -60,6 +60,42 @@ def test_exact_poses_agree_and_a_displaced_half_conflicts(tmp_path):
     assert all(1000.0 + 0.2 * leg[0] <= t <= 1000.0 + 0.2 * leg[-1] for t in times), times
 
 
+def test_a_trajectory_is_scored_on_the_scans_a_reference_log_kept(tmp_path):
+    # A reference like GMapping's corrected logs: every 10th reading, with times of its own.
+    log = tmp_path / 'room.clf'
+    write_log(log, N)
+    kept = []
+    with open(log) as f:
+        for i, line in enumerate(ln for ln in f if ln.startswith('FLASER')):
+            if i % 10 == 0:
+                fields = line.split()
+                fields[-3] = '%.6f' % (float(fields[-3]) - 1000.0)
+                kept.append(' '.join(fields))
+    reference = tmp_path / 'reference.gfs.log'
+    reference.write_text('# corrected\n' + '\n'.join(kept) + '\n')
+    traj = tmp_path / 'truth.txt'
+    write_trajectory(traj)
+    r = consistency(log, traj, '--scans-of', reference)
+    assert r.returncode == 0, r.stderr
+    assert 'placed %d of %d reference_scans_found %d of %d' % (N // 10, N, N // 10, N // 10) in r.stdout, r.stdout
+    # The same scans at the same poses as the reference's own: the same figures.
+    own = consistency(reference)
+    assert own.returncode == 0, own.stderr
+    fields = r'conflict_pct \S+ scans_inconsistent \d+ of \d+ agreed \d+ conflicts \d+'
+    assert re.search(fields, r.stdout).group(0) == re.search(fields, own.stdout).group(0), (r.stdout, own.stdout)
+    # All the readings make a denser map than the kept ones: another figure.
+    assert re.search(fields, consistency(log, traj).stdout).group(0) != re.search(fields, own.stdout).group(0)
+
+    # A log of another run: the same places, every first beam 0.5 m longer.
+    other = tmp_path / 'other.clf'
+    other.write_text(''.join(
+        ' '.join(f[:2] + ['%.3f' % (float(f[2]) + 0.5)] + f[3:]) + '\n'
+        for f in (ln.split() for ln in kept)))
+    r = consistency(log, traj, '--scans-of', other)
+    assert r.returncode == 1
+    assert 'none of the %d readings of %s is in %s' % (N, log, other) in r.stderr, r.stderr
+
+
 def test_bad_input_is_named(tmp_path):
     log = tmp_path / 'room.clf'
     write_log(log, 50)
@@ -93,7 +129,8 @@ def test_real_logs_bench_runs_a_list(tmp_path):
     line = [ln for ln in r.stdout.splitlines() if ln.startswith('room, 1 seeds:')]
     assert line, r.stdout
     assert re.search(r'conflicts [\d.]+ % of revisited endpoints, inconsistent scans [\d.]+ of \d+', line[0])
-    assert re.search(r'wall [\d.]+ s, peak \d+ MB; raw odometry: conflicts [\d.]+ %; reference: conflicts', line[0])
+    assert re.search(r'wall [\d.]+ s, peak \d+ MB; raw odometry: conflicts [\d.]+ %; reference: conflicts [\d.]+ %, '
+                     r"inconsistent scans \d+ of \d+; room on the reference's scans: conflicts [\d.]+ %", line[0]), line[0]
     assert (tmp_path / 'out' / 'room.png').stat().st_size > 0
 
     listing.write_text('room %s %s extra\n' % (log, log))

@@ -5,7 +5,10 @@
 # scans placed off the map) and, where the log has relations beside it (LOG with .relations for
 # its extension), the relations error (Kuemmerle et al. 2009). The same consistency is given for
 # the log's raw odometry and, when the list names one, for a reference trajectory's log (e.g.
-# GMapping's corrected .gfs log), so each figure has its log's scale beside it.
+# GMapping's corrected .gfs log), so each figure has its log's scale beside it; as a reference log
+# may hold only some of the scans (a .gfs log keeps those GMapping processed) and the score depends
+# on which scans make the map, each run is also scored on the reference's scans alone
+# (map_consistency --scans-of), the like-for-like comparison with the reference.
 #
 #   tools/bench/real_logs_bench.sh LIST [OUT_DIR]     (default build/bench/real_logs in the repo)
 #
@@ -36,6 +39,10 @@ for entry in "${LOGS[@]}"; do
     if [ -f "$relations" ]; then
       score=" | $("$bin/evaluate_relations" "$dir/trajectory.txt" "$relations" | head -1)"
     fi
+    if [ -n "${reference:-}" ] && [ -f "$reference" ]; then
+      score="$score | on the reference's scans: $("$bin/map_consistency" "$log" "$dir/trajectory.txt" \
+        --scans-of "$reference" --worst 0)"
+    fi
     echo "seed $seed | time $(cat "$dir.time") | $("$bin/map_consistency" "$log" "$dir/trajectory.txt" --worst 0)$score" \
       >> "$out/$name.runs"
   done
@@ -59,9 +66,11 @@ def ms(v, fmt):
     return (fmt % st.mean(v)) + (' ± ' + fmt % st.stdev(v) if len(v) > 1 else '')
 wall = nums(r'time ([0-9.]+) [0-9]+')
 peak = [v / 1024 for v in nums(r'time [0-9.]+ ([0-9]+)')]
-conf = nums(r'conflict_pct ([0-9.]+)')
-bad = nums(r'scans_inconsistent ([0-9]+)')
-judged = nums(r'scans_inconsistent [0-9]+ of ([0-9]+)')
+conf = nums(r'\| consistency conflict_pct ([0-9.]+)')
+bad = nums(r'\| consistency conflict_pct [0-9.]+ scans_inconsistent ([0-9]+)')
+judged = nums(r'\| consistency conflict_pct [0-9.]+ scans_inconsistent [0-9]+ of ([0-9]+)')
+same = r"on the reference's scans: consistency conflict_pct ([0-9.]+) scans_inconsistent ([0-9]+) of ([0-9]+)"
+same_rows = [m.groups() for l in rows for m in [re.search(same, l)] if m]
 parts = ['%s, %d seeds: conflicts %s %% of revisited endpoints, inconsistent scans %s of %.0f'
          % (name, len(rows), ms(conf, '%.2f'), ms(bad, '%.1f'), st.mean(judged))]
 tr = nums(r'translation_m ([0-9.]+)')
@@ -74,6 +83,10 @@ parts.append('raw odometry: conflicts %s %%' % (raw_c.group(1) if raw_c else '?'
 ref_c = re.search(r'conflict_pct ([0-9.]+) scans_inconsistent ([0-9]+) of ([0-9]+)', ref)
 if ref_c:
     parts.append('reference: conflicts %s %%, inconsistent scans %s of %s' % ref_c.groups())
+    if same_rows:
+        parts.append("%s on the reference's scans: conflicts %s %%, inconsistent scans %s of %.0f"
+                     % (name, ms([float(g[0]) for g in same_rows], '%.2f'),
+                        ms([float(g[1]) for g in same_rows], '%.1f'), st.mean(float(g[2]) for g in same_rows)))
 elif ref != 'none':
     parts.append('reference ' + ref)
 print('; '.join(parts))

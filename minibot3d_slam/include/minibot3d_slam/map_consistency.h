@@ -32,6 +32,7 @@
 #ifndef MINIBOT3D_SLAM_MAP_CONSISTENCY_H_
 #define MINIBOT3D_SLAM_MAP_CONSISTENCY_H_
 
+#include <map>
 #include <vector>
 
 #include "minibot3d_common/options.h"
@@ -85,6 +86,25 @@ struct ConsistencyReport {
 // count different from its angle count (naming the scan's time).
 ConsistencyReport EvaluateConsistency(const std::vector<PlacedScan>& scans,
                                       const ConsistencyOptions& options = ConsistencyOptions());
+
+// The readings of a log that another log of the same run also holds. A trajectory is compared with
+// a reference on the same scans: the placed scans make the map the checked ones are judged on, and
+// GMapping's corrected logs (.gfs) keep only the scans GMapping processed (about one in eighteen),
+// a sparser map than all of a raw log's scans make. Readings are matched by their ranges (to 1 cm,
+// no-returns alike: the precision CARMEN logs are written with), each reference scan once.
+class ReferenceScans {
+ public:
+  explicit ReferenceScans(const std::vector<LaserScan>& reference);
+  // True when `scan` has the ranges of a reference scan not yet taken; takes it.
+  bool Take(const LaserScan& scan);
+  int size() const { return size_; }
+  int taken() const { return taken_; }
+
+ private:
+  std::map<std::vector<long long>, int> left_;  // ranges in cm (no return: a sentinel) → count
+  int size_ = 0;
+  int taken_ = 0;
+};
 
 }  // namespace minibot3d_slam
 
