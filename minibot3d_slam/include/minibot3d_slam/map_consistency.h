@@ -89,9 +89,9 @@ ConsistencyReport EvaluateConsistency(const std::vector<PlacedScan>& scans,
 
 // The readings of a log that another log of the same run also holds. A trajectory is compared with
 // a reference on the same scans: the placed scans make the map the checked ones are judged on, and
-// GMapping's corrected logs (.gfs) keep only the scans GMapping processed (about one in eighteen),
-// a sparser map than all of a raw log's scans make. Readings are matched by their ranges (to 1 cm,
-// no-returns alike: the precision CARMEN logs are written with), each reference scan once.
+// GMapping's corrected logs (.gfs) keep only the scans GMapping processed, a sparser map than all
+// of a raw log's scans make. Readings are matched by their ranges rounded to 1 cm (a corrected log
+// copies the raw log's readings; no-returns match no-returns), each reference scan once.
 class ReferenceScans {
  public:
   explicit ReferenceScans(const std::vector<LaserScan>& reference);
