@@ -1,5 +1,6 @@
 """tools/demo_report.py's figures worked out by hand: the driven path's length, each goal's time
-against that length at max_vel_x, and which of the saved map's walls lie near a true one."""
+against that length at max_vel_x, which of the saved map's walls lie near a true one, and where the
+reachable area the map does not know lies."""
 import math
 import os
 import sys
@@ -77,3 +78,28 @@ def test_wall_errors_moves_the_slam_map_into_the_world_frame_and_marks_walls_off
     order = np.argsort(walls[:, 0])
     assert np.allclose(walls[order], [[2.05, 0.5], [2.45, 0.5]])
     assert right[order].tolist() == [True, False]
+
+
+def test_the_reachable_cells_the_map_does_not_know_are_grouped_into_patches_in_the_world_frame():
+    # The true world: 4 m x 4 m of 0.1 m cells, all reachable but row 39 (3.9-4.0 m).
+    reach = np.ones((40, 40), dtype=bool)
+    reach[39, :] = False
+    # The SLAM map frame is the world moved to the spawn pose (1, 0, 90 deg): world (x, y) is map
+    # (y, 1 - x). The map knows everything but three holes:
+    known = np.ones((100, 100), dtype=bool)   # 0.1 m cells, origin (-5, -5)
+    known[40:42, 50:53] = False   # map x 0.0-0.3, y -1.0..-0.8: world x 1.8-2.0, y 0.0-0.3
+    known[55, 80] = False         # map (3.0-3.1, 0.5-0.6): world x 0.4-0.5, y 3.0-3.1
+    known[45, 89] = False         # world y 3.9-4.0: not reachable, so not missed
+    mapped = demo_report.known_in_world(reach, 0.1, (0.0, 0.0), known, 0.1, (-5.0, -5.0),
+                                        (1.0, 0.0, math.pi / 2))
+    assert (reach & ~mapped).sum() == 7
+    patches = demo_report.unmapped_patches(reach & ~mapped, 0.1, (0.0, 0.0))
+    assert len(patches) == 2
+    assert np.allclose(patches[0], (0.06, 1.9, 0.15)) and np.allclose(patches[1], (0.01, 0.45, 3.05))
+    # The row names the total and the three largest patches.
+    assert demo_report.describe_patches(
+        [(0.43, 3.21, -3.62), (0.19, 4.7, -3.7), (0.05, -4.5, -3.7), (0.01, 0.0, 0.0)]) == \
+        '0.68 m^2 in 4 patches, the largest 0.43 m^2 at (3.2, -3.6), 0.19 m^2 at (4.7, -3.7), ' \
+        '0.05 m^2 at (-4.5, -3.7)'
+    assert demo_report.describe_patches([(0.01, 0.47, 3.02)]) == '0.01 m^2 in 1 patch at (0.5, 3.0)'
+    assert demo_report.describe_patches([]) == 'nothing'

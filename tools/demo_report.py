@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """`make demo`'s summary: the table on the terminal, out/demo.png (the saved map with the
-exploration path and the navigation paths drawn on it) and out/demo_map_accuracy.png (the saved
+exploration path and the navigation paths drawn on it, and the reachable free area the map does
+not know in orange) and out/demo_map_accuracy.png (the saved
 map's walls on the true ones, those more than 0.1 m off in red).
 
   demo_report.py --out DIR --truth-map GT.yaml --spawn X,Y,YAW [--config-dir CONFIG]
@@ -15,7 +16,9 @@ Map accuracy compares the saved SLAM map with the world's ground-truth map: the 
 occupied cells are moved into the world frame (the SLAM map frame is the world frame moved to the
 exploration's spawn pose) and counted as right when a ground-truth occupied cell is within 0.1 m.
 Explored is the share of the ground-truth free cells reachable from the spawn pose that the SLAM
-map knows (free or occupied, not unknown); the demo fails below MIN_COVERAGE. The SLAM map's
+map knows (free or occupied, not unknown); the demo fails below MIN_COVERAGE. The cells it does
+not know are grouped into patches (8-connected), and the "not mapped" row gives their area and
+where the largest lie. The SLAM map's
 known-free area is printed beside it: it is a little smaller than the true free area even when
 every cell is mapped (SLAM's walls look about a cell thicker)."""
 import argparse
@@ -29,6 +32,7 @@ from collections import deque
 import numpy as np
 import yaml
 from minibot3d_map_io import load_map
+from scipy import ndimage
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 MIN_COVERAGE = 0.97  # make demo's bar: exploration maps >= 97 % of the reachable free area
@@ -83,11 +87,10 @@ def map_to_world(spawn, x, y):
     return spawn[0] + c * x - s * y, spawn[1] + s * x + c * y
 
 
-def coverage(reach, gres, gorigin, known, res, origin, spawn):
-    """Share of the ground-truth cells `reach` whose SLAM-map cell is in `known`."""
+def known_in_world(reach, gres, gorigin, known, res, origin, spawn):
+    """Over the ground-truth grid: True at the cells of `reach` whose SLAM-map cell is in
+    `known`."""
     ys, xs = np.nonzero(reach)
-    if len(xs) == 0:
-        return 0.0
     wx = gorigin[0] + (xs + 0.5) * gres - spawn[0]
     wy = gorigin[1] + (ys + 0.5) * gres - spawn[1]
     c, s = math.cos(spawn[2]), math.sin(spawn[2])
@@ -96,7 +99,35 @@ def coverage(reach, gres, gorigin, known, res, origin, spawn):
     inside = (mx >= 0) & (my >= 0) & (mx < known.shape[1]) & (my < known.shape[0])
     hit = np.zeros(len(xs), dtype=bool)
     hit[inside] = known[my[inside], mx[inside]]
-    return float(hit.mean())
+    out = np.zeros_like(reach)
+    out[ys[hit], xs[hit]] = True
+    return out
+
+
+def unmapped_patches(missed, gres, gorigin):
+    """The reachable cells the map does not know (`missed`, over the ground-truth grid), grouped
+    into 8-connected patches: (area m^2, centre x, centre y in the world frame), largest first."""
+    labels, n = ndimage.label(missed, structure=np.ones((3, 3), dtype=bool))
+    if n == 0:
+        return []
+    index = np.arange(1, n + 1)
+    cells = ndimage.sum_labels(missed, labels, index)
+    centres = ndimage.center_of_mass(missed, labels, index)
+    patches = [(float(k) * gres * gres, gorigin[0] + (cx + 0.5) * gres, gorigin[1] + (cy + 0.5) * gres)
+               for k, (cy, cx) in zip(cells, centres)]
+    return sorted(patches, key=lambda p: -p[0])
+
+
+def describe_patches(patches, largest=3):
+    """`make demo`'s "not mapped" row: the total area, the number of patches and where the largest
+    lie (world frame)."""
+    if not patches:
+        return 'nothing'
+    if len(patches) == 1:
+        return '%.2f m^2 in 1 patch at (%.1f, %.1f)' % patches[0]
+    return '%.2f m^2 in %d patches, the largest %s' % (
+        sum(p[0] for p in patches), len(patches),
+        ', '.join('%.2f m^2 at (%.1f, %.1f)' % p for p in patches[:largest]))
 
 
 def wall_errors(occ, res, origin, gocc, gres, gorigin, spawn, tolerance=ACCURACY_TOLERANCE):
@@ -238,10 +269,14 @@ def main():
     explored = free.sum() * res * res
     reach = reachable_free(gfree, gocc, gres, gorigin, spawn, clearance)
     world_free = reach.sum() * gres * gres
-    covered = coverage(reach, gres, gorigin, free | occ, res, origin, spawn)
+    mapped = known_in_world(reach, gres, gorigin, free | occ, res, origin, spawn)
+    covered = float(mapped[reach].mean()) if reach.any() else 0.0
+    missed = reach & ~mapped
+    patches = unmapped_patches(missed, gres, gorigin)
     if covered < MIN_COVERAGE:
-        failures.append('exploration mapped %.1f %% of the reachable free area (< %.0f %%)' % (
-            100.0 * covered, 100.0 * MIN_COVERAGE))
+        failures.append('exploration mapped %.1f %% of the reachable free area (< %.0f %%; not '
+                        'mapped: %s)' % (100.0 * covered, 100.0 * MIN_COVERAGE,
+                                         describe_patches(patches)))
 
     # Map accuracy: SLAM occupied cells (world frame) near a ground-truth occupied cell.
     walls, right = wall_errors(occ, res, origin, gocc, gres, gorigin, spawn)
@@ -249,6 +284,7 @@ def main():
 
     rows = [('explored', '%.1f %% of the %.1f m^2 reachable free area mapped (%.1f m^2 known '
              'free)' % (100.0 * covered, world_free, explored)),
+            ('not mapped', describe_patches(patches)),
             ('map accuracy', '%.1f %% of %d occupied cells within %.1f m of a true wall' % (
                 100.0 * accuracy, len(walls), ACCURACY_TOLERANCE)),
             ('exploration time', '%.0f s sim, %.0f s wall (%.1fx real time)' % (
@@ -293,6 +329,12 @@ def main():
     tr = Affine2D().rotate(spawn[2]).translate(spawn[0], spawn[1]) + ax.transData
     ax.imshow(img, cmap='gray', origin='lower', vmin=0, vmax=1, transform=tr,
               extent=(origin[0], origin[0] + w * res, origin[1], origin[1] + h * res))
+    if missed.any():
+        from matplotlib.colors import ListedColormap
+        gh, gw = missed.shape
+        ax.imshow(np.ma.masked_where(~missed, missed), cmap=ListedColormap(['tab:orange']),
+                  origin='lower', interpolation='nearest',
+                  extent=(gorigin[0], gorigin[0] + gw * gres, gorigin[1], gorigin[1] + gh * gres))
     p = np.array(ex['path'])
     if len(p):
         ax.plot(p[:, 0], p[:, 1], '-', color='tab:blue', lw=1, label='exploration')
@@ -315,7 +357,12 @@ def main():
     ax.set_xlabel('x (m, world)')
     ax.set_ylabel('y (m, world)')
     ax.set_title('make demo: explored map, exploration and navigation paths')
-    ax.legend(loc='upper right')
+    handles, labels = ax.get_legend_handles_labels()
+    if missed.any():
+        from matplotlib.patches import Patch
+        handles.append(Patch(color='tab:orange'))
+        labels.append('reachable, not mapped')
+    ax.legend(handles, labels, loc='upper center', bbox_to_anchor=(0.5, -0.08), ncol=len(handles))
     png = os.path.join(args.out, 'demo.png')
     fig.savefig(png + '.tmp.png', dpi=110, bbox_inches='tight')
     os.replace(png + '.tmp.png', png)
