@@ -475,7 +475,8 @@ std::vector<Pose2> LoopCloser::Optimize(const std::vector<Pose2>& trajectory) {
   big_pending_ = false;
   last_optimized_ = size();
   ++optimizations_;
-  cache_.clear();  // every node moved: no rendering can be used again
+  // The cached renderings stay: a correction the RBPF does not apply moves no node, and Submap
+  // renders again any submap whose nodes have moved.
   return result.poses;
 }
 
