@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """`make demo`'s summary: the table on the terminal, out/demo.png (the saved map with the
 exploration path and the navigation paths drawn on it, and the reachable free area the map does
-not know in orange) and out/demo_map_accuracy.png (the saved
-map's walls on the true ones, those more than 0.1 m off in red).
+not know in orange) and out/demo_map_accuracy.png (the saved map's walls on the true ones, those
+more than 0.1 m off in red).
 
   demo_report.py --out DIR --truth-map GT.yaml --spawn X,Y,YAW [--config-dir CONFIG]
   demo_report.py --reachable-area --out DIR --truth-map GT.yaml --spawn X,Y,YAW [--config-dir CONFIG]
@@ -18,9 +18,9 @@ exploration's spawn pose) and counted as right when a ground-truth occupied cell
 Explored is the share of the ground-truth free cells reachable from the spawn pose that the SLAM
 map knows (free or occupied, not unknown); the demo fails below MIN_COVERAGE. The cells it does
 not know are grouped into patches (8-connected), and the "not mapped" row gives their area and
-where the largest lie. The SLAM map's
-known-free area is printed beside it: it is a little smaller than the true free area even when
-every cell is mapped (SLAM's walls look about a cell thicker)."""
+where the largest lie. The SLAM map's known-free area is printed beside it: it is a little
+smaller than the true free area even when every cell is mapped (SLAM's walls look about a cell
+thicker)."""
 import argparse
 import importlib.util
 import json
@@ -345,11 +345,17 @@ def main():
                 ax.plot(q[:, 0], q[:, 1], '-', color='tab:red', lw=1.2,
                         label='navigation' if i == 0 else None)
             ax.plot(g['goal'][0], g['goal'][1], 'o', color='tab:green' if g['ok'] else 'k')
-    # Zoom to the mapped part of the grid.
+    # Zoom to the mapped part of the grid and the reachable part left unmapped.
     ys, xs = np.nonzero(free | occ)
+    corners = []
     if len(xs):
         corners = [map_to_world(spawn, origin[0] + cx * res, origin[1] + cy * res)
                    for cx in (xs.min(), xs.max() + 1) for cy in (ys.min(), ys.max() + 1)]
+    ys, xs = np.nonzero(missed)
+    if len(xs):
+        corners += [(gorigin[0] + cx * gres, gorigin[1] + cy * gres)
+                    for cx in (xs.min(), xs.max() + 1) for cy in (ys.min(), ys.max() + 1)]
+    if corners:
         cx_, cy_ = zip(*corners)
         ax.set_xlim(min(cx_) - 0.5, max(cx_) + 0.5)
         ax.set_ylim(min(cy_) - 0.5, max(cy_) + 0.5)
