@@ -289,8 +289,10 @@ class ExploreNode {
     progress_->Start(now.toSec(), {robot.x, robot.y}, goal_);
     if (f.view_radius > 0.0) {
       ROS_INFO("explore: going to look at frontier at (%.2f, %.2f), %.1f m long, from (%.2f, "
-               "%.2f), %.1f m away (no room nearer to it), which sees %zu of its cells",
+               "%.2f), %.1f m away (%s), which sees %zu of its cells",
                f.centroid.x, f.centroid.y, f.size, f.goal.x, f.goal.y, f.distance,
+               f.creeping ? "no roomy cell sees it: creeping, closer to walls than goal_clearance"
+                          : "no room nearer to it",
                f.in_view.size());
     } else {
       ROS_INFO("explore: going to frontier at (%.2f, %.2f), %.1f m long, %.1f m away",

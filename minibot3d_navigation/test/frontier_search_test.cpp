@@ -2,7 +2,8 @@
 // goal on the robot's side and in sight of its frontier, unreachable frontiers
 // dropped, excluded viewpoints, "nothing left" once a room is closed, goals
 // clear of unknown space, pockets too narrow to stand in looked into from off
-// (in line with them, seen from wherever the robot stops); and the
+// (in line with them, seen from wherever the robot stops; from a cramped cell
+// when no roomy one sees them); and the
 // exploration memory (reached viewpoints never again, unreachable goals retried
 // once the map round them changes, a limit on attempts); the explore node's
 // options.
@@ -372,6 +373,59 @@ TEST(FrontierSearch, APocketIsLookedIntoFromWhereverTheRobotStopsNearTheGoal) {
       << "goal (" << r.frontiers[0].goal.x << ", " << r.frontiers[0].goal.y << ")";
 }
 
+TEST(FrontierSearch, AFrontierNoRoomyCellSeesIsLookedIntoFromACrampedOne) {
+  // A room (columns 1-5) with a 0.3 m passage off it (text rows 2-4) that bends down (columns
+  // 15-17) and ends unknown (rows 7-8).  No cell of the room sees round the bend, and every cell
+  // of the passage is closer to a wall than goal_clearance: only a cell the robot can merely
+  // turn in (clearance from walls), past the bend, sees the frontier.
+  const auto grid = Grid({
+      "#####################",
+      "#.....###############",
+      "#.................###",
+      "#.................###",
+      "#.................###",
+      "#.....#########...###",
+      "#.....#########...###",
+      "#.....#########???###",
+      "#.....#########???###",
+      "#####################",
+  });
+  ExploreOptions o = Options();
+  o.goal_clearance = 0.2;
+  o.view_range = 1.5;
+  o.goal_tolerance = 0.0;
+  const Pose2 robot = At(3, 4);
+  o.creep_depth = 0.0;
+  auto r = FrontierSearch(o).Find(grid, robot, {});
+  EXPECT_TRUE(r.frontiers.empty()) << "the scene no longer shows the problem: a roomy cell sees "
+                                      "the frontier";
+  o.creep_depth = 2.0;
+  const FrontierSearch search(o);
+  r = search.Find(grid, robot, {});
+  ASSERT_EQ(r.frontiers.size(), 1u);
+  const Frontier& f = r.frontiers[0];
+  EXPECT_TRUE(f.creeping);
+  EXPECT_GT(f.view_radius, 0.0);
+  const int x = static_cast<int>(std::floor(f.goal.x / kRes));
+  const int y = static_cast<int>(std::floor(f.goal.y / kRes));
+  EXPECT_GE(x, 10) << "goal (" << f.goal.x << ", " << f.goal.y << ") not past the passage's middle";
+  EXPECT_GE(y, 3) << "goal (" << f.goal.x << ", " << f.goal.y << ")";
+  EXPECT_EQ(search.InSight(grid, f.goal, f.view_radius).size(), 3u)
+      << "goal (" << f.goal.x << ", " << f.goal.y << ") does not see the whole frontier";
+  // Seen from there and still unknown: exploration ends.
+  ExplorationMemory memory(o);
+  memory.Reached(f.goal);
+  memory.LookedAt(f.in_view);
+  r = search.Find(grid, robot, memory.Excluded(), memory.looked_at());
+  EXPECT_TRUE(r.frontiers.empty());
+  // Such a viewpoint lies at most creep_depth from roomy space: no cell within 0.3 m of the
+  // room sees round the bend, so the robot is not sent down the passage.
+  o.creep_depth = 0.3;
+  r = FrontierSearch(o).Find(grid, robot, {});
+  EXPECT_TRUE(r.frontiers.empty()) << "goal (" << r.frontiers[0].goal.x << ", "
+                                   << r.frontiers[0].goal.y << ") deep in the passage";
+}
+
 TEST(FrontierSearch, GoalsKeepTheirClearanceFromUnknownSpace) {
   // The room open on its right: a goal keeps goal_clearance from the unknown cells as from a
   // wall (an unseen face of a shelf may be there), though the robot, 0.2 m from the unknown
@@ -526,12 +580,14 @@ TEST(FrontierSearch, BadInputIsRejectedSayingWhy) {
   o = ExploreOptions();
   o.view_range = 0.3;  // neither 0 (off) nor at least goal_search_radius
   o.goal_tolerance = -0.1;
+  SetExploreOption("creep_depth", "-0.2", &o);
   try {
     FrontierSearch{o};
     FAIL();
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("view_range=0.3"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("goal_tolerance=-0.1"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("creep_depth=-0.2"), std::string::npos) << e.what();
   }
   o = ExploreOptions();
   o.view_range = 0.0;

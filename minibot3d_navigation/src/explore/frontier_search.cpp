@@ -183,6 +183,42 @@ bool SeesUnknownSide(int v, int i, int w, int h, const std::vector<uint8_t>& kin
   return false;
 }
 
+// The cells within `depth` (m, 8-connected path through cells `through`) of a cell `from`.
+template <typename From, typename Through>
+std::vector<uint8_t> WithinPathOf(const From& from, const Through& through, int w, int h,
+                                  double res, double depth) {
+  const int n = w * h;
+  std::vector<double> d(n, kInf);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+  for (int i = 0; i < n; ++i) {
+    if (from(i)) {
+      d[i] = 0.0;
+      open.push({0.0, i});
+    }
+  }
+  const int dxs[8] = {1, -1, 0, 0, 1, 1, -1, -1};
+  const int dys[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+  while (!open.empty()) {
+    const auto [di, i] = open.top();
+    open.pop();
+    if (di > d[i]) continue;
+    const int x = i % w, y = i / w;
+    for (int k = 0; k < 8; ++k) {
+      const int xx = x + dxs[k], yy = y + dys[k];
+      if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+      const int j = yy * w + xx;
+      const double nd = di + (k < 4 ? res : res * std::sqrt(2.0));
+      if (nd > depth + 1e-9 || nd >= d[j] || !through(j)) continue;
+      d[j] = nd;
+      open.push({nd, j});
+    }
+  }
+  std::vector<uint8_t> within(n, 0);
+  for (int i = 0; i < n; ++i) within[i] = d[i] < kInf;
+  return within;
+}
+
 // Free cells joined to the reachable ones (dist < inf) through free cells farther than `gap`
 // from any occupied cell (8-connected): pockets off the robot's space, but not free cells seen
 // through a chink in a wall (outside the building).
@@ -376,6 +412,8 @@ void ValidateExploreOptions(const ExploreOptions& o) {
                 Num(o.goal_search_radius));
   p.Require(std::isfinite(o.goal_tolerance) && o.goal_tolerance >= 0.0,
             "goal_tolerance=" + Num(o.goal_tolerance) + " must be >= 0");
+  p.Require(std::isfinite(o.creep_depth) && o.creep_depth >= 0.0,
+            "creep_depth=" + Num(o.creep_depth) + " must be >= 0");
   p.Require(o.max_goal_attempts >= 1,
             "max_goal_attempts=" + std::to_string(o.max_goal_attempts) + " must be >= 1");
   p.ThrowIfAny();
@@ -423,7 +461,12 @@ const options::OptionTable<ExploreOptions>& ExploreOptionTable() {
        Field("goal_tolerance", &O::goal_tolerance,
              "How far from a goal move_base may stop (its xy_goal_tolerance, m): a goal that "
              "looks at a frontier from off must have it in sight from anywhere within this "
-             "distance.")});
+             "distance."),
+       Field("creep_depth", &O::creep_depth,
+             "A frontier no roomy cell within view_range sees (down a gap between furniture and "
+             "a wall) is looked into from a cell only clearance from walls (room to turn on the "
+             "spot, no margin: the local planner creeps) at most this far (m, by path) from a "
+             "roomy cell; 0: such a frontier is dropped.")});
   return table;
 }
 
@@ -537,6 +580,7 @@ FrontierSearchResult FrontierSearch::Find(const OccupancyGrid& grid, const Pose2
   mark_within(unreachable, options_.blacklist_radius, 2, &is_excluded);
   std::unordered_map<int, bool> candidate_los;  // this frontier's cells seen from a candidate
   std::vector<uint8_t> joined;  // JoinedToReachable, made when a frontier first needs it
+  std::vector<uint8_t> creep;   // WithinPathOf roomy cells, made when a frontier first needs it
   std::vector<int> in_view;
   std::vector<uint8_t> seen(n, 0);
   std::vector<int> stack, cluster;
@@ -606,6 +650,19 @@ FrontierSearchResult FrontierSearch::Find(const OccupancyGrid& grid, const Pose2
                               options_.view_range, options_.goal_tolerance,
                               [&](int j) { return traversable(j) && !cramped(j); },
                               &f.view_radius, &in_view);
+      if (best < 0 && options_.creep_depth > 0.0) {
+        // No roomy cell sees it: a cell a path may use (clearance from walls: room to turn on
+        // the spot but no margin) at most creep_depth from roomy space, so that the robot
+        // edges into a gap's mouth rather than down a gap it could only back out of.
+        if (creep.empty()) {
+          auto roomy = [&](int j) { return traversable(j) && !cramped(j) && dist[j] < kInf; };
+          creep = WithinPathOf(roomy, traversable, w, h, res, options_.creep_depth);
+        }
+        best = FarViewpointImpl(cluster, kind, dist, is_excluded, joined, w, h, res,
+                                options_.view_range, options_.goal_tolerance,
+                                [&](int j) { return creep[j] != 0; }, &f.view_radius, &in_view);
+        f.creeping = best >= 0;
+      }
       for (int i : in_view) f.in_view.push_back(to_world(i));
     }
     if (best < 0) {

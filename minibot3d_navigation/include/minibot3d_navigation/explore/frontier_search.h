@@ -27,6 +27,11 @@
 // count, as in next-best-view planners, González-Baños & Latombe, IJRR 2002),
 // from anywhere within goal_tolerance of them (where move_base may stop), the
 // one nearest the robot by path among those seeing at least 3/4 of the best.
+// When no roomy cell sees any of it (a gap whose mouth is flanked by furniture),
+// the same choice is made among cells only `clearance` from walls and at most
+// creep_depth by path from a roomy cell: the robot has room to turn there but no
+// margin, the local planner creeps, and it edges into the gap's mouth rather than
+// down a gap it could only back out of.
 // Frontiers whose goal cannot be reached — behind walls, outside the building —
 // are dropped, so "no frontier left" means the reachable space is mapped.
 //
@@ -73,6 +78,8 @@ struct ExploreOptions {
                             // at most; 0: such a frontier is dropped
   double goal_tolerance = 0.15;  // m: move_base's xy_goal_tolerance; a goal looking from off
                                  // sees its frontier from anywhere within it
+  double creep_depth = 0.0;  // m: a frontier no roomy cell sees is looked into from a cell only
+                            // clearance from walls this far from roomy space at most; 0: dropped
 };
 
 // Throws std::invalid_argument listing every offending value.
@@ -95,6 +102,8 @@ struct Frontier {
   // Looking from off: the frontier's cells (centres) in sight from the goal; once it is reached
   // they no longer count (ExplorationMemory::LookedAt), seen or not.
   std::vector<Point2> in_view;
+  // Looking from off from a cell closer to walls than goal_clearance (creep_viewpoints).
+  bool creeping = false;
 };
 
 struct FrontierSearchResult {
