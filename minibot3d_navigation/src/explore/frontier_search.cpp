@@ -183,40 +183,39 @@ bool SeesUnknownSide(int v, int i, int w, int h, const std::vector<uint8_t>& kin
   return false;
 }
 
-// The cells within `depth` (m, 8-connected path through cells `through`) of a cell `from`.
-template <typename From, typename Through>
-std::vector<uint8_t> WithinPathOf(const From& from, const Through& through, int w, int h,
-                                  double res, double depth) {
-  const int n = w * h;
-  std::vector<double> d(n, kInf);
+// Shortest 8-connected path lengths (m) from `starts` (cell, length there), a step from cell i to
+// its neighbour j allowed when enter(i, j); paths longer than `limit` are not followed.
+template <typename Enter>
+std::vector<double> PathLengths(const std::vector<std::pair<int, double>>& starts,
+                                const Enter& enter, int w, int h, double res,
+                                double limit = kInf) {
+  std::vector<double> dist(w * h, kInf);
   using Item = std::pair<double, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
-  for (int i = 0; i < n; ++i) {
-    if (from(i)) {
-      d[i] = 0.0;
-      open.push({0.0, i});
-    }
+  for (const auto& [cell, d0] : starts) {
+    dist[cell] = d0;
+    open.push({d0, cell});
   }
   const int dxs[8] = {1, -1, 0, 0, 1, 1, -1, -1};
   const int dys[8] = {0, 0, 1, -1, 1, -1, 1, -1};
   while (!open.empty()) {
-    const auto [di, i] = open.top();
+    const auto [d, i] = open.top();
     open.pop();
-    if (di > d[i]) continue;
+    if (d > dist[i]) continue;
     const int x = i % w, y = i / w;
     for (int k = 0; k < 8; ++k) {
       const int xx = x + dxs[k], yy = y + dys[k];
       if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
       const int j = yy * w + xx;
-      const double nd = di + (k < 4 ? res : res * std::sqrt(2.0));
-      if (nd > depth + 1e-9 || nd >= d[j] || !through(j)) continue;
-      d[j] = nd;
-      open.push({nd, j});
+      if (!enter(i, j)) continue;
+      const double nd = d + (k < 4 ? res : res * std::sqrt(2.0));
+      if (nd < dist[j] && nd <= limit + 1e-9) {
+        dist[j] = nd;
+        open.push({nd, j});
+      }
     }
   }
-  std::vector<uint8_t> within(n, 0);
-  for (int i = 0; i < n; ++i) within[i] = d[i] < kInf;
-  return within;
+  return dist;
 }
 
 // Free cells joined to the reachable ones (dist < inf) through free cells farther than `gap`
@@ -516,34 +515,12 @@ FrontierSearchResult FrontierSearch::Find(const OccupancyGrid& grid, const Pose2
 
   // Dijkstra from the robot; non-traversable free cells only while escaping
   // from a start that is itself not traversable.
-  std::vector<double> dist(n, kInf);
-  using Item = std::pair<double, int>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
-  for (const auto& [cell, d0] : StartCells(kind, w, h, ry * w + rx, res,
-                                           options_.start_search_radius)) {
-    dist[cell] = d0;
-    open.push({d0, cell});
-  }
+  const std::vector<double> dist = PathLengths(
+      StartCells(kind, w, h, ry * w + rx, res, options_.start_search_radius),
+      [&](int i, int j) { return traversable(j) || (!traversable(i) && kind[j] == 0); }, w, h,
+      res);
   const int dxs[8] = {1, -1, 0, 0, 1, 1, -1, -1};
   const int dys[8] = {0, 0, 1, -1, 1, -1, 1, -1};
-  while (!open.empty()) {
-    const auto [d, i] = open.top();
-    open.pop();
-    if (d > dist[i]) continue;
-    const bool escaping = !traversable(i);
-    const int x = i % w, y = i / w;
-    for (int k = 0; k < 8; ++k) {
-      const int xx = x + dxs[k], yy = y + dys[k];
-      if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-      const int j = yy * w + xx;
-      if (!(traversable(j) || (escaping && kind[j] == 0))) continue;
-      const double nd = d + (k < 4 ? res : res * std::sqrt(2.0));
-      if (nd < dist[j]) {
-        dist[j] = nd;
-        open.push({nd, j});
-      }
-    }
-  }
 
   // Frontier cells, but for those looked at from a viewpoint, clustered 8-connected.
   std::vector<uint8_t> is_frontier = FrontierCells(kind, w, h);
@@ -580,7 +557,7 @@ FrontierSearchResult FrontierSearch::Find(const OccupancyGrid& grid, const Pose2
   mark_within(unreachable, options_.blacklist_radius, 2, &is_excluded);
   std::unordered_map<int, bool> candidate_los;  // this frontier's cells seen from a candidate
   std::vector<uint8_t> joined;  // JoinedToReachable, made when a frontier first needs it
-  std::vector<uint8_t> creep;   // WithinPathOf roomy cells, made when a frontier first needs it
+  std::vector<uint8_t> creep;   // within creep_depth of a roomy cell, made when first needed
   std::vector<int> in_view;
   std::vector<uint8_t> seen(n, 0);
   std::vector<int> stack, cluster;
@@ -655,8 +632,14 @@ FrontierSearchResult FrontierSearch::Find(const OccupancyGrid& grid, const Pose2
         // the spot but no margin) at most creep_depth from roomy space, so that the robot
         // edges into a gap's mouth rather than down a gap it could only back out of.
         if (creep.empty()) {
-          auto roomy = [&](int j) { return traversable(j) && !cramped(j) && dist[j] < kInf; };
-          creep = WithinPathOf(roomy, traversable, w, h, res, options_.creep_depth);
+          std::vector<std::pair<int, double>> roomy;
+          for (int j = 0; j < n; ++j) {
+            if (traversable(j) && !cramped(j) && dist[j] < kInf) roomy.emplace_back(j, 0.0);
+          }
+          const std::vector<double> depth = PathLengths(
+              roomy, [&](int, int j) { return traversable(j); }, w, h, res, options_.creep_depth);
+          creep.resize(n);
+          for (int j = 0; j < n; ++j) creep[j] = depth[j] < kInf;
         }
         best = FarViewpointImpl(cluster, kind, dist, is_excluded, joined, w, h, res,
                                 options_.view_range, options_.goal_tolerance,
