@@ -102,7 +102,7 @@ struct Frontier {
   // Looking from off: the frontier's cells (centres) in sight from the goal; once it is reached
   // they no longer count (ExplorationMemory::LookedAt), seen or not.
   std::vector<Point2> in_view;
-  // Looking from off from a cell closer to walls than goal_clearance (creep_viewpoints).
+  // Looking from off from a cell closer to walls than goal_clearance (creep_depth).
   bool creeping = false;
 };
 
