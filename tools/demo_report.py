@@ -144,7 +144,7 @@ def wall_errors(occ, res, origin, gocc, gres, gorigin, spawn, tolerance=ACCURACY
     return world, right
 
 
-def draw_wall_errors(gocc, gres, gorigin, walls, right, png):
+def draw_wall_errors(gocc, gres, gorigin, walls, right, accuracy, png):
     """The true walls (grey) with the SLAM map's occupied cells on them: green within
     ACCURACY_TOLERANCE of a true wall, red farther. Written atomically."""
     import matplotlib
@@ -161,8 +161,7 @@ def draw_wall_errors(gocc, gres, gorigin, walls, right, png):
     ax.set_aspect('equal')
     ax.set_xlabel('x (m, world)')
     ax.set_ylabel('y (m, world)')
-    ax.set_title('make demo: map accuracy %.1f %% (true walls grey)' % (
-        100.0 * right.sum() / max(len(walls), 1)))
+    ax.set_title('make demo: map accuracy %.1f %% (true walls grey)' % (100.0 * accuracy))
     ax.legend(loc='upper center', bbox_to_anchor=(0.5, -0.08), ncol=2, markerscale=6)
     fig.savefig(png + '.tmp.png', dpi=110, bbox_inches='tight')
     plt.close(fig)
@@ -272,6 +271,7 @@ def main():
     mapped = known_in_world(reach, gres, gorigin, free | occ, res, origin, spawn)
     covered = float(mapped[reach].mean()) if reach.any() else 0.0
     missed = reach & ~mapped
+    any_missed = missed.any()
     patches = unmapped_patches(missed, gres, gorigin)
     if covered < MIN_COVERAGE:
         failures.append('exploration mapped %.1f %% of the reachable free area (< %.0f %%; not '
@@ -329,7 +329,7 @@ def main():
     tr = Affine2D().rotate(spawn[2]).translate(spawn[0], spawn[1]) + ax.transData
     ax.imshow(img, cmap='gray', origin='lower', vmin=0, vmax=1, transform=tr,
               extent=(origin[0], origin[0] + w * res, origin[1], origin[1] + h * res))
-    if missed.any():
+    if any_missed:
         from matplotlib.colors import ListedColormap
         gh, gw = missed.shape
         ax.imshow(np.ma.masked_where(~missed, missed), cmap=ListedColormap(['tab:orange']),
@@ -364,7 +364,7 @@ def main():
     ax.set_ylabel('y (m, world)')
     ax.set_title('make demo: explored map, exploration and navigation paths')
     handles, labels = ax.get_legend_handles_labels()
-    if missed.any():
+    if any_missed:
         from matplotlib.patches import Patch
         handles.append(Patch(color='tab:orange'))
         labels.append('reachable, not mapped')
@@ -374,7 +374,7 @@ def main():
     os.replace(png + '.tmp.png', png)
     print('map with paths: %s' % png)
     png = os.path.join(args.out, 'demo_map_accuracy.png')
-    draw_wall_errors(gocc, gres, gorigin, walls, right, png)
+    draw_wall_errors(gocc, gres, gorigin, walls, right, accuracy, png)
     print('map with the true walls: %s' % png)
     if failures:
         print('demo: FAILED: %s' % ', '.join(failures), file=sys.stderr)
