@@ -123,7 +123,7 @@ ConsistencyReport EvaluateConsistency(const std::vector<PlacedScan>& scans,
 
   // Path length of every scan, the checked scans, and the grid's extent.
   std::vector<double> s(scans.size(), 0.0);
-  std::vector<char> checked(scans.size(), 0);
+  std::vector<bool> checked(scans.size(), false);
   double min_x = kNone, min_y = kNone, max_x = -kNone, max_y = -kNone;
   Pose2 last_checked;
   for (size_t k = 0; k < scans.size(); ++k) {
@@ -142,7 +142,7 @@ ConsistencyReport EvaluateConsistency(const std::vector<PlacedScan>& scans,
     }
     if (k == 0 || std::hypot(ps.pose.x - last_checked.x, ps.pose.y - last_checked.y) >= o.every_distance ||
         std::abs(minibot3d_common::AngleDiff(ps.pose.yaw, last_checked.yaw)) >= o.every_angle) {
-      checked[k] = 1;
+      checked[k] = true;
       last_checked = ps.pose;
     }
     ForEachBeam(ps, o.max_range, [&](const Beam& b) {
@@ -153,7 +153,7 @@ ConsistencyReport EvaluateConsistency(const std::vector<PlacedScan>& scans,
     });
   }
   if (!(min_x <= max_x)) {  // no usable beam at all
-    for (char c : checked) report.scans_checked += c;
+    report.scans_checked = static_cast<int>(std::count(checked.begin(), checked.end(), true));
     return report;
   }
   const double pad = o.tolerance + 2.0 * o.resolution;
