@@ -218,7 +218,9 @@ TEST(AStarPlannerTest, StartInInscribedBandStepsOutFirst) {
     const int c = CostAt(map, p.x, p.y);
     EXPECT_NE(c, kLethalObstacle);
     if (c < kInscribedInflatedObstacle) left_band = true;
-    if (left_band) EXPECT_LT(c, kInscribedInflatedObstacle) << "re-entered the band at " << p.x;
+    if (left_band) {
+      EXPECT_LT(c, kInscribedInflatedObstacle) << "re-entered the band at " << p.x;
+    }
   }
   EXPECT_TRUE(left_band);
   // The inscribed column at x = 6 (not connected to the start's band) is not crossed.
